@@ -1,0 +1,107 @@
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "tessera/geometry/aabb.hpp"
+#include "tessera/geometry/surface.hpp"
+
+namespace tessera {
+
+struct Triangle {
+  vec3 p0, p1, p2;
+  std::uint32_t material;
+};
+
+TESSERA_HD TESSERA_INLINE Aabb bounds(const Triangle& tri) {
+  Aabb b;
+  b.extend(tri.p0);
+  b.extend(tri.p1);
+  b.extend(tri.p2);
+  return b;
+}
+
+// Per-ray constants of the watertight test: the axis permutation that makes the largest
+// direction component z, and the shear that maps the ray onto +z.
+struct WatertightRay {
+  int kx, ky, kz;
+  float sx, sy, sz;
+
+  TESSERA_HD explicit WatertightRay(const vec3& d) {
+    const vec3 a = glm::abs(d);
+    kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = kz + 1 == 3 ? 0 : kz + 1;
+    ky = kx + 1 == 3 ? 0 : kx + 1;
+    if (d[kz] < 0.0f) {  // keep winding: swap x and y
+      const int tmp = kx;
+      kx = ky;
+      ky = tmp;
+    }
+    sx = d[kx] / d[kz];
+    sy = d[ky] / d[kz];
+    sz = 1.0f / d[kz];
+  }
+};
+
+// Watertight ray/triangle intersection (Woop, Benthin and Wald, JCGT 2013): edge functions
+// are evaluated in a ray-aligned frame, so a ray through a shared edge or vertex hits at
+// least one of the triangles sharing it. When an edge function is exactly zero it is
+// recomputed in double, as the paper prescribes, so the sign decision is exact.
+TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, const WatertightRay& wr, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  const vec3 a = tri.p0 - ray.origin;
+  const vec3 b = tri.p1 - ray.origin;
+  const vec3 c = tri.p2 - ray.origin;
+  const float ax = a[wr.kx] - wr.sx * a[wr.kz];
+  const float ay = a[wr.ky] - wr.sy * a[wr.kz];
+  const float bx = b[wr.kx] - wr.sx * b[wr.kz];
+  const float by = b[wr.ky] - wr.sy * b[wr.kz];
+  const float cx = c[wr.kx] - wr.sx * c[wr.kz];
+  const float cy = c[wr.ky] - wr.sy * c[wr.kz];
+  float u = cx * by - cy * bx;
+  float v = ax * cy - ay * cx;
+  float w = bx * ay - by * ax;
+  if (u == 0.0f || v == 0.0f || w == 0.0f) {
+    u = static_cast<float>(static_cast<double>(cx) * by - static_cast<double>(cy) * bx);
+    v = static_cast<float>(static_cast<double>(ax) * cy - static_cast<double>(ay) * cx);
+    w = static_cast<float>(static_cast<double>(bx) * ay - static_cast<double>(by) * ax);
+  }
+  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  const float det = u + v + w;
+  if (det == 0.0f) return false;  // degenerate (zero-area or edge-on): no hit, no NaN
+  const float az = wr.sz * a[wr.kz];
+  const float bz = wr.sz * b[wr.kz];
+  const float cz = wr.sz * c[wr.kz];
+  const float t_scaled = u * az + v * bz + w * cz;
+  const float inv_det = 1.0f / det;
+  const float t = t_scaled * inv_det;
+  if (!(t > ray.t_min && t < t_max)) return false;
+  hit.t = t;
+  hit.u = v * inv_det;  // weight of p1
+  hit.v = w * inv_det;  // weight of p2
+  hit.primitive = primitive;
+  return true;
+}
+
+TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, float t_max, HitRecord& hit,
+                                         std::uint32_t primitive) {
+  return intersect(tri, ray, WatertightRay(ray.direction), t_max, hit, primitive);
+}
+
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, const Ray& ray, const HitRecord& hit) {
+  SurfaceInteraction si;
+  const float b0 = 1.0f - hit.u - hit.v;
+  si.position = b0 * tri.p0 + hit.u * tri.p1 + hit.v * tri.p2;
+  const vec3 n = glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+  const float len2 = glm::dot(n, n);
+  const vec3 outward = len2 > 0.0f ? n / std::sqrt(len2) : vec3(0.0f, 0.0f, 1.0f);
+  set_face_normal(si, ray.direction, outward);
+  si.uv = vec2(hit.u, hit.v);
+  si.material = tri.material;
+  return si;
+}
+
+TESSERA_HD TESSERA_INLINE float surface_area(const Triangle& tri) {
+  return 0.5f * glm::length(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+}
+
+}  // namespace tessera

@@ -1,0 +1,30 @@
+#pragma once
+#include <cmath>
+
+#include "tessera/math/vec.hpp"
+
+namespace tessera {
+
+// Cosine-weighted direction about +z; pdf = cos(theta) / pi.
+TESSERA_HD TESSERA_INLINE vec3 sample_cosine_hemisphere(float u1, float u2) {
+  const float r = std::sqrt(u1);
+  const float phi = 2.0f * kPi * u2;
+  const float z = std::sqrt(glm::max(0.0f, 1.0f - u1));
+  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+// Uniform direction on the unit sphere; pdf = 1 / (4 pi).
+TESSERA_HD TESSERA_INLINE vec3 sample_uniform_sphere(float u1, float u2) {
+  const float z = 1.0f - 2.0f * u1;
+  const float r = std::sqrt(glm::max(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * kPi * u2;
+  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+// Uniform barycentrics on a triangle (Heitz 2019 low-distortion map is overkill here).
+TESSERA_HD TESSERA_INLINE vec2 sample_uniform_triangle(float u1, float u2) {
+  const float su = std::sqrt(u1);
+  return vec2(1.0f - su, u2 * su);
+}
+
+}  // namespace tessera

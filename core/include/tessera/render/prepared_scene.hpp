@@ -1,0 +1,61 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tessera/accel/bvh.hpp"
+#include "tessera/render/scene_data.hpp"
+#include "tessera/render/tile.hpp"
+#include "tessera/scene/scene_description.hpp"
+#include "tessera/scene/scene_features.hpp"
+
+namespace tessera {
+
+struct TileStats {
+  std::uint64_t rays = 0;
+};
+
+// The render-ready scene of one job: float arrays per shape type, materials, lights, the
+// BVH and the pipeline specialisation chosen for the scene's features. Built once per job
+// and shared read-only by every tile and thread.
+class PreparedScene {
+ public:
+  static std::shared_ptr<const PreparedScene> build(const SceneDescription& description);
+
+  // Renders one tile into `rgba` (tile.width * tile.height * 4 floats, overwritten).
+  TileStats render_tile(const TileRect& tile, std::span<float> rgba) const;
+
+  const RenderSettings& settings() const { return settings_; }
+  const SceneFeatures& features() const { return features_; }
+  SceneView view() const;
+  double build_seconds() const { return build_seconds_; }
+  std::uint32_t bvh_depth() const { return bvh_.depth; }
+
+ private:
+  PreparedScene() = default;
+
+  using RenderTileFn = TileStats (*)(const SceneView&, const RenderSettings&, const TileRect&, float*);
+
+  std::vector<Sphere> spheres_;
+  std::vector<Quad> quads_;
+  std::vector<Triangle> triangles_;
+  std::vector<Material> materials_;
+  std::vector<LightSource> lights_;
+  Bvh bvh_;
+  Camera camera_{};
+  vec3 background_{0.0f};
+  RenderSettings settings_;
+  SceneFeatures features_;
+  RenderTileFn render_tile_fn_ = nullptr;
+  double build_seconds_ = 0.0;
+};
+
+// Maps a scene material onto the renderer's BSDF families.
+Material make_material(const MaterialDesc& desc);
+
+// Renders the whole image on the calling thread, tile by tile (tests, `--local`).
+std::vector<float> render_image(const PreparedScene& scene);
+
+}  // namespace tessera

@@ -1,0 +1,200 @@
+#include "tessera/scene/scene_description.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "tessera/scene/scene_error.hpp"
+
+namespace tessera {
+
+std::string SceneIssue::to_string() const {
+  std::ostringstream out;
+  if (!file.empty()) {
+    out << file;
+    if (line > 0) out << ':' << line;
+    out << ": ";
+  }
+  if (!field.empty()) out << field << ": ";
+  out << message;
+  return out.str();
+}
+
+namespace {
+struct MaterialName {
+  MaterialType type;
+  const char* name;
+};
+constexpr MaterialName kMaterialNames[] = {
+    {MaterialType::kLambertian, "lambertian"},
+    {MaterialType::kLight, "light"},
+    {MaterialType::kMetal, "metal"},
+    {MaterialType::kRoughMirror, "rough_mirror"},
+    {MaterialType::kGlass, "glass"},
+    {MaterialType::kAnisotropicMetal, "anisotropic_metal"},
+    {MaterialType::kClearCoat, "clear_coat"},
+    {MaterialType::kThinFilm, "thin_film"},
+};
+}  // namespace
+
+const char* to_string(MaterialType type) {
+  for (const auto& entry : kMaterialNames)
+    if (entry.type == type) return entry.name;
+  return "unknown";
+}
+
+std::optional<MaterialType> material_type_from_string(const std::string& name) {
+  for (const auto& entry : kMaterialNames)
+    if (name == entry.name) return entry.type;
+  return std::nullopt;
+}
+
+std::size_t SceneDescription::triangle_count() const {
+  std::size_t count = 0;
+  for (const auto& mesh : meshes) count += mesh.indices.size() / 3;
+  return count;
+}
+
+std::optional<std::uint32_t> SceneDescription::find_material(const std::string& name) const {
+  for (std::size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == name) return static_cast<std::uint32_t>(i);
+  return std::nullopt;
+}
+
+namespace {
+
+class Validator {
+ public:
+  explicit Validator(std::vector<SceneIssue>& issues) : issues_(issues) {}
+
+  void fail(std::string field, std::string message) {
+    issues_.push_back(SceneIssue{"", 0, std::move(field), std::move(message)});
+  }
+  bool finite(const std::string& field, double value) {
+    if (std::isfinite(value)) return true;
+    fail(field, "must be a finite number, got " + format(value));
+    return false;
+  }
+  bool finite(const std::string& field, const glm::dvec3& v) {
+    if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) return true;
+    fail(field, "must be three finite numbers, got [" + format(v.x) + ", " + format(v.y) + ", " + format(v.z) + "]");
+    return false;
+  }
+  void in_range(const std::string& field, double value, double lo, double hi) {
+    if (!finite(field, value)) return;
+    if (value < lo || value > hi)
+      fail(field, "must be in [" + format(lo) + ", " + format(hi) + "], got " + format(value));
+  }
+  void non_negative(const std::string& field, const glm::dvec3& v) {
+    if (!finite(field, v)) return;
+    if (v.x < 0 || v.y < 0 || v.z < 0) fail(field, "components must not be negative");
+  }
+  static std::string format(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+  }
+
+ private:
+  std::vector<SceneIssue>& issues_;
+};
+
+std::string geometry_field(std::uint32_t index, const char* name) {
+  return "geometry[" + std::to_string(index) + "]." + name;
+}
+
+}  // namespace
+
+std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const SceneLimits& limits) {
+  std::vector<SceneIssue> issues;
+  Validator check(issues);
+
+  const auto& cam = scene.camera;
+  check.finite("camera.position", cam.position);
+  check.finite("camera.look_at", cam.look_at);
+  check.finite("camera.up", cam.up);
+  check.in_range("camera.fov", cam.fov_degrees, 1e-3, 179.0);
+  if (glm::length(cam.look_at - cam.position) == 0.0)
+    check.fail("camera.look_at", "must differ from camera.position");
+  else if (glm::length(glm::cross(cam.look_at - cam.position, cam.up)) == 0.0)
+    check.fail("camera.up", "must not be parallel to the viewing direction");
+
+  check.non_negative("settings.background_color", scene.background.color);
+  check.in_range("settings.background_intensity", scene.background.intensity, 0.0, 1e6);
+
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const auto& m = scene.materials[i];
+    const std::string base = "materials[" + std::to_string(i) + "].";
+    if (m.name.empty()) check.fail(base + "name", "must not be empty");
+    for (std::size_t j = 0; j < i; ++j)
+      if (scene.materials[j].name == m.name && !m.name.empty())
+        check.fail(base + "name", "duplicate material name '" + m.name + "'");
+    check.non_negative(base + "albedo", m.albedo);
+    check.non_negative(base + "emission", m.emission);
+    check.in_range(base + "roughness", m.roughness, 0.0, 1.0);
+    check.in_range(base + "refractive_index", m.refractive_index, 1.0, 4.0);
+    check.in_range(base + "metallic", m.metallic, 0.0, 1.0);
+    check.in_range(base + "transmission", m.transmission, 0.0, 1.0);
+    check.in_range(base + "anisotropy", m.anisotropy, -1.0, 1.0);
+    check.in_range(base + "film_thickness", m.film_thickness, 0.0, 1e5);
+    check.in_range(base + "film_ior", m.film_ior, 1.0, 4.0);
+  }
+
+  const auto material_ok = [&](std::uint32_t source, std::uint32_t material) {
+    if (material >= scene.materials.size())
+      check.fail(geometry_field(source, "material"), "refers to material index " + std::to_string(material) +
+                                                         " but the scene has " +
+                                                         std::to_string(scene.materials.size()));
+  };
+
+  for (const auto& s : scene.spheres) {
+    check.finite(geometry_field(s.source_index, "center"), s.center);
+    if (check.finite(geometry_field(s.source_index, "radius"), s.radius) && !(s.radius > 0.0))
+      check.fail(geometry_field(s.source_index, "radius"), "must be positive, got " + Validator::format(s.radius));
+    material_ok(s.source_index, s.material);
+  }
+  for (const auto& q : scene.quads) {
+    const bool ok = check.finite(geometry_field(q.source_index, "corner"), q.corner) &
+                    check.finite(geometry_field(q.source_index, "u"), q.u) &
+                    check.finite(geometry_field(q.source_index, "v"), q.v);
+    if (ok && glm::length(glm::cross(q.u, q.v)) == 0.0)
+      check.fail(geometry_field(q.source_index, "v"), "u and v must span a parallelogram (they are parallel or zero)");
+    material_ok(q.source_index, q.material);
+  }
+  std::size_t triangles = 0;
+  for (const auto& mesh : scene.meshes) {
+    const std::string where = mesh.source_file.empty() ? "" : " (" + mesh.source_file + ")";
+    if (mesh.indices.size() % 3 != 0)
+      check.fail(geometry_field(mesh.source_index, "indices"), "count must be a multiple of 3" + where);
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+      if (!check.finite(geometry_field(mesh.source_index, "positions") + "[" + std::to_string(i) + "]" + where,
+                        mesh.positions[i]))
+        break;
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i)
+      if (mesh.indices[i] >= mesh.positions.size()) {
+        check.fail(geometry_field(mesh.source_index, "indices") + "[" + std::to_string(i) + "]",
+                   "vertex index " + std::to_string(mesh.indices[i]) + " out of range (" +
+                       std::to_string(mesh.positions.size()) + " vertices)" + where);
+        break;
+      }
+    material_ok(mesh.source_index, mesh.material);
+    triangles += mesh.indices.size() / 3;
+  }
+  if (triangles > limits.max_triangles)
+    check.fail("geometry", "scene has " + std::to_string(triangles) + " triangles, more than the limit of " +
+                               std::to_string(limits.max_triangles));
+
+  const auto& r = scene.render;
+  const auto in_u32 = [&](const char* name, std::uint32_t value, std::uint32_t lo, std::uint32_t hi) {
+    if (value < lo || value > hi)
+      check.fail(std::string("render.") + name,
+                 "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(value));
+  };
+  in_u32("width", r.width, 1, limits.max_dimension);
+  in_u32("height", r.height, 1, limits.max_dimension);
+  in_u32("spp", r.samples_per_pixel, 1, limits.max_samples_per_pixel);
+  in_u32("max_depth", r.max_depth, 1, limits.max_depth);
+  in_u32("tile_size", r.tile_size, limits.min_tile_size, limits.max_tile_size);
+  return issues;
+}
+
+}  // namespace tessera

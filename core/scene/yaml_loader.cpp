@@ -1,0 +1,374 @@
+#include "tessera/scene/yaml_loader.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <map>
+#include <sstream>
+
+#include "tessera/scene/mesh_loader.hpp"
+
+namespace tessera {
+namespace {
+
+// Walks the YAML tree with the current field path, so every error and warning can say
+// where it is: file, line and the path the user wrote.
+class YamlReader {
+ public:
+  YamlReader(std::string file, std::vector<SceneIssue>& warnings) : file_(std::move(file)), warnings_(warnings) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& message) const {
+    throw SceneError(SceneIssue{file_, line_of(node), field, message});
+  }
+  void warn(const YAML::Node& node, const std::string& field, const std::string& message) const {
+    warnings_.push_back(SceneIssue{file_, line_of(node), field, message});
+  }
+  static int line_of(const YAML::Node& node) {
+    if (!node.IsDefined() || node.Mark().is_null()) return 0;
+    return node.Mark().line + 1;
+  }
+  const std::string& file() const { return file_; }
+
+  // Warns about keys of `map` not in `known`.
+  void check_keys(const YAML::Node& map, const std::string& path, std::initializer_list<const char*> known) const {
+    for (const auto& entry : map) {
+      const std::string key = entry.first.Scalar();
+      bool found = false;
+      for (const char* k : known)
+        if (key == k) found = true;
+      if (!found) warn(entry.first, join(path, key), "unknown key, ignored");
+    }
+  }
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+  double number(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) fail(node, field, std::string("must be a number, got a ") + kind(node));
+    double value = 0.0;
+    if (!YAML::convert<double>::decode(node, value))
+      fail(node, field, "must be a number, got '" + node.Scalar() + "'");
+    if (!std::isfinite(value)) fail(node, field, "must be a finite number, got " + node.Scalar());
+    return value;
+  }
+  std::uint32_t unsigned_int(const YAML::Node& node, const std::string& field) const {
+    const double value = number(node, field);
+    if (value < 0 || value != std::floor(value) || value > 4294967295.0)
+      fail(node, field, "must be a non-negative integer, got " + node.Scalar());
+    return static_cast<std::uint32_t>(value);
+  }
+  std::uint64_t seed(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) fail(node, field, std::string("must be an integer, got a ") + kind(node));
+    std::uint64_t value = 0;
+    if (!YAML::convert<std::uint64_t>::decode(node, value))
+      fail(node, field, "must be a non-negative integer, got '" + node.Scalar() + "'");
+    return value;
+  }
+  bool boolean(const YAML::Node& node, const std::string& field) const {
+    bool value = false;
+    if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+      fail(node, field, "must be true or false, got '" + (node.IsScalar() ? node.Scalar() : kind(node)) + "'");
+    return value;
+  }
+  std::string string(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) fail(node, field, std::string("must be a string, got a ") + kind(node));
+    return node.Scalar();
+  }
+  glm::dvec3 vec3(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsSequence() || node.size() != 3)
+      fail(node, field, std::string("must be a list of three numbers, got ") +
+                            (node.IsSequence() ? std::to_string(node.size()) + " elements" : std::string("a ") + kind(node)));
+    return glm::dvec3(number(node[0], field + "[0]"), number(node[1], field + "[1]"), number(node[2], field + "[2]"));
+  }
+  // A colour may also be written as one number for grey.
+  glm::dvec3 color(const YAML::Node& node, const std::string& field) const {
+    if (node.IsScalar()) return glm::dvec3(number(node, field));
+    return vec3(node, field);
+  }
+  YAML::Node required(const YAML::Node& map, const char* key, const std::string& path) const {
+    const YAML::Node node = map[key];
+    if (!node.IsDefined() || node.IsNull()) fail(map, join(path, key), "is required but missing");
+    return node;
+  }
+  static const char* kind(const YAML::Node& node) {
+    switch (node.Type()) {
+      case YAML::NodeType::Map: return "map";
+      case YAML::NodeType::Sequence: return "list";
+      case YAML::NodeType::Scalar: return "scalar";
+      case YAML::NodeType::Null: return "null";
+      default: return "missing value";
+    }
+  }
+
+ private:
+  std::string file_;
+  std::vector<SceneIssue>& warnings_;
+};
+
+class SceneBuilder {
+ public:
+  SceneBuilder(YamlReader& reader, std::filesystem::path base_directory, const SceneLoadOptions& options)
+      : in_(reader), base_directory_(std::move(base_directory)), options_(options) {}
+
+  SceneDescription build(const YAML::Node& root) {
+    if (!root.IsMap()) in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
+    in_.check_keys(root, "", {"camera", "settings", "materials", "geometry", "geometries", "render"});
+    if (root["camera"]) read_camera(root["camera"]);
+    if (root["settings"]) read_settings(root["settings"]);
+    if (root["materials"]) read_materials(root["materials"]);
+    const char* geometry_key = root["geometry"] ? "geometry" : "geometries";  // RayON accepts both
+    if (root["geometry"] && root["geometries"])
+      in_.fail(root["geometries"], "geometries", "give either geometry or geometries, not both");
+    if (root[geometry_key]) read_geometry(root[geometry_key], geometry_key);
+    if (root["render"]) read_render(root["render"]);
+    return std::move(scene_);
+  }
+
+  // Field path -> YAML node, for the line numbers of semantic errors found after parsing.
+  const std::map<std::string, YAML::Node>& locations() const { return locations_; }
+
+ private:
+  YAML::Node map_at(const YAML::Node& node, const std::string& path) {
+    if (!node.IsMap()) in_.fail(node, path, std::string("must be a map, got a ") + YamlReader::kind(node));
+    locations_[path] = node;
+    return node;
+  }
+  template <typename Fn>
+  void optional(const YAML::Node& map, const char* key, const std::string& path, Fn&& read) {
+    const YAML::Node node = map[key];
+    if (!node.IsDefined()) return;
+    const std::string field = YamlReader::join(path, key);
+    locations_[field] = node;
+    read(node, field);
+  }
+
+  void read_camera(const YAML::Node& node) {
+    map_at(node, "camera");
+    in_.check_keys(node, "camera", {"position", "look_at", "up", "fov"});
+    auto& cam = scene_.camera;
+    optional(node, "position", "camera", [&](auto& n, auto& f) { cam.position = in_.vec3(n, f); });
+    optional(node, "look_at", "camera", [&](auto& n, auto& f) { cam.look_at = in_.vec3(n, f); });
+    optional(node, "up", "camera", [&](auto& n, auto& f) { cam.up = in_.vec3(n, f); });
+    optional(node, "fov", "camera", [&](auto& n, auto& f) { cam.fov_degrees = in_.number(n, f); });
+  }
+
+  void read_settings(const YAML::Node& node) {
+    map_at(node, "settings");
+    in_.check_keys(node, "settings",
+                   {"background_color", "background_intensity", "ambient_light", "use_bvh", "adaptive_sampling"});
+    auto& bg = scene_.background;
+    optional(node, "background_color", "settings", [&](auto& n, auto& f) { bg.color = in_.color(n, f); });
+    optional(node, "background_intensity", "settings", [&](auto& n, auto& f) { bg.intensity = in_.number(n, f); });
+    optional(node, "ambient_light", "settings", [&](auto& n, auto& f) {
+      if (in_.number(n, f) != 0.0) in_.warn(n, f, "RayON's ambient term is not supported; ignored");
+    });
+    // RayON renderer switches; Tessera always picks its own acceleration and sampling.
+    optional(node, "use_bvh", "settings", [&](auto& n, auto& f) { in_.boolean(n, f); });
+    optional(node, "adaptive_sampling", "settings", [&](auto& n, auto& f) { in_.boolean(n, f); });
+  }
+
+  void read_materials(const YAML::Node& node) {
+    if (!node.IsSequence()) in_.fail(node, "materials", std::string("must be a list, got a ") + YamlReader::kind(node));
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "materials[" + std::to_string(i) + "]";
+      const YAML::Node m = map_at(node[i], path);
+      in_.check_keys(m, path,
+                     {"name", "type", "albedo", "emission", "roughness", "refractive_index", "metallic",
+                      "transmission", "anisotropy", "preset", "film_thickness", "film_ior"});
+      MaterialDesc mat;
+      mat.name = in_.string(in_.required(m, "name", path), path + ".name");
+      const std::string type_field = path + ".type";
+      const std::string type = in_.string(in_.required(m, "type", path), type_field);
+      const auto parsed = material_type_from_string(type);
+      if (!parsed)
+        in_.fail(m["type"], type_field,
+                 "unknown material type '" + type +
+                     "' (expected lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat or "
+                     "thin_film)");
+      mat.type = *parsed;
+      if (mat.type == MaterialType::kLight) mat.albedo = glm::dvec3(1.0);
+      optional(m, "albedo", path, [&](auto& n, auto& f) { mat.albedo = in_.color(n, f); });
+      optional(m, "emission", path, [&](auto& n, auto& f) { mat.emission = in_.color(n, f); });
+      optional(m, "roughness", path, [&](auto& n, auto& f) { mat.roughness = in_.number(n, f); });
+      optional(m, "refractive_index", path, [&](auto& n, auto& f) { mat.refractive_index = in_.number(n, f); });
+      optional(m, "metallic", path, [&](auto& n, auto& f) { mat.metallic = in_.number(n, f); });
+      optional(m, "transmission", path, [&](auto& n, auto& f) { mat.transmission = in_.number(n, f); });
+      optional(m, "anisotropy", path, [&](auto& n, auto& f) { mat.anisotropy = in_.number(n, f); });
+      optional(m, "preset", path, [&](auto& n, auto& f) { mat.preset = in_.string(n, f); });
+      optional(m, "film_thickness", path, [&](auto& n, auto& f) { mat.film_thickness = in_.number(n, f); });
+      optional(m, "film_ior", path, [&](auto& n, auto& f) { mat.film_ior = in_.number(n, f); });
+      if (mat.type == MaterialType::kLight && !m["emission"])
+        in_.fail(m, path + ".emission", "is required for a light material");
+      if (scene_.find_material(mat.name))
+        in_.fail(m["name"], path + ".name", "duplicate material name '" + mat.name + "'");
+      scene_.materials.push_back(std::move(mat));
+    }
+  }
+
+  std::uint32_t material_ref(const YAML::Node& g, const std::string& path) {
+    const std::string field = path + ".material";
+    const YAML::Node node = in_.required(g, "material", path);
+    const std::string name = in_.string(node, field);
+    const auto index = scene_.find_material(name);
+    if (!index) in_.fail(node, field, "unknown material '" + name + "'");
+    return *index;
+  }
+
+  void read_geometry(const YAML::Node& node, const char* key) {
+    if (!node.IsSequence()) in_.fail(node, key, std::string("must be a list, got a ") + YamlReader::kind(node));
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "geometry[" + std::to_string(i) + "]";
+      const YAML::Node g = map_at(node[i], path);
+      const std::string type = in_.string(in_.required(g, "type", path), path + ".type");
+      const auto index = static_cast<std::uint32_t>(i);
+      bool visible = true;
+      optional(g, "visible", path, [&](auto& n, auto& f) { visible = in_.boolean(n, f); });
+      if (type == "sphere") {
+        in_.check_keys(g, path, {"type", "material", "center", "radius", "visible"});
+        SphereDesc s;
+        s.material = material_ref(g, path);
+        s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
+        s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
+        locations_[path + ".radius"] = g["radius"];
+        if (!(s.radius > 0.0)) in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
+        s.visible = visible;
+        s.source_index = index;
+        scene_.spheres.push_back(s);
+      } else if (type == "rectangle" || type == "quad") {
+        in_.check_keys(g, path, {"type", "material", "corner", "u", "v", "visible"});
+        QuadDesc q;
+        q.material = material_ref(g, path);
+        q.corner = in_.vec3(in_.required(g, "corner", path), path + ".corner");
+        q.u = in_.vec3(in_.required(g, "u", path), path + ".u");
+        q.v = in_.vec3(in_.required(g, "v", path), path + ".v");
+        locations_[path + ".v"] = g["v"];
+        q.visible = visible;
+        q.source_index = index;
+        scene_.quads.push_back(q);
+      } else if (type == "triangle") {
+        in_.check_keys(g, path, {"type", "material", "v0", "v1", "v2", "visible"});
+        TriangleMeshDesc mesh;
+        mesh.material = material_ref(g, path);
+        mesh.positions = {in_.vec3(in_.required(g, "v0", path), path + ".v0"),
+                          in_.vec3(in_.required(g, "v1", path), path + ".v1"),
+                          in_.vec3(in_.required(g, "v2", path), path + ".v2")};
+        mesh.indices = {0, 1, 2};
+        mesh.visible = visible;
+        mesh.source_index = index;
+        scene_.meshes.push_back(std::move(mesh));
+      } else if (type == "obj" || type == "mesh") {
+        in_.check_keys(g, path, {"type", "material", "file", "position", "scale", "visible"});
+        const std::uint32_t material = material_ref(g, path);
+        const YAML::Node file_node = in_.required(g, "file", path);
+        const std::string file = in_.string(file_node, path + ".file");
+        glm::dvec3 position(0.0), scale(1.0);
+        optional(g, "position", path, [&](auto& n, auto& f) { position = in_.vec3(n, f); });
+        optional(g, "scale", path, [&](auto& n, auto& f) {
+          scale = n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
+          if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0) in_.fail(n, f, "components must not be zero");
+        });
+        TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
+        for (auto& p : mesh.positions) p = p * scale + position;
+        mesh.material = material;
+        mesh.visible = visible;
+        mesh.source_index = index;
+        scene_.meshes.push_back(std::move(mesh));
+      } else {
+        in_.fail(g["type"], path + ".type",
+                 "unknown geometry type '" + type + "' (expected sphere, rectangle, quad, triangle, obj or mesh)");
+      }
+    }
+  }
+
+  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field, const std::string& file) {
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = base_directory_ / path;
+    if (!options_.allowed_roots.empty() && !path_is_within(path, options_.allowed_roots))
+      in_.fail(node, field, "'" + file + "' is outside the directories this server may read");
+    try {
+      return load_mesh_file(path);
+    } catch (const SceneError& e) {
+      in_.fail(node, field, "cannot load mesh '" + path.lexically_normal().string() + "': " + e.issue().message);
+    }
+  }
+
+  void read_render(const YAML::Node& node) {
+    map_at(node, "render");
+    in_.check_keys(node, "render", {"width", "height", "spp", "max_depth", "tile_size", "seed"});
+    auto& r = scene_.render;
+    optional(node, "width", "render", [&](auto& n, auto& f) { r.width = in_.unsigned_int(n, f); });
+    optional(node, "height", "render", [&](auto& n, auto& f) { r.height = in_.unsigned_int(n, f); });
+    optional(node, "spp", "render", [&](auto& n, auto& f) { r.samples_per_pixel = in_.unsigned_int(n, f); });
+    optional(node, "max_depth", "render", [&](auto& n, auto& f) { r.max_depth = in_.unsigned_int(n, f); });
+    optional(node, "tile_size", "render", [&](auto& n, auto& f) { r.tile_size = in_.unsigned_int(n, f); });
+    optional(node, "seed", "render", [&](auto& n, auto& f) { r.seed = in_.seed(n, f); });
+  }
+
+  YamlReader& in_;
+  std::filesystem::path base_directory_;
+  const SceneLoadOptions& options_;
+  SceneDescription scene_;
+  std::map<std::string, YAML::Node> locations_;
+};
+
+// The deepest recorded YAML node whose path is a prefix of `field`.
+int line_for_field(const std::map<std::string, YAML::Node>& locations, const std::string& field) {
+  std::string key = field;
+  while (!key.empty()) {
+    const auto it = locations.find(key);
+    if (it != locations.end()) return YamlReader::line_of(it->second);
+    const auto cut = key.find_last_of(".[");
+    if (cut == std::string::npos) break;
+    key.resize(cut);
+  }
+  return 0;
+}
+
+}  // namespace
+
+LoadedScene load_scene_yaml(std::string_view text, const std::string& display_name,
+                            const std::filesystem::path& base_directory, const SceneLoadOptions& options) {
+  LoadedScene result;
+  YamlReader reader(display_name, result.warnings);
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    throw SceneError(SceneIssue{display_name, e.mark.is_null() ? 0 : e.mark.line + 1, "",
+                                "YAML syntax error: " + e.msg});
+  }
+  if (!root.IsDefined() || root.IsNull())
+    throw SceneError(SceneIssue{display_name, 0, "", "the scene file is empty"});
+  SceneBuilder builder(reader, base_directory, options);
+  try {
+    result.scene = builder.build(root);
+  } catch (const YAML::Exception& e) {  // conversions inside yaml-cpp
+    throw SceneError(SceneIssue{display_name, e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg});
+  }
+  const auto issues = validate_scene(result.scene, options.limits);
+  if (!issues.empty()) {
+    SceneIssue first = issues.front();
+    first.file = display_name;
+    first.line = line_for_field(builder.locations(), first.field);
+    throw SceneError(first);
+  }
+  return result;
+}
+
+LoadedScene load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw SceneError(SceneIssue{path.string(), 0, "", "scene file not found"});
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw SceneError(SceneIssue{path.string(), 0, "", "not a regular file"});
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(SceneIssue{path.string(), 0, "", "cannot open scene file"});
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_scene_yaml(text.str(), path.string(), path.parent_path(), options);
+}
+
+}  // namespace tessera
