@@ -85,7 +85,8 @@ class Builder {
       std::array<std::uint32_t, kBinCount> counts{};
       const float scale = kBinCount / extent;
       for (std::uint32_t i = begin; i < end; ++i) {
-        const int bin = std::min(kBinCount - 1, static_cast<int>((items_[i].centroid[axis] - lo) * scale));
+        const int bin =
+            std::min(kBinCount - 1, static_cast<int>((items_[i].centroid[axis] - lo) * scale));
         bins[bin].extend(items_[i].bounds);
         ++counts[bin];
       }
@@ -102,7 +103,8 @@ class Builder {
       for (int b = kBinCount - 1; b > 0; --b) {
         accumulated.extend(bins[b]);
         accumulated_count += counts[b];
-        const float cost = left_cost[b - 1] + accumulated.surface_area() * static_cast<float>(accumulated_count);
+        const float cost =
+            left_cost[b - 1] + accumulated.surface_area() * static_cast<float>(accumulated_count);
         if (cost < best.cost) {
           best.cost = cost;
           best.axis = axis;

@@ -24,20 +24,22 @@ float linear_to_srgb(float c) {
 }
 }  // namespace
 
-std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width, std::uint32_t height,
-                                     std::uint32_t x, std::uint32_t y) {
+std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width,
+                                     std::uint32_t height, std::uint32_t x, std::uint32_t y) {
   if (rgba.size() != static_cast<std::size_t>(width) * height * 4)
     throw std::invalid_argument("encode_exr: buffer size does not match width * height * 4");
   std::vector<std::uint8_t> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
   auto out = OIIO::ImageOutput::create("tile.exr", &proxy);
-  if (!out) throw std::runtime_error("encode_exr: OpenImageIO has no EXR writer: " + OIIO::geterror());
+  if (!out)
+    throw std::runtime_error("encode_exr: OpenImageIO has no EXR writer: " + OIIO::geterror());
   OIIO::ImageSpec spec = rgba_spec(width, height);
   spec.x = static_cast<int>(x);
   spec.y = static_cast<int>(y);
   spec.full_x = 0;
   spec.full_y = 0;
-  if (!out->open("tile.exr", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgba.data()) || !out->close())
+  if (!out->open("tile.exr", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgba.data()) ||
+      !out->close())
     throw std::runtime_error("encode_exr: " + out->geterror());
   return bytes;
 }
@@ -56,7 +58,8 @@ RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
   image.height = static_cast<std::uint32_t>(spec.height);
   image.pixels.assign(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
   const int channels = std::min(spec.nchannels, 4);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, image.pixels.data(), 4 * sizeof(float)))
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, image.pixels.data(),
+                      4 * sizeof(float)))
     throw std::runtime_error("decode_exr: " + in->geterror());
   return image;
 }
@@ -68,14 +71,15 @@ struct TiledExrWriter::Impl {
   bool open = false;
 };
 
-TiledExrWriter::TiledExrWriter(const std::filesystem::path& path, std::uint32_t width, std::uint32_t height,
-                               std::uint32_t tile_size)
+TiledExrWriter::TiledExrWriter(const std::filesystem::path& path, std::uint32_t width,
+                               std::uint32_t height, std::uint32_t tile_size)
     : impl_(std::make_unique<Impl>()) {
   impl_->width = width;
   impl_->height = height;
   impl_->tile_size = tile_size;
   impl_->out = OIIO::ImageOutput::create(path.string());
-  if (!impl_->out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
+  if (!impl_->out)
+    throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
   OIIO::ImageSpec spec = rgba_spec(width, height);
   spec.tile_width = static_cast<int>(tile_size);
   spec.tile_height = static_cast<int>(tile_size);
@@ -102,8 +106,8 @@ void TiledExrWriter::write_tile(const TileRect& tile, std::span<const float> rgb
   for (std::uint32_t row = 0; row < tile.height; ++row)
     std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
                 impl_->padded.begin() + static_cast<std::ptrdiff_t>(row) * ts * 4);
-  if (!impl_->out->write_tile(static_cast<int>(tile.x), static_cast<int>(tile.y), 0, OIIO::TypeDesc::FLOAT,
-                              impl_->padded.data()))
+  if (!impl_->out->write_tile(static_cast<int>(tile.x), static_cast<int>(tile.y), 0,
+                              OIIO::TypeDesc::FLOAT, impl_->padded.data()))
     throw std::runtime_error("write_tile: " + impl_->out->geterror());
 }
 
@@ -126,9 +130,12 @@ void write_image(const std::filesystem::path& path, const RgbaImage& image) {
   std::vector<std::uint8_t> ldr(static_cast<std::size_t>(image.width) * image.height * 3);
   for (std::size_t i = 0, n = static_cast<std::size_t>(image.width) * image.height; i < n; ++i)
     for (int c = 0; c < 3; ++c)
-      ldr[i * 3 + c] = static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(image.pixels[i * 4 + c])));
-  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3, OIIO::TypeDesc::UINT8);
-  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, ldr.data()) || !out->close())
+      ldr[i * 3 + c] =
+          static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(image.pixels[i * 4 + c])));
+  OIIO::ImageSpec spec(static_cast<int>(image.width), static_cast<int>(image.height), 3,
+                       OIIO::TypeDesc::UINT8);
+  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, ldr.data()) ||
+      !out->close())
     throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
 }
 
@@ -140,8 +147,8 @@ RgbaImage read_image(const std::filesystem::path& path) {
   image.width = static_cast<std::uint32_t>(spec.width);
   image.height = static_cast<std::uint32_t>(spec.height);
   image.pixels.assign(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
-  if (!in->read_image(0, 0, 0, std::min(spec.nchannels, 4), OIIO::TypeDesc::FLOAT, image.pixels.data(),
-                      4 * sizeof(float)))
+  if (!in->read_image(0, 0, 0, std::min(spec.nchannels, 4), OIIO::TypeDesc::FLOAT,
+                      image.pixels.data(), 4 * sizeof(float)))
     throw std::runtime_error("cannot read " + path.string() + ": " + in->geterror());
   return image;
 }

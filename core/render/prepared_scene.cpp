@@ -11,7 +11,9 @@ namespace tessera {
 
 namespace {
 
-vec3 to_float(const glm::dvec3& v) { return vec3(v); }
+vec3 to_float(const glm::dvec3& v) {
+  return vec3(v);
+}
 
 // Normal-incidence colours of RayON's metal presets.
 vec3 metal_preset_color(const std::string& preset, const vec3& fallback) {
@@ -31,22 +33,32 @@ Material make_material(const MaterialDesc& desc) {
   m.roughness = static_cast<float>(desc.roughness);
   m.ior = static_cast<float>(desc.refractive_index);
   switch (desc.type) {
-    case MaterialType::kLambertian: m.kind = BsdfKind::kDiffuse; break;
-    case MaterialType::kLight: m.kind = BsdfKind::kEmitter; break;
+    case MaterialType::kLambertian:
+      m.kind = BsdfKind::kDiffuse;
+      break;
+    case MaterialType::kLight:
+      m.kind = BsdfKind::kEmitter;
+      break;
     case MaterialType::kMetal:
-    case MaterialType::kRoughMirror: m.kind = BsdfKind::kConductor; break;
+    case MaterialType::kRoughMirror:
+      m.kind = BsdfKind::kConductor;
+      break;
     case MaterialType::kAnisotropicMetal:
       // Anisotropy is approximated as isotropic roughness for now.
       m.kind = BsdfKind::kConductor;
       m.albedo = metal_preset_color(desc.preset, m.albedo);
       break;
-    case MaterialType::kGlass: m.kind = BsdfKind::kDielectric; break;
+    case MaterialType::kGlass:
+      m.kind = BsdfKind::kDielectric;
+      break;
     case MaterialType::kThinFilm:
       // Interference colours are not modelled: a thin shell with the film's Fresnel term.
       m.kind = BsdfKind::kThinDielectric;
       m.ior = static_cast<float>(desc.film_ior);
       break;
-    case MaterialType::kClearCoat: m.kind = BsdfKind::kCoated; break;
+    case MaterialType::kClearCoat:
+      m.kind = BsdfKind::kCoated;
+      break;
   }
   return m;
 }
@@ -63,44 +75,51 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   std::vector<Aabb> boxes;
   std::vector<std::uint32_t> references;
-  const auto add = [&](PrimitiveType type, std::uint32_t index, const Aabb& box, bool visible, std::uint32_t material,
-                       float area) {
+  const auto add = [&](PrimitiveType type, std::uint32_t index, const Aabb& box, bool visible,
+                       std::uint32_t material, float area) {
     const std::uint32_t ref = make_primitive_ref(type, index);
     if (visible) {
       boxes.push_back(box);
       references.push_back(ref);
     }
-    if (scene->materials_[material].emissive() && area > 0.0f) scene->lights_.push_back(LightSource{ref, area});
+    if (scene->materials_[material].emissive() && area > 0.0f)
+      scene->lights_.push_back(LightSource{ref, area});
   };
 
   for (const auto& s : description.spheres) {
     const Sphere sphere{to_float(s.center), static_cast<float>(s.radius), s.material};
     const auto index = static_cast<std::uint32_t>(scene->spheres_.size());
     scene->spheres_.push_back(sphere);
-    add(PrimitiveType::kSphere, index, tessera::bounds(sphere), s.visible, s.material, surface_area(sphere));
+    add(PrimitiveType::kSphere, index, tessera::bounds(sphere), s.visible, s.material,
+        surface_area(sphere));
   }
   for (const auto& q : description.quads) {
     const Quad quad = Quad::make(to_float(q.corner), to_float(q.u), to_float(q.v), q.material);
     const auto index = static_cast<std::uint32_t>(scene->quads_.size());
     scene->quads_.push_back(quad);
-    add(PrimitiveType::kQuad, index, tessera::bounds(quad), q.visible, q.material, surface_area(quad));
+    add(PrimitiveType::kQuad, index, tessera::bounds(quad), q.visible, q.material,
+        surface_area(quad));
   }
   for (const auto& mesh : description.meshes) {
     for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-      const Triangle tri{to_float(mesh.positions[mesh.indices[i]]), to_float(mesh.positions[mesh.indices[i + 1]]),
+      const Triangle tri{to_float(mesh.positions[mesh.indices[i]]),
+                         to_float(mesh.positions[mesh.indices[i + 1]]),
                          to_float(mesh.positions[mesh.indices[i + 2]]), mesh.material};
       const auto index = static_cast<std::uint32_t>(scene->triangles_.size());
       scene->triangles_.push_back(tri);
-      add(PrimitiveType::kTriangle, index, tessera::bounds(tri), mesh.visible, mesh.material, surface_area(tri));
+      add(PrimitiveType::kTriangle, index, tessera::bounds(tri), mesh.visible, mesh.material,
+          surface_area(tri));
     }
   }
 
   scene->bvh_ = build_bvh(boxes, references);
-  scene->camera_ = Camera::from_description(description.camera, description.render.width, description.render.height);
+  scene->camera_ = Camera::from_description(description.camera, description.render.width,
+                                            description.render.height);
   scene->background_ = to_float(description.background.color * description.background.intensity);
   scene->features_.light_count = static_cast<std::uint32_t>(scene->lights_.size());
   scene->render_tile_fn_ = select_render_tile(scene->features_.shapes);
-  scene->build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  scene->build_seconds_ =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::debug("prepared scene: {}, BVH {} nodes depth {}, {:.3f} s", scene->features_.summary(),
                 scene->bvh_.nodes.size(), scene->bvh_.depth, scene->build_seconds_);
   return scene;
@@ -135,8 +154,9 @@ std::vector<float> render_image(const PreparedScene& scene) {
     tile_buffer.resize(tile.pixel_count() * 4);
     scene.render_tile(tile, tile_buffer);
     for (std::uint32_t row = 0; row < tile.height; ++row)
-      std::copy_n(tile_buffer.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
-                  image.begin() + (static_cast<std::ptrdiff_t>(tile.y + row) * s.width + tile.x) * 4);
+      std::copy_n(
+          tile_buffer.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
+          image.begin() + (static_cast<std::ptrdiff_t>(tile.y + row) * s.width + tile.x) * 4);
   }
   return image;
 }

@@ -8,14 +8,17 @@ namespace tessera {
 namespace {
 
 template <unsigned kShapes>
-TileStats render_tile_with(const SceneView& scene, const RenderSettings& settings, const TileRect& tile, float* film) {
+TileStats render_tile_with(const SceneView& scene, const RenderSettings& settings,
+                           const TileRect& tile, float* film) {
   using Config = PathTracerConfig<kShapes>;
   TileStats stats;
-  const PathRayGeneration ray_generation{scene.camera, settings.seed, tile,
-                                         1.0f / static_cast<float>(settings.samples_per_pixel), film, &stats.rays};
+  const PathRayGeneration ray_generation{
+      scene.camera, settings.seed, tile, 1.0f / static_cast<float>(settings.samples_per_pixel),
+      film,         &stats.rays};
   const SceneIntersection<kShapes> intersection{scene.spheres, scene.quads, scene.triangles};
-  const Pipeline<Config> pipeline(ray_generation, BvhTracer<SceneIntersection<kShapes>>(scene.bvh, intersection),
-                                  PathHit<kShapes>{scene, settings.max_depth}, BackgroundMiss{scene.background});
+  const Pipeline<Config> pipeline(
+      ray_generation, BvhTracer<SceneIntersection<kShapes>>(scene.bvh, intersection),
+      PathHit<kShapes>{scene, settings.max_depth}, BackgroundMiss{scene.background});
   for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
     for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x)
       for (std::uint32_t s = 0; s < settings.samples_per_pixel; ++s) pipeline.launch(x, y, s);
@@ -23,7 +26,8 @@ TileStats render_tile_with(const SceneView& scene, const RenderSettings& setting
 }
 
 template <unsigned... kMasks>
-constexpr std::array<RenderTileFunction, sizeof...(kMasks)> make_table(std::integer_sequence<unsigned, kMasks...>) {
+constexpr std::array<RenderTileFunction, sizeof...(kMasks)> make_table(
+    std::integer_sequence<unsigned, kMasks...>) {
   return {&render_tile_with<kMasks>...};
 }
 
@@ -31,6 +35,8 @@ constexpr auto kVariants = make_table(std::make_integer_sequence<unsigned, kAllS
 
 }  // namespace
 
-RenderTileFunction select_render_tile(unsigned shape_mask) { return kVariants[shape_mask & kAllShapes]; }
+RenderTileFunction select_render_tile(unsigned shape_mask) {
+  return kVariants[shape_mask & kAllShapes];
+}
 
 }  // namespace tessera

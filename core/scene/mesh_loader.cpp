@@ -1,8 +1,8 @@
 #include "tessera/scene/mesh_loader.hpp"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "tessera/scene/scene_error.hpp"
 
@@ -17,12 +17,15 @@ TriangleMeshDesc load_mesh_file(const std::filesystem::path& path) {
   // Drop what rendering does not use so the import is faster and uses less memory.
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_COLORS | aiComponent_TEXTURES |
                                                           aiComponent_LIGHTS | aiComponent_CAMERAS |
-                                                          aiComponent_ANIMATIONS | aiComponent_MATERIALS);
-  const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_RemoveComponent |
-                         aiProcess_SortByPType | aiProcess_PreTransformVertices);
+                                                          aiComponent_ANIMATIONS |
+                                                          aiComponent_MATERIALS);
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                           aiProcess_RemoveComponent | aiProcess_SortByPType |
+                                           aiProcess_PreTransformVertices);
   if (scene == nullptr)
-    throw SceneError(SceneIssue{path.string(), 0, "", std::string("cannot read mesh: ") + importer.GetErrorString()});
+    throw SceneError(SceneIssue{path.string(), 0, "",
+                                std::string("cannot read mesh: ") + importer.GetErrorString()});
 
   TriangleMeshDesc mesh;
   mesh.source_file = path.string();
@@ -45,7 +48,8 @@ TriangleMeshDesc load_mesh_file(const std::filesystem::path& path) {
   return mesh;
 }
 
-bool path_is_within(const std::filesystem::path& path, const std::vector<std::filesystem::path>& roots) {
+bool path_is_within(const std::filesystem::path& path,
+                    const std::vector<std::filesystem::path>& roots) {
   std::error_code ec;
   const auto resolved = std::filesystem::weakly_canonical(path, ec);
   if (ec) return false;
@@ -57,7 +61,8 @@ bool path_is_within(const std::filesystem::path& path, const std::vector<std::fi
     for (; r != canonical_root.end() && p != resolved.end() && *r == *p; ++r, ++p) {
     }
     // A trailing empty element means the root was written with a final slash.
-    if (r == canonical_root.end() || (std::next(r) == canonical_root.end() && r->empty())) return true;
+    if (r == canonical_root.end() || (std::next(r) == canonical_root.end() && r->empty()))
+      return true;
   }
   return false;
 }

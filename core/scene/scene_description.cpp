@@ -76,7 +76,8 @@ class Validator {
   }
   bool finite(const std::string& field, const glm::dvec3& v) {
     if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) return true;
-    fail(field, "must be three finite numbers, got [" + format(v.x) + ", " + format(v.y) + ", " + format(v.z) + "]");
+    fail(field, "must be three finite numbers, got [" + format(v.x) + ", " + format(v.y) + ", " +
+                    format(v.z) + "]");
     return false;
   }
   void in_range(const std::string& field, double value, double lo, double hi) {
@@ -141,15 +142,16 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
 
   const auto material_ok = [&](std::uint32_t source, std::uint32_t material) {
     if (material >= scene.materials.size())
-      check.fail(geometry_field(source, "material"), "refers to material index " + std::to_string(material) +
-                                                         " but the scene has " +
-                                                         std::to_string(scene.materials.size()));
+      check.fail(geometry_field(source, "material"),
+                 "refers to material index " + std::to_string(material) + " but the scene has " +
+                     std::to_string(scene.materials.size()));
   };
 
   for (const auto& s : scene.spheres) {
     check.finite(geometry_field(s.source_index, "center"), s.center);
     if (check.finite(geometry_field(s.source_index, "radius"), s.radius) && !(s.radius > 0.0))
-      check.fail(geometry_field(s.source_index, "radius"), "must be positive, got " + Validator::format(s.radius));
+      check.fail(geometry_field(s.source_index, "radius"),
+                 "must be positive, got " + Validator::format(s.radius));
     material_ok(s.source_index, s.material);
   }
   for (const auto& q : scene.quads) {
@@ -157,16 +159,19 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
                     check.finite(geometry_field(q.source_index, "u"), q.u) &
                     check.finite(geometry_field(q.source_index, "v"), q.v);
     if (ok && glm::length(glm::cross(q.u, q.v)) == 0.0)
-      check.fail(geometry_field(q.source_index, "v"), "u and v must span a parallelogram (they are parallel or zero)");
+      check.fail(geometry_field(q.source_index, "v"),
+                 "u and v must span a parallelogram (they are parallel or zero)");
     material_ok(q.source_index, q.material);
   }
   std::size_t triangles = 0;
   for (const auto& mesh : scene.meshes) {
     const std::string where = mesh.source_file.empty() ? "" : " (" + mesh.source_file + ")";
     if (mesh.indices.size() % 3 != 0)
-      check.fail(geometry_field(mesh.source_index, "indices"), "count must be a multiple of 3" + where);
+      check.fail(geometry_field(mesh.source_index, "indices"),
+                 "count must be a multiple of 3" + where);
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
-      if (!check.finite(geometry_field(mesh.source_index, "positions") + "[" + std::to_string(i) + "]" + where,
+      if (!check.finite(geometry_field(mesh.source_index, "positions") + "[" + std::to_string(i) +
+                            "]" + where,
                         mesh.positions[i]))
         break;
     for (std::size_t i = 0; i < mesh.indices.size(); ++i)
@@ -180,14 +185,17 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
     triangles += mesh.indices.size() / 3;
   }
   if (triangles > limits.max_triangles)
-    check.fail("geometry", "scene has " + std::to_string(triangles) + " triangles, more than the limit of " +
+    check.fail("geometry", "scene has " + std::to_string(triangles) +
+                               " triangles, more than the limit of " +
                                std::to_string(limits.max_triangles));
 
   const auto& r = scene.render;
-  const auto in_u32 = [&](const char* name, std::uint32_t value, std::uint32_t lo, std::uint32_t hi) {
+  const auto in_u32 = [&](const char* name, std::uint32_t value, std::uint32_t lo,
+                          std::uint32_t hi) {
     if (value < lo || value > hi)
-      check.fail(std::string("render.") + name,
-                 "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(value));
+      check.fail(std::string("render.") + name, "must be in [" + std::to_string(lo) + ", " +
+                                                    std::to_string(hi) + "], got " +
+                                                    std::to_string(value));
   };
   in_u32("width", r.width, 1, limits.max_dimension);
   in_u32("height", r.height, 1, limits.max_dimension);

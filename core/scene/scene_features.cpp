@@ -40,8 +40,8 @@ std::string SceneFeatures::summary() const {
   add(kShapeQuad, "quads");
   add(kShapeTriangle, "triangles");
   if (shapes_text.empty()) shapes_text = "empty";
-  return shapes_text + ", " + std::to_string(light_count) + " lights, " + std::to_string(primitive_count) +
-         " primitives";
+  return shapes_text + ", " + std::to_string(light_count) + " lights, " +
+         std::to_string(primitive_count) + " primitives";
 }
 
 }  // namespace tessera

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -18,9 +19,11 @@ namespace {
 // where it is: file, line and the path the user wrote.
 class YamlReader {
  public:
-  YamlReader(std::string file, std::vector<SceneIssue>& warnings) : file_(std::move(file)), warnings_(warnings) {}
+  YamlReader(std::string file, std::vector<SceneIssue>& warnings)
+      : file_(std::move(file)), warnings_(warnings) {}
 
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& message) const {
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field,
+                         const std::string& message) const {
     throw SceneError(SceneIssue{file_, line_of(node), field, message});
   }
   void warn(const YAML::Node& node, const std::string& field, const std::string& message) const {
@@ -33,7 +36,8 @@ class YamlReader {
   const std::string& file() const { return file_; }
 
   // Warns about keys of `map` not in `known`.
-  void check_keys(const YAML::Node& map, const std::string& path, std::initializer_list<const char*> known) const {
+  void check_keys(const YAML::Node& map, const std::string& path,
+                  std::initializer_list<const char*> known) const {
     for (const auto& entry : map) {
       const std::string key = entry.first.Scalar();
       bool found = false;
@@ -70,7 +74,8 @@ class YamlReader {
   bool boolean(const YAML::Node& node, const std::string& field) const {
     bool value = false;
     if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
-      fail(node, field, "must be true or false, got '" + (node.IsScalar() ? node.Scalar() : kind(node)) + "'");
+      fail(node, field,
+           "must be true or false, got '" + (node.IsScalar() ? node.Scalar() : kind(node)) + "'");
     return value;
   }
   std::string string(const YAML::Node& node, const std::string& field) const {
@@ -79,9 +84,12 @@ class YamlReader {
   }
   glm::dvec3 vec3(const YAML::Node& node, const std::string& field) const {
     if (!node.IsSequence() || node.size() != 3)
-      fail(node, field, std::string("must be a list of three numbers, got ") +
-                            (node.IsSequence() ? std::to_string(node.size()) + " elements" : std::string("a ") + kind(node)));
-    return glm::dvec3(number(node[0], field + "[0]"), number(node[1], field + "[1]"), number(node[2], field + "[2]"));
+      fail(node, field,
+           std::string("must be a list of three numbers, got ") +
+               (node.IsSequence() ? std::to_string(node.size()) + " elements"
+                                  : std::string("a ") + kind(node)));
+    return glm::dvec3(number(node[0], field + "[0]"), number(node[1], field + "[1]"),
+                      number(node[2], field + "[2]"));
   }
   // A colour may also be written as one number for grey.
   glm::dvec3 color(const YAML::Node& node, const std::string& field) const {
@@ -95,11 +103,16 @@ class YamlReader {
   }
   static const char* kind(const YAML::Node& node) {
     switch (node.Type()) {
-      case YAML::NodeType::Map: return "map";
-      case YAML::NodeType::Sequence: return "list";
-      case YAML::NodeType::Scalar: return "scalar";
-      case YAML::NodeType::Null: return "null";
-      default: return "missing value";
+      case YAML::NodeType::Map:
+        return "map";
+      case YAML::NodeType::Sequence:
+        return "list";
+      case YAML::NodeType::Scalar:
+        return "scalar";
+      case YAML::NodeType::Null:
+        return "null";
+      default:
+        return "missing value";
     }
   }
 
@@ -110,12 +123,15 @@ class YamlReader {
 
 class SceneBuilder {
  public:
-  SceneBuilder(YamlReader& reader, std::filesystem::path base_directory, const SceneLoadOptions& options)
+  SceneBuilder(YamlReader& reader, std::filesystem::path base_directory,
+               const SceneLoadOptions& options)
       : in_(reader), base_directory_(std::move(base_directory)), options_(options) {}
 
   SceneDescription build(const YAML::Node& root) {
-    if (!root.IsMap()) in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
-    in_.check_keys(root, "", {"camera", "settings", "materials", "geometry", "geometries", "render"});
+    if (!root.IsMap())
+      in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
+    in_.check_keys(root, "",
+                   {"camera", "settings", "materials", "geometry", "geometries", "render"});
     if (root["camera"]) read_camera(root["camera"]);
     if (root["settings"]) read_settings(root["settings"]);
     if (root["materials"]) read_materials(root["materials"]);
@@ -132,7 +148,8 @@ class SceneBuilder {
 
  private:
   YAML::Node map_at(const YAML::Node& node, const std::string& path) {
-    if (!node.IsMap()) in_.fail(node, path, std::string("must be a map, got a ") + YamlReader::kind(node));
+    if (!node.IsMap())
+      in_.fail(node, path, std::string("must be a map, got a ") + YamlReader::kind(node));
     locations_[path] = node;
     return node;
   }
@@ -158,10 +175,13 @@ class SceneBuilder {
   void read_settings(const YAML::Node& node) {
     map_at(node, "settings");
     in_.check_keys(node, "settings",
-                   {"background_color", "background_intensity", "ambient_light", "use_bvh", "adaptive_sampling"});
+                   {"background_color", "background_intensity", "ambient_light", "use_bvh",
+                    "adaptive_sampling"});
     auto& bg = scene_.background;
-    optional(node, "background_color", "settings", [&](auto& n, auto& f) { bg.color = in_.color(n, f); });
-    optional(node, "background_intensity", "settings", [&](auto& n, auto& f) { bg.intensity = in_.number(n, f); });
+    optional(node, "background_color", "settings",
+             [&](auto& n, auto& f) { bg.color = in_.color(n, f); });
+    optional(node, "background_intensity", "settings",
+             [&](auto& n, auto& f) { bg.intensity = in_.number(n, f); });
     optional(node, "ambient_light", "settings", [&](auto& n, auto& f) {
       if (in_.number(n, f) != 0.0) in_.warn(n, f, "RayON's ambient term is not supported; ignored");
     });
@@ -171,13 +191,15 @@ class SceneBuilder {
   }
 
   void read_materials(const YAML::Node& node) {
-    if (!node.IsSequence()) in_.fail(node, "materials", std::string("must be a list, got a ") + YamlReader::kind(node));
+    if (!node.IsSequence())
+      in_.fail(node, "materials", std::string("must be a list, got a ") + YamlReader::kind(node));
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string path = "materials[" + std::to_string(i) + "]";
       const YAML::Node m = map_at(node[i], path);
-      in_.check_keys(m, path,
-                     {"name", "type", "albedo", "emission", "roughness", "refractive_index", "metallic",
-                      "transmission", "anisotropy", "preset", "film_thickness", "film_ior"});
+      in_.check_keys(
+          m, path,
+          {"name", "type", "albedo", "emission", "roughness", "refractive_index", "metallic",
+           "transmission", "anisotropy", "preset", "film_thickness", "film_ior"});
       MaterialDesc mat;
       mat.name = in_.string(in_.required(m, "name", path), path + ".name");
       const std::string type_field = path + ".type";
@@ -186,19 +208,23 @@ class SceneBuilder {
       if (!parsed)
         in_.fail(m["type"], type_field,
                  "unknown material type '" + type +
-                     "' (expected lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat or "
+                     "' (expected lambertian, light, metal, rough_mirror, glass, "
+                     "anisotropic_metal, clear_coat or "
                      "thin_film)");
       mat.type = *parsed;
       if (mat.type == MaterialType::kLight) mat.albedo = glm::dvec3(1.0);
       optional(m, "albedo", path, [&](auto& n, auto& f) { mat.albedo = in_.color(n, f); });
       optional(m, "emission", path, [&](auto& n, auto& f) { mat.emission = in_.color(n, f); });
       optional(m, "roughness", path, [&](auto& n, auto& f) { mat.roughness = in_.number(n, f); });
-      optional(m, "refractive_index", path, [&](auto& n, auto& f) { mat.refractive_index = in_.number(n, f); });
+      optional(m, "refractive_index", path,
+               [&](auto& n, auto& f) { mat.refractive_index = in_.number(n, f); });
       optional(m, "metallic", path, [&](auto& n, auto& f) { mat.metallic = in_.number(n, f); });
-      optional(m, "transmission", path, [&](auto& n, auto& f) { mat.transmission = in_.number(n, f); });
+      optional(m, "transmission", path,
+               [&](auto& n, auto& f) { mat.transmission = in_.number(n, f); });
       optional(m, "anisotropy", path, [&](auto& n, auto& f) { mat.anisotropy = in_.number(n, f); });
       optional(m, "preset", path, [&](auto& n, auto& f) { mat.preset = in_.string(n, f); });
-      optional(m, "film_thickness", path, [&](auto& n, auto& f) { mat.film_thickness = in_.number(n, f); });
+      optional(m, "film_thickness", path,
+               [&](auto& n, auto& f) { mat.film_thickness = in_.number(n, f); });
       optional(m, "film_ior", path, [&](auto& n, auto& f) { mat.film_ior = in_.number(n, f); });
       if (mat.type == MaterialType::kLight && !m["emission"])
         in_.fail(m, path + ".emission", "is required for a light material");
@@ -218,7 +244,8 @@ class SceneBuilder {
   }
 
   void read_geometry(const YAML::Node& node, const char* key) {
-    if (!node.IsSequence()) in_.fail(node, key, std::string("must be a list, got a ") + YamlReader::kind(node));
+    if (!node.IsSequence())
+      in_.fail(node, key, std::string("must be a list, got a ") + YamlReader::kind(node));
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string path = "geometry[" + std::to_string(i) + "]";
       const YAML::Node g = map_at(node[i], path);
@@ -233,7 +260,8 @@ class SceneBuilder {
         s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
         s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
         locations_[path + ".radius"] = g["radius"];
-        if (!(s.radius > 0.0)) in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
+        if (!(s.radius > 0.0))
+          in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
         s.visible = visible;
         s.source_index = index;
         scene_.spheres.push_back(s);
@@ -268,7 +296,8 @@ class SceneBuilder {
         optional(g, "position", path, [&](auto& n, auto& f) { position = in_.vec3(n, f); });
         optional(g, "scale", path, [&](auto& n, auto& f) {
           scale = n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
-          if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0) in_.fail(n, f, "components must not be zero");
+          if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0)
+            in_.fail(n, f, "components must not be zero");
         });
         TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
         for (auto& p : mesh.positions) p = p * scale + position;
@@ -278,12 +307,14 @@ class SceneBuilder {
         scene_.meshes.push_back(std::move(mesh));
       } else {
         in_.fail(g["type"], path + ".type",
-                 "unknown geometry type '" + type + "' (expected sphere, rectangle, quad, triangle, obj or mesh)");
+                 "unknown geometry type '" + type +
+                     "' (expected sphere, rectangle, quad, triangle, obj or mesh)");
       }
     }
   }
 
-  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field, const std::string& file) {
+  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,
+                             const std::string& file) {
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_directory_ / path;
     if (!options_.allowed_roots.empty() && !path_is_within(path, options_.allowed_roots))
@@ -291,7 +322,8 @@ class SceneBuilder {
     try {
       return load_mesh_file(path);
     } catch (const SceneError& e) {
-      in_.fail(node, field, "cannot load mesh '" + path.lexically_normal().string() + "': " + e.issue().message);
+      in_.fail(node, field,
+               "cannot load mesh '" + path.lexically_normal().string() + "': " + e.issue().message);
     }
   }
 
@@ -300,10 +332,14 @@ class SceneBuilder {
     in_.check_keys(node, "render", {"width", "height", "spp", "max_depth", "tile_size", "seed"});
     auto& r = scene_.render;
     optional(node, "width", "render", [&](auto& n, auto& f) { r.width = in_.unsigned_int(n, f); });
-    optional(node, "height", "render", [&](auto& n, auto& f) { r.height = in_.unsigned_int(n, f); });
-    optional(node, "spp", "render", [&](auto& n, auto& f) { r.samples_per_pixel = in_.unsigned_int(n, f); });
-    optional(node, "max_depth", "render", [&](auto& n, auto& f) { r.max_depth = in_.unsigned_int(n, f); });
-    optional(node, "tile_size", "render", [&](auto& n, auto& f) { r.tile_size = in_.unsigned_int(n, f); });
+    optional(node, "height", "render",
+             [&](auto& n, auto& f) { r.height = in_.unsigned_int(n, f); });
+    optional(node, "spp", "render",
+             [&](auto& n, auto& f) { r.samples_per_pixel = in_.unsigned_int(n, f); });
+    optional(node, "max_depth", "render",
+             [&](auto& n, auto& f) { r.max_depth = in_.unsigned_int(n, f); });
+    optional(node, "tile_size", "render",
+             [&](auto& n, auto& f) { r.tile_size = in_.unsigned_int(n, f); });
     optional(node, "seed", "render", [&](auto& n, auto& f) { r.seed = in_.seed(n, f); });
   }
 
@@ -330,7 +366,8 @@ int line_for_field(const std::map<std::string, YAML::Node>& locations, const std
 }  // namespace
 
 LoadedScene load_scene_yaml(std::string_view text, const std::string& display_name,
-                            const std::filesystem::path& base_directory, const SceneLoadOptions& options) {
+                            const std::filesystem::path& base_directory,
+                            const SceneLoadOptions& options) {
   LoadedScene result;
   YamlReader reader(display_name, result.warnings);
   YAML::Node root;
@@ -348,6 +385,9 @@ LoadedScene load_scene_yaml(std::string_view text, const std::string& display_na
   } catch (const YAML::Exception& e) {  // conversions inside yaml-cpp
     throw SceneError(SceneIssue{display_name, e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg});
   }
+  // Top-level keys are checked before the sections they hold; report in file order.
+  std::stable_sort(result.warnings.begin(), result.warnings.end(),
+                   [](const SceneIssue& a, const SceneIssue& b) { return a.line < b.line; });
   const auto issues = validate_scene(result.scene, options.limits);
   if (!issues.empty()) {
     SceneIssue first = issues.front();

@@ -35,12 +35,14 @@ struct Bvh {
   std::vector<std::uint32_t> primitives;
   std::uint32_t depth = 0;
 
-  BvhView view() const { return BvhView{nodes.data(), primitives.data(), static_cast<std::uint32_t>(nodes.size())}; }
+  BvhView view() const {
+    return BvhView{nodes.data(), primitives.data(), static_cast<std::uint32_t>(nodes.size())};
+  }
 };
 
 struct BvhBuildOptions {
   std::uint32_t max_leaf_size = 4;
-  float traversal_cost = 1.0f;     // relative to one primitive test
+  float traversal_cost = 1.0f;  // relative to one primitive test
   float intersection_cost = 1.0f;
 };
 

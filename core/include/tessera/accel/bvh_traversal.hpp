@@ -16,7 +16,8 @@ TESSERA_HD bool traverse_bvh(const BvhView& bvh, const Ray& ray, HitRecord& hit,
   std::uint32_t node_index = 0;
   bool found = false;
   float t_entry;
-  if (!intersect_aabb(bvh.nodes[0].lower, bvh.nodes[0].upper, tray, ray.t_min, hit.t, t_entry)) return false;
+  if (!intersect_aabb(bvh.nodes[0].lower, bvh.nodes[0].upper, tray, ray.t_min, hit.t, t_entry))
+    return false;
   for (;;) {
     const BvhNode& node = bvh.nodes[node_index];
     if (node.is_leaf()) {
@@ -30,9 +31,10 @@ TESSERA_HD bool traverse_bvh(const BvhView& bvh, const Ray& ray, HitRecord& hit,
       const std::uint32_t left = node_index + 1;
       const std::uint32_t right = node.offset;
       float t_left, t_right;
-      const bool hit_left = intersect_aabb(bvh.nodes[left].lower, bvh.nodes[left].upper, tray, ray.t_min, hit.t, t_left);
-      const bool hit_right =
-          intersect_aabb(bvh.nodes[right].lower, bvh.nodes[right].upper, tray, ray.t_min, hit.t, t_right);
+      const bool hit_left = intersect_aabb(bvh.nodes[left].lower, bvh.nodes[left].upper, tray,
+                                           ray.t_min, hit.t, t_left);
+      const bool hit_right = intersect_aabb(bvh.nodes[right].lower, bvh.nodes[right].upper, tray,
+                                            ray.t_min, hit.t, t_right);
       if (hit_left && hit_right) {
         // Visit the nearer child first; the farther one waits on the stack.
         const bool left_first = t_left <= t_right;

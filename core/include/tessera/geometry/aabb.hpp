@@ -17,7 +17,9 @@ struct Aabb {
     lower = glm::min(lower, b.lower);
     upper = glm::max(upper, b.upper);
   }
-  TESSERA_HD bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
+  TESSERA_HD bool empty() const {
+    return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z;
+  }
   TESSERA_HD vec3 centroid() const { return 0.5f * (lower + upper); }
   TESSERA_HD vec3 extent() const { return upper - lower; }
   TESSERA_HD float surface_area() const {
@@ -34,8 +36,9 @@ struct Aabb {
 // Slab test. With an infinite reciprocal and an origin exactly on a slab plane the product
 // 0 * inf is NaN; min/max written with comparisons drop the NaN operand, so such rays are
 // treated as inside the slab rather than poisoning the interval.
-TESSERA_HD TESSERA_INLINE bool intersect_aabb(const vec3& lower, const vec3& upper, const TraversalRay& ray,
-                                              float t_min, float t_max, float& t_entry) {
+TESSERA_HD TESSERA_INLINE bool intersect_aabb(const vec3& lower, const vec3& upper,
+                                              const TraversalRay& ray, float t_min, float t_max,
+                                              float& t_entry) {
   for (int axis = 0; axis < 3; ++axis) {
     float t0 = (lower[axis] - ray.origin[axis]) * ray.inv_direction[axis];
     float t1 = (upper[axis] - ray.origin[axis]) * ray.inv_direction[axis];

@@ -48,7 +48,8 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const Ray& ray, float t_
   return true;
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray& ray, const HitRecord& hit) {
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray& ray,
+                                                        const HitRecord& hit) {
   SurfaceInteraction si;
   si.position = q.corner + hit.u * q.u + hit.v * q.v;
   set_face_normal(si, ray.direction, q.normal);
@@ -57,6 +58,8 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray
   return si;
 }
 
-TESSERA_HD TESSERA_INLINE float surface_area(const Quad& q) { return glm::length(glm::cross(q.u, q.v)); }
+TESSERA_HD TESSERA_INLINE float surface_area(const Quad& q) {
+  return glm::length(glm::cross(q.u, q.v));
+}
 
 }  // namespace tessera

@@ -35,7 +35,8 @@ struct TraversalRay {
   vec3 inv_direction;
 
   TESSERA_HD explicit TraversalRay(const Ray& ray)
-      : origin(ray.origin), inv_direction(1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z) {}
+      : origin(ray.origin),
+        inv_direction(1.0f / ray.direction.x, 1.0f / ray.direction.y, 1.0f / ray.direction.z) {}
 };
 
 }  // namespace tessera

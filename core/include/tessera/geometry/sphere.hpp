@@ -21,8 +21,8 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Sphere& s) {
 // "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems ch. 7): the
 // discriminant is formed from the squared distance of the centre to the ray line, and the
 // smaller-magnitude root comes from c/q rather than a difference of near-equal terms.
-TESSERA_HD TESSERA_INLINE bool intersect(const Sphere& s, const Ray& ray, float t_max, HitRecord& hit,
-                                         std::uint32_t primitive) {
+TESSERA_HD TESSERA_INLINE bool intersect(const Sphere& s, const Ray& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
   const vec3 f = ray.origin - s.center;
   const float a = glm::dot(ray.direction, ray.direction);
   const float b_half = -glm::dot(f, ray.direction);
@@ -52,7 +52,8 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Sphere& s, const Ray& ray, float 
   return true;
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Sphere& s, const Ray& ray, const HitRecord& hit) {
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Sphere& s, const Ray& ray,
+                                                        const HitRecord& hit) {
   SurfaceInteraction si;
   // Reproject onto the surface: the ray-evaluated point can be off by many ulps far away.
   const vec3 p = ray.origin + hit.t * ray.direction;
@@ -67,6 +68,8 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Sphere& s, const R
   return si;
 }
 
-TESSERA_HD TESSERA_INLINE float surface_area(const Sphere& s) { return 4.0f * kPi * s.radius * s.radius; }
+TESSERA_HD TESSERA_INLINE float surface_area(const Sphere& s) {
+  return 4.0f * kPi * s.radius * s.radius;
+}
 
 }  // namespace tessera

@@ -46,8 +46,9 @@ struct WatertightRay {
 // are evaluated in a ray-aligned frame, so a ray through a shared edge or vertex hits at
 // least one of the triangles sharing it. When an edge function is exactly zero it is
 // recomputed in double, as the paper prescribes, so the sign decision is exact.
-TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, const WatertightRay& wr, float t_max,
-                                         HitRecord& hit, std::uint32_t primitive) {
+TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray,
+                                         const WatertightRay& wr, float t_max, HitRecord& hit,
+                                         std::uint32_t primitive) {
   const vec3 a = tri.p0 - ray.origin;
   const vec3 b = tri.p1 - ray.origin;
   const vec3 c = tri.p2 - ray.origin;
@@ -82,12 +83,13 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, co
   return true;
 }
 
-TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, float t_max, HitRecord& hit,
-                                         std::uint32_t primitive) {
+TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
   return intersect(tri, ray, WatertightRay(ray.direction), t_max, hit, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, const Ray& ray, const HitRecord& hit) {
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, const Ray& ray,
+                                                        const HitRecord& hit) {
   SurfaceInteraction si;
   const float b0 = 1.0f - hit.u - hit.v;
   si.position = b0 * tri.p0 + hit.u * tri.p1 + hit.v * tri.p2;

@@ -20,8 +20,9 @@ struct RgbaImage {
 // Encodes a float RGBA buffer as a complete EXR file in memory (32-bit float channels,
 // so a decoded tile is bit-identical to what was rendered). `x`, `y` place it within the
 // full image as the EXR data window origin.
-std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width, std::uint32_t height,
-                                     std::uint32_t x = 0, std::uint32_t y = 0);
+std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width,
+                                     std::uint32_t height, std::uint32_t x = 0,
+                                     std::uint32_t y = 0);
 
 // Decodes an EXR file held in memory. Throws std::runtime_error on malformed data.
 RgbaImage decode_exr(std::span<const std::uint8_t> bytes);

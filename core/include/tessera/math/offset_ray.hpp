@@ -32,8 +32,8 @@ TESSERA_HD TESSERA_INLINE vec3 offset_ray_origin(const vec3& p, const vec3& norm
   vec3 result;
   for (int axis = 0; axis < 3; ++axis) {
     const std::int32_t of_i = static_cast<std::int32_t>(kIntScale * normal[axis]);
-    const float moved = detail::int_as_float(detail::float_as_int(p[axis]) +
-                                             (p[axis] < 0.0f ? -of_i : of_i));
+    const float moved =
+        detail::int_as_float(detail::float_as_int(p[axis]) + (p[axis] < 0.0f ? -of_i : of_i));
     result[axis] = std::fabs(p[axis]) < kOrigin ? p[axis] + kFloatScale * normal[axis] : moved;
   }
   return result;

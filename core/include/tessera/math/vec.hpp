@@ -30,7 +30,8 @@ struct Frame {
     const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
     const float a = -1.0f / (sign + n.z);
     const float b = n.x * n.y * a;
-    return Frame{vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x), vec3(b, sign + n.y * n.y * a, -n.y), n};
+    return Frame{vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x),
+                 vec3(b, sign + n.y * n.y * a, -n.y), n};
   }
   TESSERA_HD vec3 to_world(const vec3& local) const {
     return tangent * local.x + bitangent * local.y + normal * local.z;

@@ -26,28 +26,28 @@ concept ContinuablePayload = requires(P& payload) {
 };
 
 template <typename G>
-concept RayGenerationProgram = requires(const G& gen, typename G::Payload& payload, std::uint32_t x, std::uint32_t y,
-                                        std::uint32_t sample) {
+concept RayGenerationProgram = requires(const G& gen, typename G::Payload& payload, std::uint32_t x,
+                                        std::uint32_t y, std::uint32_t sample) {
   typename G::Payload;
   { gen.generate(x, y, sample, payload) } -> std::same_as<Ray>;
-  { gen.on_result(x, y, sample, payload) };
+  {gen.on_result(x, y, sample, payload)};
 };
 
 template <typename I>
-concept IntersectionProgram = requires(const I& program, std::uint32_t primitive, const Ray& ray, float t_max,
-                                       HitRecord& hit) {
+concept IntersectionProgram = requires(const I& program, std::uint32_t primitive, const Ray& ray,
+                                       float t_max, HitRecord& hit) {
   { program.intersect(primitive, ray, t_max, hit) } -> std::same_as<bool>;
 };
 
 template <typename H, typename Payload, typename T>
-concept HitProgram = requires(const H& program, const Ray& ray, const HitRecord& hit, Payload& payload,
-                              const T& tracer) {
-  { program.on_hit(ray, hit, payload, tracer) };
+concept HitProgram = requires(const H& program, const Ray& ray, const HitRecord& hit,
+                              Payload& payload, const T& tracer) {
+  {program.on_hit(ray, hit, payload, tracer)};
 };
 
 template <typename M, typename Payload>
 concept MissProgram = requires(const M& program, const Ray& ray, Payload& payload) {
-  { program.on_miss(ray, payload) };
+  {program.on_miss(ray, payload)};
 };
 
 }  // namespace tessera

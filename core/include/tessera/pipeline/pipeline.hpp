@@ -12,20 +12,23 @@ namespace tessera {
 template <IntersectionProgram Intersection>
 class BvhTracer {
  public:
-  TESSERA_HD BvhTracer(BvhView bvh, Intersection intersection) : bvh_(bvh), intersection_(intersection) {}
+  TESSERA_HD BvhTracer(BvhView bvh, Intersection intersection)
+      : bvh_(bvh), intersection_(intersection) {}
 
   TESSERA_HD bool trace_closest(const Ray& ray, HitRecord& hit) const {
     hit.t = ray.t_max;
-    return traverse_bvh<false>(bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-      return intersection_.intersect(primitive, r, t_max, h);
-    });
+    return traverse_bvh<false>(
+        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
   }
   TESSERA_HD bool occluded(const Ray& ray) const {
     HitRecord hit;
     hit.t = ray.t_max;
-    return traverse_bvh<true>(bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-      return intersection_.intersect(primitive, r, t_max, h);
-    });
+    return traverse_bvh<true>(
+        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
   }
 
  private:
@@ -39,10 +42,11 @@ class BvhTracer {
 //     using Hit = ...;            using Miss = ...;
 //   };
 template <typename C>
-concept PipelineConfig =
-    RayGenerationProgram<typename C::RayGeneration> && IntersectionProgram<typename C::Intersection> &&
+concept PipelineConfig = RayGenerationProgram<typename C::RayGeneration> &&
+    IntersectionProgram<typename C::Intersection> &&
     ContinuablePayload<typename C::RayGeneration::Payload> &&
-    HitProgram<typename C::Hit, typename C::RayGeneration::Payload, BvhTracer<typename C::Intersection>> &&
+    HitProgram<typename C::Hit, typename C::RayGeneration::Payload,
+               BvhTracer<typename C::Intersection>> &&
     MissProgram<typename C::Miss, typename C::RayGeneration::Payload>;
 
 // Composes the four stages. Everything is a template parameter, so the compiler sees the
@@ -54,8 +58,9 @@ class Pipeline {
   using RayGeneration = typename Config::RayGeneration;
   using Payload = typename RayGeneration::Payload;
 
-  TESSERA_HD Pipeline(typename Config::RayGeneration ray_generation, BvhTracer<typename Config::Intersection> tracer,
-                      typename Config::Hit hit, typename Config::Miss miss)
+  TESSERA_HD Pipeline(typename Config::RayGeneration ray_generation,
+                      BvhTracer<typename Config::Intersection> tracer, typename Config::Hit hit,
+                      typename Config::Miss miss)
       : ray_generation_(ray_generation), tracer_(tracer), hit_(hit), miss_(miss) {}
 
   // Runs one sample of one pixel to completion.

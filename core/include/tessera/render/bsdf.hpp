@@ -14,7 +14,9 @@ TESSERA_HD TESSERA_INLINE float schlick_reflectance(float cos_theta, float eta_r
   return r0 + (1.0f - r0) * m * m * m * m * m;
 }
 
-TESSERA_HD TESSERA_INLINE vec3 reflect(const vec3& d, const vec3& n) { return d - 2.0f * glm::dot(d, n) * n; }
+TESSERA_HD TESSERA_INLINE vec3 reflect(const vec3& d, const vec3& n) {
+  return d - 2.0f * glm::dot(d, n) * n;
+}
 
 // Refracts unit `d` through unit `n` (facing against d) with eta = n_incident / n_transmitted.
 // Returns false on total internal reflection.
@@ -29,8 +31,8 @@ TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, 
 
 // Mirror direction perturbed by a roughness-scaled point in the unit ball (RayON's fuzzy
 // metal). Returns a zero vector when the perturbation sends the ray below the surface.
-TESSERA_HD TESSERA_INLINE vec3 fuzzy_reflect(const vec3& d, const vec3& n, float roughness, float u1, float u2,
-                                             float u3) {
+TESSERA_HD TESSERA_INLINE vec3 fuzzy_reflect(const vec3& d, const vec3& n, float roughness,
+                                             float u1, float u2, float u3) {
   vec3 r = reflect(d, n);
   if (roughness > 0.0f) {
     const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);

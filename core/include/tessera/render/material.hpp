@@ -24,7 +24,9 @@ struct Material {
   float roughness = 0.0f;
   float ior = 1.5f;
 
-  TESSERA_HD bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+  TESSERA_HD bool emissive() const {
+    return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
+  }
 };
 
 }  // namespace tessera

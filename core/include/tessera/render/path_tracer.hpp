@@ -20,7 +20,7 @@ struct PathPayload {
   vec3 throughput{1.0f};
   SampleStream samples{0, 0, 0, 0};
   std::uint32_t depth = 0;
-  std::uint32_t rays = 0;     // every ray traced for this sample, for rays/s
+  std::uint32_t rays = 0;      // every ray traced for this sample, for rays/s
   bool count_emission = true;  // camera rays and specular bounces see emitters directly
   bool has_next_ray = false;
   Ray next_ray;
@@ -31,11 +31,12 @@ struct PathRayGeneration {
   Camera camera;
   std::uint64_t seed;
   TileRect tile;
-  float sample_weight;  // 1 / samples per pixel
-  float* film;          // tile.width * tile.height RGBA, accumulated
+  float sample_weight;       // 1 / samples per pixel
+  float* film;               // tile.width * tile.height RGBA, accumulated
   std::uint64_t* ray_count;  // per tile, so one writer
 
-  TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample, Payload& payload) const {
+  TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
+                          Payload& payload) const {
     payload.samples = SampleStream(seed, x, y, sample);
     const float jx = payload.samples.next();
     const float jy = payload.samples.next();
@@ -43,7 +44,8 @@ struct PathRayGeneration {
     return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
   }
 
-  TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t, const Payload& payload) const {
+  TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t,
+                            const Payload& payload) const {
     *ray_count += payload.rays;
     const vec3 l = payload.radiance;
     // A NaN or infinite sample would poison the pixel forever; drop it instead.
@@ -58,7 +60,9 @@ struct PathRayGeneration {
 struct BackgroundMiss {
   vec3 background;
 
-  TESSERA_HD void on_miss(const Ray&, PathPayload& payload) const { payload.radiance += payload.throughput * background; }
+  TESSERA_HD void on_miss(const Ray&, PathPayload& payload) const {
+    payload.radiance += payload.throughput * background;
+  }
 };
 
 template <unsigned kShapes>
@@ -67,10 +71,12 @@ struct PathHit {
   std::uint32_t max_depth;
 
   template <typename T>
-  TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload& payload, const T& tracer) const {
+  TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload& payload,
+                         const T& tracer) const {
     const SurfaceInteraction si = surface_at<kShapes>(scene, ray, hit);
     const Material& material = scene.materials[si.material];
-    if (material.emissive() && payload.count_emission) payload.radiance += payload.throughput * material.emission;
+    if (material.emissive() && payload.count_emission)
+      payload.radiance += payload.throughput * material.emission;
     if (material.kind == BsdfKind::kEmitter) return;
     if (payload.depth + 1 >= max_depth) return;
 
@@ -147,11 +153,13 @@ struct PathHit {
  private:
   // One light chosen uniformly, one point uniformly on its area, one shadow ray.
   template <typename T>
-  TESSERA_HD void sample_direct_light(const SurfaceInteraction& si, PathPayload& payload, const T& tracer) const {
+  TESSERA_HD void sample_direct_light(const SurfaceInteraction& si, PathPayload& payload,
+                                      const T& tracer) const {
     if (scene.light_count == 0) return;
     SampleStream& rng = payload.samples;
     const float pick = rng.next() * static_cast<float>(scene.light_count);
-    const std::uint32_t light_index = glm::min(static_cast<std::uint32_t>(pick), scene.light_count - 1);
+    const std::uint32_t light_index =
+        glm::min(static_cast<std::uint32_t>(pick), scene.light_count - 1);
     const LightSource& light = scene.lights[light_index];
     const float u1 = rng.next();
     const float u2 = rng.next();

@@ -36,7 +36,8 @@ class PreparedScene {
  private:
   PreparedScene() = default;
 
-  using RenderTileFn = TileStats (*)(const SceneView&, const RenderSettings&, const TileRect&, float*);
+  using RenderTileFn = TileStats (*)(const SceneView&, const RenderSettings&, const TileRect&,
+                                     float*);
 
   std::vector<Sphere> spheres_;
   std::vector<Quad> quads_;

@@ -16,11 +16,16 @@ namespace tessera {
 enum class PrimitiveType : std::uint32_t { kSphere = 0, kQuad = 1, kTriangle = 2 };
 inline constexpr std::uint32_t kPrimitiveIndexMask = 0x3fffffffU;
 
-TESSERA_HD TESSERA_INLINE std::uint32_t make_primitive_ref(PrimitiveType type, std::uint32_t index) {
+TESSERA_HD TESSERA_INLINE std::uint32_t make_primitive_ref(PrimitiveType type,
+                                                           std::uint32_t index) {
   return (static_cast<std::uint32_t>(type) << 30) | index;
 }
-TESSERA_HD TESSERA_INLINE PrimitiveType primitive_type(std::uint32_t ref) { return static_cast<PrimitiveType>(ref >> 30); }
-TESSERA_HD TESSERA_INLINE std::uint32_t primitive_index(std::uint32_t ref) { return ref & kPrimitiveIndexMask; }
+TESSERA_HD TESSERA_INLINE PrimitiveType primitive_type(std::uint32_t ref) {
+  return static_cast<PrimitiveType>(ref >> 30);
+}
+TESSERA_HD TESSERA_INLINE std::uint32_t primitive_index(std::uint32_t ref) {
+  return ref & kPrimitiveIndexMask;
+}
 
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
@@ -48,14 +53,17 @@ struct SceneIntersection {
   const Quad* quads;
   const Triangle* triangles;
 
-  TESSERA_HD bool intersect(std::uint32_t primitive, const Ray& ray, float t_max, HitRecord& hit) const {
+  TESSERA_HD bool intersect(std::uint32_t primitive, const Ray& ray, float t_max,
+                            HitRecord& hit) const {
     const std::uint32_t index = primitive_index(primitive);
     switch (primitive_type(primitive)) {
       case PrimitiveType::kSphere:
-        if constexpr ((kShapes & kShapeSphere) != 0) return tessera::intersect(spheres[index], ray, t_max, hit, primitive);
+        if constexpr ((kShapes & kShapeSphere) != 0)
+          return tessera::intersect(spheres[index], ray, t_max, hit, primitive);
         break;
       case PrimitiveType::kQuad:
-        if constexpr ((kShapes & kShapeQuad) != 0) return tessera::intersect(quads[index], ray, t_max, hit, primitive);
+        if constexpr ((kShapes & kShapeQuad) != 0)
+          return tessera::intersect(quads[index], ray, t_max, hit, primitive);
         break;
       case PrimitiveType::kTriangle:
         if constexpr ((kShapes & kShapeTriangle) != 0)
@@ -67,17 +75,20 @@ struct SceneIntersection {
 };
 
 template <unsigned kShapes>
-TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray, const HitRecord& hit) {
+TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray,
+                                         const HitRecord& hit) {
   const std::uint32_t index = primitive_index(hit.primitive);
   switch (primitive_type(hit.primitive)) {
     case PrimitiveType::kSphere:
-      if constexpr ((kShapes & kShapeSphere) != 0) return surface_at(scene.spheres[index], ray, hit);
+      if constexpr ((kShapes & kShapeSphere) != 0)
+        return surface_at(scene.spheres[index], ray, hit);
       break;
     case PrimitiveType::kQuad:
       if constexpr ((kShapes & kShapeQuad) != 0) return surface_at(scene.quads[index], ray, hit);
       break;
     case PrimitiveType::kTriangle:
-      if constexpr ((kShapes & kShapeTriangle) != 0) return surface_at(scene.triangles[index], ray, hit);
+      if constexpr ((kShapes & kShapeTriangle) != 0)
+        return surface_at(scene.triangles[index], ray, hit);
       break;
   }
   return SurfaceInteraction{};

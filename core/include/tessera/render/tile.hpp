@@ -15,6 +15,7 @@ struct TileRect {
 };
 
 // Cuts a width x height image into tiles of tile_size (edge tiles are smaller), row-major.
-std::vector<TileRect> make_tiles(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size);
+std::vector<TileRect> make_tiles(std::uint32_t width, std::uint32_t height,
+                                 std::uint32_t tile_size);
 
 }  // namespace tessera

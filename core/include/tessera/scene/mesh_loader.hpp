@@ -10,6 +10,7 @@ namespace tessera {
 TriangleMeshDesc load_mesh_file(const std::filesystem::path& path);
 
 // True when `path` lies inside one of `roots` after resolving `..` and symlinks.
-bool path_is_within(const std::filesystem::path& path, const std::vector<std::filesystem::path>& roots);
+bool path_is_within(const std::filesystem::path& path,
+                    const std::vector<std::filesystem::path>& roots);
 
 }  // namespace tessera

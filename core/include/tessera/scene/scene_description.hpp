@@ -119,6 +119,7 @@ struct SceneLimits {
 // Semantic checks shared by every loader (finite numbers, positive radii, valid material
 // references, render settings in range). Returns every issue found, field paths filled,
 // file and line left empty for the caller to add.
-std::vector<struct SceneIssue> validate_scene(const SceneDescription& scene, const SceneLimits& limits = {});
+std::vector<struct SceneIssue> validate_scene(const SceneDescription& scene,
+                                              const SceneLimits& limits = {});
 
 }  // namespace tessera

@@ -20,7 +20,8 @@ struct SceneIssue {
 
 class SceneError : public std::runtime_error {
  public:
-  explicit SceneError(SceneIssue issue) : std::runtime_error(issue.to_string()), issue_(std::move(issue)) {}
+  explicit SceneError(SceneIssue issue)
+      : std::runtime_error(issue.to_string()), issue_(std::move(issue)) {}
   const SceneIssue& issue() const { return issue_; }
 
  private:

@@ -16,7 +16,7 @@ inline constexpr unsigned kAllShapes = kShapeSphere | kShapeQuad | kShapeTriangl
 
 // What a scene contains, so the renderer can leave out what it does not.
 struct SceneFeatures {
-  unsigned shapes = 0;              // ShapeBit mask of visible or emissive shapes
+  unsigned shapes = 0;               // ShapeBit mask of visible or emissive shapes
   std::uint32_t material_kinds = 0;  // bit per BsdfKind used by some shape
   std::uint32_t light_count = 0;     // emissive primitives sampled for direct light
   std::size_t primitive_count = 0;

@@ -23,11 +23,13 @@ struct LoadedScene {
 
 // Reads Tessera's YAML scene format, a superset of RayON's. Throws SceneError naming the
 // file, line and field of the first error.
-LoadedScene load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options = {});
+LoadedScene load_scene_file(const std::filesystem::path& path,
+                            const SceneLoadOptions& options = {});
 
 // The same from text; `display_name` appears in messages and `base_directory` resolves
 // relative mesh paths.
 LoadedScene load_scene_yaml(std::string_view text, const std::string& display_name,
-                            const std::filesystem::path& base_directory, const SceneLoadOptions& options = {});
+                            const std::filesystem::path& base_directory,
+                            const SceneLoadOptions& options = {});
 
 }  // namespace tessera

@@ -1,0 +1,248 @@
+#include "tessera/scene/yaml_loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace tessera {
+namespace {
+
+constexpr const char* kMinimal = R"(
+camera: { position: [0, 1, 5], look_at: [0, 1, 0], fov: 40 }
+materials:
+  - { name: white, type: lambertian, albedo: [0.7, 0.7, 0.7] }
+  - { name: lamp, type: light, emission: [4, 4, 4] }
+geometry:
+  - { type: sphere, material: white, center: [0, 1, 0], radius: 1 }
+  - { type: rectangle, material: lamp, corner: [-1, 3, -1], u: [2, 0, 0], v: [0, 0, 2] }
+  - { type: triangle, material: white, v0: [0, 0, 0], v1: [1, 0, 0], v2: [0, 1, 0] }
+render: { width: 64, height: 32, spp: 4, max_depth: 3, tile_size: 16, seed: 7 }
+)";
+
+LoadedScene load(const std::string& text) {
+  return load_scene_yaml(text, "scene.yaml", ".");
+}
+
+// Loads `text` expecting an error; returns it.
+SceneIssue load_error(const std::string& text) {
+  try {
+    load(text);
+  } catch (const SceneError& e) {
+    return e.issue();
+  }
+  ADD_FAILURE() << "expected a SceneError for:\n" << text;
+  return {};
+}
+
+std::string with_geometry(const std::string& entry) {
+  return "materials:\n  - { name: white, type: lambertian }\ngeometry:\n  - " + entry + "\n";
+}
+
+TEST(YamlLoader, LoadsEveryFieldOfAFlowStyleScene) {
+  const LoadedScene loaded = load(kMinimal);
+  const SceneDescription& s = loaded.scene;
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(s.camera.position, glm::dvec3(0, 1, 5));
+  EXPECT_DOUBLE_EQ(s.camera.fov_degrees, 40.0);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[1].type, MaterialType::kLight);
+  EXPECT_EQ(s.materials[1].emission, glm::dvec3(4.0));
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.spheres[0].radius, 1.0);
+  EXPECT_EQ(s.spheres[0].source_index, 0u);
+  ASSERT_EQ(s.quads.size(), 1u);
+  EXPECT_EQ(s.quads[0].material, 1u);
+  EXPECT_EQ(s.quads[0].source_index, 1u);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].indices.size(), 3u);
+  EXPECT_EQ(s.render.width, 64u);
+  EXPECT_EQ(s.render.height, 32u);
+  EXPECT_EQ(s.render.samples_per_pixel, 4u);
+  EXPECT_EQ(s.render.max_depth, 3u);
+  EXPECT_EQ(s.render.tile_size, 16u);
+  EXPECT_EQ(s.render.seed, 7u);
+}
+
+TEST(YamlLoader, BlockStyleEqualsFlowStyle) {
+  const std::string block = R"(
+materials:
+  - name: white
+    type: lambertian
+    albedo: [0.5, 0.5, 0.5]
+geometries:
+  - type: sphere
+    material: white
+    center:
+      - 1
+      - 2
+      - 3
+    radius: 0.5
+)";
+  const SceneDescription s = load(block).scene;
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_EQ(s.spheres[0].center, glm::dvec3(1, 2, 3));
+  EXPECT_EQ(s.materials[0].albedo, glm::dvec3(0.5));
+}
+
+TEST(YamlLoader, UnknownKeysAreWarningsWithLine) {
+  const LoadedScene loaded = load("camera:\n  fov: 30\n  zoom: 2\nextra: 1\n");
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_EQ(loaded.warnings[0].field, "camera.zoom");
+  EXPECT_EQ(loaded.warnings[0].line, 3);
+  EXPECT_EQ(loaded.warnings[1].field, "extra");
+  EXPECT_EQ(loaded.warnings[1].line, 4);
+  EXPECT_EQ(loaded.warnings[0].to_string(), "scene.yaml:3: camera.zoom: unknown key, ignored");
+}
+
+TEST(YamlLoader, SyntaxErrorNamesLine) {
+  const SceneIssue issue = load_error("camera:\n  position: [0, 1\n  fov: 3\n");
+  EXPECT_EQ(issue.file, "scene.yaml");
+  EXPECT_GT(issue.line, 0);
+  EXPECT_NE(issue.message.find("YAML syntax error"), std::string::npos);
+}
+
+TEST(YamlLoader, WrongTypeNamesFieldAndLine) {
+  const SceneIssue issue = load_error("camera:\n  position: [0, 1, 2]\n  fov: wide\n");
+  EXPECT_EQ(issue.field, "camera.fov");
+  EXPECT_EQ(issue.line, 3);
+  EXPECT_NE(issue.message.find("must be a number"), std::string::npos);
+}
+
+TEST(YamlLoader, VectorOfWrongLength) {
+  const SceneIssue issue = load_error("camera:\n  position: [0, 1]\n");
+  EXPECT_EQ(issue.field, "camera.position");
+  EXPECT_EQ(issue.line, 2);
+  EXPECT_NE(issue.message.find("three numbers"), std::string::npos);
+}
+
+TEST(YamlLoader, MissingRequiredField) {
+  const SceneIssue issue =
+      load_error(with_geometry("{ type: sphere, material: white, center: [0, 0, 0] }"));
+  EXPECT_EQ(issue.field, "geometry[0].radius");
+  EXPECT_EQ(issue.line, 4);
+  EXPECT_NE(issue.message.find("required"), std::string::npos);
+}
+
+TEST(YamlLoader, NegativeRadius) {
+  const SceneIssue issue =
+      load_error(with_geometry("{ type: sphere, material: white, center: [0, 0, 0], radius: -1 }"));
+  EXPECT_EQ(issue.field, "geometry[0].radius");
+  EXPECT_EQ(issue.line, 4);
+  EXPECT_EQ(issue.to_string(), "scene.yaml:4: geometry[0].radius: must be positive, got -1");
+}
+
+TEST(YamlLoader, NanAndInfinityAreRejected) {
+  SceneIssue issue = load_error(
+      with_geometry("{ type: sphere, material: white, center: [0, .nan, 0], radius: 1 }"));
+  EXPECT_EQ(issue.field, "geometry[0].center[1]");
+  EXPECT_NE(issue.message.find("finite"), std::string::npos);
+  issue = load_error("camera:\n  fov: .inf\n");
+  EXPECT_EQ(issue.field, "camera.fov");
+  EXPECT_EQ(issue.line, 2);
+}
+
+TEST(YamlLoader, UnknownMaterialName) {
+  const SceneIssue issue =
+      load_error(with_geometry("{ type: sphere, material: gold, center: [0, 0, 0], radius: 1 }"));
+  EXPECT_EQ(issue.field, "geometry[0].material");
+  EXPECT_EQ(issue.line, 4);
+  EXPECT_NE(issue.message.find("unknown material 'gold'"), std::string::npos);
+}
+
+TEST(YamlLoader, UnknownMaterialTypeAndGeometryType) {
+  SceneIssue issue = load_error("materials:\n  - { name: a, type: velvet }\n");
+  EXPECT_EQ(issue.field, "materials[0].type");
+  EXPECT_NE(issue.message.find("velvet"), std::string::npos);
+  issue = load_error(with_geometry("{ type: teapot, material: white }"));
+  EXPECT_EQ(issue.field, "geometry[0].type");
+}
+
+TEST(YamlLoader, DuplicateMaterialName) {
+  const SceneIssue issue =
+      load_error("materials:\n  - { name: a, type: lambertian }\n  - { name: a, type: metal }\n");
+  EXPECT_EQ(issue.field, "materials[1].name");
+  EXPECT_EQ(issue.line, 3);
+}
+
+TEST(YamlLoader, OutOfRangeValuesFoundAfterParsingStillHaveLines) {
+  SceneIssue issue = load_error("materials:\n  - name: m\n    type: metal\n    roughness: 2.5\n");
+  EXPECT_EQ(issue.field, "materials[0].roughness");
+  EXPECT_EQ(issue.line, 4);
+  EXPECT_EQ(issue.message, "must be in [0, 1], got 2.5");
+  issue = load_error("render:\n  width: 0\n");
+  EXPECT_EQ(issue.field, "render.width");
+  EXPECT_EQ(issue.line, 2);
+  issue = load_error(with_geometry(
+      "{ type: rectangle, material: white, corner: [0, 0, 0], u: [1, 0, 0], v: [2, 0, 0] }"));
+  EXPECT_EQ(issue.field, "geometry[0].v");
+}
+
+TEST(YamlLoader, NonIntegerRenderSettings) {
+  const SceneIssue issue = load_error("render:\n  spp: 2.5\n");
+  EXPECT_EQ(issue.field, "render.spp");
+  EXPECT_NE(issue.message.find("integer"), std::string::npos);
+}
+
+TEST(YamlLoader, WrongShapeOfSections) {
+  EXPECT_EQ(load_error("materials: { name: a }\n").field, "materials");
+  EXPECT_EQ(load_error("camera: [1, 2]\n").field, "camera");
+  EXPECT_EQ(load_error("- 1\n- 2\n").line, 1);
+  EXPECT_NE(load_error("").message.find("empty"), std::string::npos);
+}
+
+TEST(YamlLoader, MissingFileIsNamed) {
+  try {
+    load_scene_file("/nonexistent/scene.yaml");
+    FAIL() << "expected an error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: scene file not found");
+  }
+}
+
+TEST(YamlLoader, MissingMeshFileNamesFileAndField) {
+  const SceneIssue issue =
+      load_error(with_geometry("{ type: obj, material: white, file: models/none.obj }"));
+  EXPECT_EQ(issue.field, "geometry[0].file");
+  EXPECT_EQ(issue.line, 4);
+  EXPECT_NE(issue.message.find("none.obj"), std::string::npos);
+}
+
+TEST(YamlLoader, MeshFilesOutsideAllowedRootsAreRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / "tessera_yaml_roots";
+  std::filesystem::create_directories(dir / "inside");
+  {
+    std::ofstream obj(dir / "outside.obj");
+    obj << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  }
+  SceneLoadOptions options;
+  options.allowed_roots = {dir / "inside"};
+  const std::string text = with_geometry("{ type: obj, material: white, file: ../outside.obj }");
+  try {
+    load_scene_yaml(text, "scene.yaml", dir / "inside", options);
+    FAIL() << "expected the mesh outside the allowed root to be refused";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.issue().field, "geometry[0].file");
+    EXPECT_NE(e.issue().message.find("outside"), std::string::npos);
+  }
+  // Without the restriction the same file loads, scaled and moved.
+  const std::string moved = with_geometry(
+      "{ type: obj, material: white, file: ../outside.obj, position: [1, 0, 0], scale: 2 }");
+  const SceneDescription s = load_scene_yaml(moved, "scene.yaml", dir / "inside").scene;
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].indices.size(), 3u);
+  EXPECT_EQ(s.meshes[0].positions[1], glm::dvec3(3, 0, 0));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(YamlLoader, ExampleCornellBoxLoads) {
+  const LoadedScene loaded =
+      load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml");
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.scene.quads.size(), 6u);
+  EXPECT_EQ(loaded.scene.spheres.size(), 2u);
+}
+
+}  // namespace
+}  // namespace tessera
