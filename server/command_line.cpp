@@ -1,0 +1,102 @@
+#include "server/command_line.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <sstream>
+#include <variant>
+
+#include "server/listen_address.hpp"
+
+namespace tessera::server {
+namespace {
+
+CLI::Validator listen_address_validator() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        const auto parsed = parse_listen_address(value);
+        if (const auto* problem = std::get_if<std::string>(&parsed)) return *problem;
+        return {};
+      },
+      "");
+}
+
+CLI::Validator log_level_validator() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        if (parse_log_level(value)) return {};
+        return "must be one of trace, debug, info, warn, error, critical or off, got '" + value +
+               "'";
+      },
+      "");
+}
+
+}  // namespace
+
+CommandLine parse_command_line(int argc, const char* const argv[]) {
+  CommandLine result;
+  DaemonConfig defaults;
+  defaults.data_dir = kDefaultDataDir;
+
+  std::string listen = defaults.listen;
+  unsigned threads = defaults.threads;
+  std::string data = defaults.data_dir.string();
+  std::string log_level = defaults.log_level;
+  std::string config_file;
+
+  CLI::App app(
+      "tesserad: the Tessera render daemon. Takes scenes over gRPC "
+      "(tessera.v1.RenderService), renders them tile by tile on every core and "
+      "streams the tiles back as EXR.",
+      "tesserad");
+  app.set_version_flag("--version", std::string("tesserad ") + TESSERA_VERSION);
+  CLI::Option* listen_opt =
+      app.add_option("--listen", listen, "address to serve on; port 0 picks a free port")
+          ->type_name("HOST:PORT")
+          ->check(listen_address_validator())
+          ->default_str(defaults.listen);
+  CLI::Option* threads_opt = app.add_option("--threads", threads, "render worker threads")
+                                 ->type_name("N")
+                                 ->check(CLI::Range(1u, kMaxThreads))
+                                 ->default_str(std::to_string(defaults.threads));
+  CLI::Option* data_opt = app.add_option("--data", data, "data directory, created if missing")
+                              ->type_name("DIR")
+                              ->default_str(data);
+  app.add_option("--config", config_file,
+                 "YAML file with listen, threads, data and log_level; flags override it")
+      ->type_name("FILE");
+  CLI::Option* log_opt =
+      app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")
+          ->type_name("LEVEL")
+          ->check(log_level_validator())
+          ->default_str(defaults.log_level);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::ostringstream out, err;
+    const int code = app.exit(e, out, err);
+    result.exit_code = code == 0 ? 0 : kExitUsage;
+    result.message = code == 0 ? out.str() : err.str();
+    return result;
+  }
+
+  try {
+    DaemonConfig config = defaults;
+    if (!config_file.empty()) config = load_config_file(config_file, config, result.warnings);
+    if (listen_opt->count() > 0) config.listen = listen;
+    if (threads_opt->count() > 0) config.threads = threads;
+    if (data_opt->count() > 0) {
+      if (data.empty()) throw ConfigError("--data: must not be empty");
+      config.data_dir = data;
+    }
+    if (log_opt->count() > 0) config.log_level = log_level;
+    validate_config(config);
+    result.config = std::move(config);
+  } catch (const ConfigError& e) {
+    result.exit_code = kExitUsage;
+    result.message = std::string("tesserad: ") + e.what() + "\n";
+  }
+  return result;
+}
+
+}  // namespace tessera::server

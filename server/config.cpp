@@ -1,0 +1,127 @@
+#include "server/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <variant>
+
+#include "server/listen_address.hpp"
+
+namespace tessera::server {
+namespace {
+
+constexpr const char* kLogLevels = "trace, debug, info, warn, error, critical or off";
+
+std::string located(const std::string& file, const YAML::Node& node, const std::string& key) {
+  // Appended piecewise: `":" + std::to_string(...)` trips a false -Wrestrict in GCC 12.
+  std::string where = file;
+  if (!node.Mark().is_null()) where.append(":").append(std::to_string(node.Mark().line + 1));
+  return where.append(": ").append(key);
+}
+
+std::string scalar_text(const YAML::Node& node) {
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  if (node.IsSequence()) return "a list";
+  if (node.IsMap()) return "a map";
+  return "nothing";
+}
+
+std::string read_string(const std::string& file, const YAML::Node& node, const std::string& key) {
+  if (!node.IsScalar())
+    throw ConfigError(located(file, node, key) + ": must be a string, got " + scalar_text(node));
+  return node.Scalar();
+}
+
+}  // namespace
+
+unsigned default_thread_count() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : n;
+}
+
+std::optional<spdlog::level::level_enum> parse_log_level(const std::string& name) {
+  using namespace spdlog::level;
+  if (name == "trace") return trace;
+  if (name == "debug") return debug;
+  if (name == "info") return info;
+  if (name == "warn" || name == "warning") return warn;
+  if (name == "error") return err;
+  if (name == "critical") return critical;
+  if (name == "off") return off;
+  return std::nullopt;
+}
+
+void validate_config(const DaemonConfig& config) {
+  const auto listen = parse_listen_address(config.listen);
+  if (const auto* problem = std::get_if<std::string>(&listen))
+    throw ConfigError("listen: " + *problem);
+  if (config.threads < 1 || config.threads > kMaxThreads)
+    throw ConfigError("threads: must be from 1 to " + std::to_string(kMaxThreads) + ", got " +
+                      std::to_string(config.threads));
+  if (!parse_log_level(config.log_level))
+    throw ConfigError("log_level: must be one of " + std::string(kLogLevels) + ", got '" +
+                      config.log_level + "'");
+  if (config.max_receive_message_bytes < (std::size_t{1} << 20))
+    throw ConfigError("max_receive_message_bytes: must be at least 1 MiB");
+}
+
+DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
+                              DaemonConfig config, std::vector<std::string>& warnings) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::string where = display_name;
+    if (!e.mark.is_null()) where.append(":").append(std::to_string(e.mark.line + 1));
+    throw ConfigError(where + ": YAML syntax error: " + e.msg);
+  }
+  if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
+  if (!root.IsMap())
+    throw ConfigError(display_name +
+                      ": must be a YAML map of settings (listen, threads, data, log_level)");
+
+  for (const auto& entry : root) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
+    const YAML::Node& value = entry.second;
+    if (key == "listen") {
+      config.listen = read_string(display_name, value, key);
+      const auto listen = parse_listen_address(config.listen);
+      if (const auto* problem = std::get_if<std::string>(&listen))
+        throw ConfigError(located(display_name, value, key) + ": " + *problem);
+    } else if (key == "threads") {
+      long long threads = 0;
+      if (!value.IsScalar() || !YAML::convert<long long>::decode(value, threads) || threads < 1 ||
+          threads > kMaxThreads)
+        throw ConfigError(located(display_name, value, key) + ": must be an integer from 1 to " +
+                          std::to_string(kMaxThreads) + ", got " + scalar_text(value));
+      config.threads = static_cast<unsigned>(threads);
+    } else if (key == "data") {
+      const std::string data = read_string(display_name, value, key);
+      if (data.empty())
+        throw ConfigError(located(display_name, value, key) + ": must not be empty");
+      config.data_dir = data;
+    } else if (key == "log_level") {
+      config.log_level = read_string(display_name, value, key);
+      if (!parse_log_level(config.log_level))
+        throw ConfigError(located(display_name, value, key) + ": must be one of " + kLogLevels +
+                          ", got '" + config.log_level + "'");
+    } else {
+      warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
+    }
+  }
+  return config;
+}
+
+DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
+                              std::vector<std::string>& warnings) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || std::filesystem::is_directory(path))
+    throw ConfigError(path.string() + ": cannot read the config file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_config_yaml(text.str(), path.string(), std::move(base), warnings);
+}
+
+}  // namespace tessera::server

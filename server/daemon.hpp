@@ -1,0 +1,42 @@
+#pragma once
+#include <memory>
+#include <string>
+
+#include "server/config.hpp"
+
+namespace tessera::server {
+
+// The whole render daemon in one object: job store, scheduler with its worker threads
+// and the gRPC server (RenderService, the standard health service and reflection).
+// tesserad's main() is a Daemon plus signal handling; tests run one in-process on port 0.
+class Daemon {
+ public:
+  explicit Daemon(DaemonConfig config);
+  ~Daemon();  // shutdown()
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
+
+  // Validates the config, creates the data directory, starts the workers and binds the
+  // listening address. Returns the bound port (the one chosen when the config says 0).
+  // Throws ConfigError for a bad config and std::runtime_error when it cannot listen.
+  // Call once.
+  int start();
+
+  // Stops accepting jobs, cancels queued and running ones (their streams end CANCELLED),
+  // waits up to config().shutdown_grace for calls in progress, then joins every thread.
+  // Idempotent and safe from any thread except a gRPC handler's.
+  void shutdown();
+
+  // Blocks until shutdown() has finished; returns at once if the daemon never started.
+  void wait();
+
+  int port() const;             // 0 before start()
+  std::string address() const;  // "HOST:PORT" with the bound port, for clients
+  const DaemonConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tessera::server

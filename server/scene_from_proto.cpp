@@ -1,0 +1,330 @@
+#include "server/scene_from_proto.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace tessera::server {
+namespace {
+
+std::string format_number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+std::string indexed(const std::string& name, std::size_t index) {
+  return name + "[" + std::to_string(index) + "]";
+}
+
+// Collects structural problems with the field paths of the protobuf messages.
+class ProtoChecker {
+ public:
+  explicit ProtoChecker(std::vector<SceneIssue>& issues) : issues_(issues) {}
+
+  void fail(std::string field, std::string message) {
+    issues_.push_back(SceneIssue{"", 0, std::move(field), std::move(message)});
+  }
+  double number(const std::string& field, double value) {
+    if (!std::isfinite(value)) fail(field, "must be a finite number, got " + format_number(value));
+    return value;
+  }
+  glm::dvec3 vec3(const std::string& field, const v1::Vec3& v) {
+    return glm::dvec3(number(field + ".x", v.x()), number(field + ".y", v.y()),
+                      number(field + ".z", v.z()));
+  }
+
+ private:
+  std::vector<SceneIssue>& issues_;
+};
+
+std::optional<MaterialType> material_type_from_proto(v1::MaterialType type) {
+  switch (type) {
+    case v1::MATERIAL_TYPE_LAMBERTIAN:
+      return MaterialType::kLambertian;
+    case v1::MATERIAL_TYPE_LIGHT:
+      return MaterialType::kLight;
+    case v1::MATERIAL_TYPE_METAL:
+      return MaterialType::kMetal;
+    case v1::MATERIAL_TYPE_ROUGH_MIRROR:
+      return MaterialType::kRoughMirror;
+    case v1::MATERIAL_TYPE_GLASS:
+      return MaterialType::kGlass;
+    case v1::MATERIAL_TYPE_ANISOTROPIC_METAL:
+      return MaterialType::kAnisotropicMetal;
+    case v1::MATERIAL_TYPE_CLEAR_COAT:
+      return MaterialType::kClearCoat;
+    case v1::MATERIAL_TYPE_THIN_FILM:
+      return MaterialType::kThinFilm;
+    default:
+      return std::nullopt;
+  }
+}
+
+// Metal colours the renderer knows (see make_material); anything else would silently
+// fall back to the albedo.
+bool known_metal_preset(const std::string& preset) {
+  return preset.empty() || preset == "silver" || preset == "gold" || preset == "copper" ||
+         preset == "aluminium" || preset == "aluminum";
+}
+
+void convert_camera(const v1::Scene& in, ProtoChecker& check, CameraDesc& cam) {
+  if (!in.has_camera()) return;  // the same defaults as a YAML scene without a camera
+  const v1::Camera& c = in.camera();
+  if (c.has_position()) cam.position = check.vec3("camera.position", c.position());
+  if (c.has_look_at()) cam.look_at = check.vec3("camera.look_at", c.look_at());
+  if (c.has_up()) cam.up = check.vec3("camera.up", c.up());
+  const double fov = check.number("camera.fov_degrees", c.fov_degrees());
+  if (fov != 0.0) cam.fov_degrees = fov;
+}
+
+void convert_background(const v1::Scene& in, ProtoChecker& check, BackgroundDesc& bg) {
+  if (!in.has_background()) return;
+  const v1::Background& b = in.background();
+  bg.color = check.vec3("background.color", b.color());
+  if (b.has_intensity()) bg.intensity = check.number("background.intensity", b.intensity());
+}
+
+void convert_materials(const v1::Scene& in, ProtoChecker& check,
+                       std::vector<MaterialDesc>& materials) {
+  for (int i = 0; i < in.materials_size(); ++i) {
+    const v1::Material& m = in.materials(i);
+    const std::string base = indexed("materials", static_cast<std::size_t>(i)) + ".";
+    MaterialDesc mat;
+    mat.name = m.name();
+    if (m.type() == v1::MATERIAL_TYPE_UNSPECIFIED) {
+      check.fail(base + "type", "must be set (got MATERIAL_TYPE_UNSPECIFIED)");
+    } else if (const auto type = material_type_from_proto(m.type())) {
+      mat.type = *type;
+    } else {
+      check.fail(base + "type", "unknown material type " + std::to_string(m.type()));
+    }
+    if (mat.type == MaterialType::kLight) mat.albedo = glm::dvec3(1.0);
+    if (m.has_albedo()) mat.albedo = check.vec3(base + "albedo", m.albedo());
+    mat.emission = check.vec3(base + "emission", m.emission());
+    if (mat.type == MaterialType::kLight && !m.has_emission())
+      check.fail(base + "emission", "is required for a light material");
+    mat.roughness = check.number(base + "roughness", m.roughness());
+    if (m.has_refractive_index())
+      mat.refractive_index = check.number(base + "refractive_index", m.refractive_index());
+    mat.metallic = check.number(base + "metallic", m.metallic());
+    mat.transmission = check.number(base + "transmission", m.transmission());
+    mat.anisotropy = check.number(base + "anisotropy", m.anisotropy());
+    mat.preset = m.preset();
+    if (!known_metal_preset(mat.preset))
+      check.fail(base + "preset", "unknown preset '" + mat.preset +
+                                      "' (expected silver, gold, copper or aluminium)");
+    mat.film_thickness = check.number(base + "film_thickness", m.film_thickness());
+    if (m.has_film_ior()) mat.film_ior = check.number(base + "film_ior", m.film_ior());
+    materials.push_back(std::move(mat));
+  }
+}
+
+void convert_mesh(const v1::TriangleMesh& in, const std::string& path, ProtoChecker& check,
+                  TriangleMeshDesc& mesh) {
+  const auto& positions = in.positions();
+  const auto& indices = in.indices();
+  bool ok = true;
+  if (positions.size() % 3 != 0) {
+    check.fail(path + ".positions", "count must be a multiple of 3 (x, y, z per vertex), got " +
+                                        std::to_string(positions.size()));
+    ok = false;
+  }
+  for (int i = 0; i < positions.size(); ++i) {
+    if (!std::isfinite(positions[i])) {
+      check.fail(indexed(path + ".positions", static_cast<std::size_t>(i)),
+                 "must be a finite number, got " + format_number(positions[i]));
+      ok = false;
+      break;  // one is enough; a broken mesh may have millions
+    }
+  }
+  if (indices.empty()) {
+    check.fail(path + ".indices", "must hold at least one triangle");
+    ok = false;
+  } else if (indices.size() % 3 != 0) {
+    check.fail(path + ".indices", "count must be a multiple of 3 (three per triangle), got " +
+                                      std::to_string(indices.size()));
+    ok = false;
+  }
+  const auto vertex_count = static_cast<std::uint64_t>(positions.size() / 3);
+  for (int i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= vertex_count) {
+      check.fail(indexed(path + ".indices", static_cast<std::size_t>(i)),
+                 "vertex index " + std::to_string(indices[i]) + " out of range (" +
+                     std::to_string(vertex_count) + " vertices)");
+      ok = false;
+      break;
+    }
+  }
+  if (!ok) return;
+  mesh.positions.reserve(vertex_count);
+  for (int i = 0; i + 2 < positions.size(); i += 3)
+    mesh.positions.emplace_back(positions[i], positions[i + 1], positions[i + 2]);
+  mesh.indices.assign(indices.begin(), indices.end());
+}
+
+void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription& scene) {
+  for (int i = 0; i < in.geometry_size(); ++i) {
+    const v1::Geometry& g = in.geometry(i);
+    const auto index = static_cast<std::uint32_t>(i);
+    const std::string path = indexed("geometry", index);
+
+    std::uint32_t material = 0;
+    if (g.material().empty()) {
+      check.fail(path + ".material", "is required but missing");
+    } else if (const auto found = scene.find_material(g.material())) {
+      material = *found;
+    } else {
+      check.fail(path + ".material", "unknown material '" + g.material() + "'");
+    }
+    const bool visible = !g.has_visible() || g.visible();
+
+    switch (g.shape_case()) {
+      case v1::Geometry::kSphere: {
+        SphereDesc s;
+        s.center = check.vec3(path + ".sphere.center", g.sphere().center());
+        s.radius = check.number(path + ".sphere.radius", g.sphere().radius());
+        if (std::isfinite(s.radius) && !(s.radius > 0.0))
+          check.fail(path + ".sphere.radius", "must be positive, got " + format_number(s.radius));
+        s.material = material;
+        s.visible = visible;
+        s.source_index = index;
+        scene.spheres.push_back(s);
+        break;
+      }
+      case v1::Geometry::kRectangle: {
+        QuadDesc q;
+        q.corner = check.vec3(path + ".rectangle.corner", g.rectangle().corner());
+        q.u = check.vec3(path + ".rectangle.u", g.rectangle().u());
+        q.v = check.vec3(path + ".rectangle.v", g.rectangle().v());
+        q.material = material;
+        q.visible = visible;
+        q.source_index = index;
+        scene.quads.push_back(q);
+        break;
+      }
+      case v1::Geometry::kTriangle: {
+        TriangleMeshDesc mesh;
+        mesh.positions = {check.vec3(path + ".triangle.v0", g.triangle().v0()),
+                          check.vec3(path + ".triangle.v1", g.triangle().v1()),
+                          check.vec3(path + ".triangle.v2", g.triangle().v2())};
+        mesh.indices = {0, 1, 2};
+        mesh.material = material;
+        mesh.visible = visible;
+        mesh.source_index = index;
+        scene.meshes.push_back(std::move(mesh));
+        break;
+      }
+      case v1::Geometry::kMesh: {
+        TriangleMeshDesc mesh;
+        convert_mesh(g.mesh(), path + ".mesh", check, mesh);
+        mesh.material = material;
+        mesh.visible = visible;
+        mesh.source_index = index;
+        scene.meshes.push_back(std::move(mesh));
+        break;
+      }
+      case v1::Geometry::SHAPE_NOT_SET:
+        check.fail(path + ".shape", "is required: set one of sphere, rectangle, triangle or mesh");
+        break;
+    }
+  }
+}
+
+// validate_scene() speaks the YAML loader's paths; rewrite them to the protobuf ones.
+std::string proto_field(const std::string& core_field, const v1::Scene& scene) {
+  static const std::pair<const char*, const char*> kRenamed[] = {
+      {"camera.fov", "camera.fov_degrees"},
+      {"settings.background_color", "background.color"},
+      {"settings.background_intensity", "background.intensity"},
+      {"render.spp", "settings.samples_per_pixel"},
+  };
+  for (const auto& [from, to] : kRenamed)
+    if (core_field == from) return to;
+  if (core_field.rfind("render.", 0) == 0) return "settings." + core_field.substr(7);
+
+  constexpr std::string_view kGeometry = "geometry[";
+  if (core_field.rfind(kGeometry, 0) != 0) return core_field;
+  const auto close = core_field.find("].");
+  if (close == std::string::npos) return core_field;
+  const int index = std::stoi(core_field.substr(kGeometry.size(), close - kGeometry.size()));
+  if (index < 0 || index >= scene.geometry_size()) return core_field;
+  const std::string head = core_field.substr(0, close + 2);
+  const std::string rest = core_field.substr(close + 2);
+  if (rest.rfind("material", 0) == 0) return core_field;
+  switch (scene.geometry(index).shape_case()) {
+    case v1::Geometry::kSphere:
+      return head + "sphere." + rest;
+    case v1::Geometry::kRectangle:
+      return head + "rectangle." + rest;
+    case v1::Geometry::kMesh:
+      return head + "mesh." + rest;
+    case v1::Geometry::kTriangle:
+      // The triangle became a three-vertex mesh: positions[k] is vk.
+      if (rest.rfind("positions[", 0) == 0 && rest.size() > 10)
+        return head + "triangle.v" + rest.substr(10, 1) + rest.substr(rest.find(']') + 1);
+      return head + "triangle";
+    case v1::Geometry::SHAPE_NOT_SET:
+      break;
+  }
+  return core_field;
+}
+
+}  // namespace
+
+RenderSettings settings_from_proto(const v1::RenderSettings& in) {
+  RenderSettings out;
+  out.width = in.width() != 0 ? in.width() : kDefaultWidth;
+  out.height = in.height() != 0 ? in.height() : kDefaultHeight;
+  out.samples_per_pixel =
+      in.samples_per_pixel() != 0 ? in.samples_per_pixel() : kDefaultSamplesPerPixel;
+  out.max_depth = in.max_depth() != 0 ? in.max_depth() : kDefaultMaxDepth;
+  out.tile_size = in.tile_size() != 0 ? in.tile_size() : kDefaultTileSize;
+  out.seed = in.seed();
+  return out;
+}
+
+v1::RenderSettings settings_to_proto(const RenderSettings& in) {
+  v1::RenderSettings out;
+  out.set_width(in.width);
+  out.set_height(in.height);
+  out.set_samples_per_pixel(in.samples_per_pixel);
+  out.set_max_depth(in.max_depth);
+  out.set_tile_size(in.tile_size);
+  out.set_seed(in.seed);
+  return out;
+}
+
+SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& settings,
+                                 const SceneLimits& limits) {
+  SceneConversion result;
+  ProtoChecker check(result.issues);
+  SceneDescription scene;
+  convert_camera(in, check, scene.camera);
+  convert_background(in, check, scene.background);
+  convert_materials(in, check, scene.materials);
+  convert_geometry(in, check, scene);
+  scene.render = settings_from_proto(settings);
+  // The semantic checks assume a structurally sound scene (finite numbers, valid
+  // references), so they run only once the structure is right.
+  if (!result.issues.empty()) return result;
+
+  for (SceneIssue issue : validate_scene(scene, limits)) {
+    issue.field = proto_field(issue.field, in);
+    result.issues.push_back(std::move(issue));
+  }
+  if (result.issues.empty()) result.scene = std::move(scene);
+  return result;
+}
+
+std::string describe_issues(const std::vector<SceneIssue>& issues) {
+  constexpr std::size_t kShown = 10;
+  std::string text;
+  for (std::size_t i = 0; i < issues.size() && i < kShown; ++i) {
+    if (i > 0) text += "; ";
+    text += issues[i].to_string();
+  }
+  if (issues.size() > kShown) text += "; and " + std::to_string(issues.size() - kShown) + " more";
+  return text;
+}
+
+}  // namespace tessera::server
