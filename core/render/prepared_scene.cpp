@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "render_tile_variants.hpp"
-
 namespace tessera {
 
 namespace {
@@ -60,10 +58,15 @@ Material make_material(const MaterialDesc& desc) {
       m.kind = BsdfKind::kCoated;
       break;
   }
+  // Transmissive surfaces stay faintly visible in the transparency view.
+  const bool transmissive = m.kind == BsdfKind::kDielectric || m.kind == BsdfKind::kThinDielectric;
+  m.opacity = static_cast<float>(transmissive ? std::max(0.1, 1.0 - desc.transmission)
+                                              : 1.0 - desc.transmission);
   return m;
 }
 
-std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription& description) {
+std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription& description,
+                                                          const PrepareOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   std::shared_ptr<PreparedScene> scene(new PreparedScene());
   scene->settings_ = description.render;
@@ -117,11 +120,23 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
                                             description.render.height);
   scene->background_ = to_float(description.background.color * description.background.intensity);
   scene->features_.light_count = static_cast<std::uint32_t>(scene->lights_.size());
-  scene->render_tile_fn_ = select_render_tile(scene->features_.shapes);
+  const auto& f = scene->features_;
+  const bool path = description.render.integrator == IntegratorKind::kPath;
+  scene->required_ = PipelineFeatures{f.shapes, path && f.light_count > 0, path && f.specular(),
+                                      path && f.aovs != 0};
+  scene->variant_ = options.all_features
+                        ? &all_features_variant(description.render.integrator)
+                        : &select_render_variant(description.render.integrator, scene->required_);
   scene->build_seconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  spdlog::debug("prepared scene: {}, BVH {} nodes depth {}, {:.3f} s", scene->features_.summary(),
-                scene->bvh_.nodes.size(), scene->bvh_.depth, scene->build_seconds_);
+  spdlog::debug(
+      "prepared scene: {}, integrator {}, variant shapes={:#x} lights={} specular={} aovs={}, BVH "
+      "{} "
+      "nodes depth {}, {:.3f} s",
+      f.summary(), to_string(description.render.integrator), scene->variant_->features.shapes,
+      scene->variant_->features.direct_lighting, scene->variant_->features.specular,
+      scene->variant_->features.aovs, scene->bvh_.nodes.size(), scene->bvh_.depth,
+      scene->build_seconds_);
   return scene;
 }
 
@@ -141,8 +156,34 @@ SceneView PreparedScene::view() const {
 
 TileStats PreparedScene::render_tile(const TileRect& tile, std::span<float> rgba) const {
   std::fill(rgba.begin(), rgba.end(), 0.0f);
-  const TileStats stats = render_tile_fn_(view(), settings_, tile, rgba.data());
+  FilmPlanes film;
+  film.beauty = rgba.data();
+  // AOV-enabled variants write only the planes that are present, so none are passed here.
+  const TileStats stats = variant_->render(view(), settings_, tile, film);
   for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
+  return stats;
+}
+
+TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) const {
+  const std::size_t floats = tile.pixel_count() * 4;
+  passes.beauty.assign(floats, 0.0f);
+  FilmPlanes film;
+  film.beauty = passes.beauty.data();
+  float** planes[] = {&film.albedo, &film.normal, &film.depth, &film.primitive_id};
+  for (std::size_t i = 0; i < passes.aovs.size(); ++i) {
+    if ((settings_.aovs & (1u << i)) == 0) {
+      passes.aovs[i].clear();
+      continue;
+    }
+    passes.aovs[i].assign(floats, 0.0f);
+    *planes[i] = passes.aovs[i].data();
+  }
+  const TileStats stats = variant_->render(view(), settings_, tile, film);
+  const auto set_alpha = [](std::vector<float>& plane) {
+    for (std::size_t i = 3; i < plane.size(); i += 4) plane[i] = 1.0f;
+  };
+  set_alpha(passes.beauty);
+  for (auto& plane : passes.aovs) set_alpha(plane);
   return stats;
 }
 

@@ -48,6 +48,36 @@ std::optional<MaterialType> material_type_from_string(const std::string& name) {
   return std::nullopt;
 }
 
+namespace {
+struct IntegratorName {
+  IntegratorKind kind;
+  const char* name;
+};
+constexpr IntegratorName kIntegratorNames[] = {
+    {IntegratorKind::kPath, "path"},     {IntegratorKind::kNormals, "normals"},
+    {IntegratorKind::kShadow, "shadow"}, {IntegratorKind::kTransparency, "transparency"},
+    {IntegratorKind::kAlbedo, "albedo"}, {IntegratorKind::kDepth, "depth"},
+};
+}  // namespace
+
+const char* to_string(IntegratorKind kind) {
+  for (const auto& entry : kIntegratorNames)
+    if (entry.kind == kind) return entry.name;
+  return "unknown";
+}
+
+std::optional<IntegratorKind> integrator_from_string(const std::string& name) {
+  for (const auto& entry : kIntegratorNames)
+    if (name == entry.name) return entry.kind;
+  return std::nullopt;
+}
+
+std::optional<AovBit> aov_from_string(const std::string& name) {
+  for (std::uint32_t i = 0; i < std::size(kAovNames); ++i)
+    if (name == kAovNames[i]) return static_cast<AovBit>(1u << i);
+  return std::nullopt;
+}
+
 std::size_t SceneDescription::triangle_count() const {
   std::size_t count = 0;
   for (const auto& mesh : meshes) count += mesh.indices.size() / 3;
@@ -202,6 +232,10 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
   in_u32("spp", r.samples_per_pixel, 1, limits.max_samples_per_pixel);
   in_u32("max_depth", r.max_depth, 1, limits.max_depth);
   in_u32("tile_size", r.tile_size, limits.min_tile_size, limits.max_tile_size);
+  if ((r.aovs & ~kAllAovs) != 0) check.fail("render.aovs", "unknown AOV bits set");
+  if (r.aovs != 0 && r.integrator != IntegratorKind::kPath)
+    check.fail("render.aovs", std::string("AOVs come with the path integrator, not '") +
+                                  to_string(r.integrator) + "'");
   return issues;
 }
 

@@ -26,7 +26,23 @@ SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
     use_material(m.material);
   }
   f.primitive_count = scene.spheres.size() + scene.quads.size() + scene.triangle_count();
+  const auto used = [&](BsdfKind kind) {
+    return (f.material_kinds & (1u << static_cast<unsigned>(kind))) != 0;
+  };
+  f.transmissive = used(BsdfKind::kDielectric) || used(BsdfKind::kThinDielectric);
+  for (const auto& m : scene.materials)
+    if (m.emission.x > 0 || m.emission.y > 0 || m.emission.z > 0) f.emissive = true;
+  f.aovs = scene.render.aovs;
   return f;
+}
+
+bool SceneFeatures::specular() const {
+  constexpr std::uint32_t kSpecularKinds =
+      (1u << static_cast<unsigned>(BsdfKind::kConductor)) |
+      (1u << static_cast<unsigned>(BsdfKind::kDielectric)) |
+      (1u << static_cast<unsigned>(BsdfKind::kThinDielectric)) |
+      (1u << static_cast<unsigned>(BsdfKind::kCoated));
+  return (material_kinds & kSpecularKinds) != 0;
 }
 
 std::string SceneFeatures::summary() const {

@@ -329,7 +329,9 @@ class SceneBuilder {
 
   void read_render(const YAML::Node& node) {
     map_at(node, "render");
-    in_.check_keys(node, "render", {"width", "height", "spp", "max_depth", "tile_size", "seed"});
+    in_.check_keys(
+        node, "render",
+        {"width", "height", "spp", "max_depth", "tile_size", "seed", "integrator", "aovs"});
     auto& r = scene_.render;
     optional(node, "width", "render", [&](auto& n, auto& f) { r.width = in_.unsigned_int(n, f); });
     optional(node, "height", "render",
@@ -341,6 +343,28 @@ class SceneBuilder {
     optional(node, "tile_size", "render",
              [&](auto& n, auto& f) { r.tile_size = in_.unsigned_int(n, f); });
     optional(node, "seed", "render", [&](auto& n, auto& f) { r.seed = in_.seed(n, f); });
+    optional(node, "integrator", "render", [&](auto& n, auto& f) {
+      const std::string name = in_.string(n, f);
+      const auto kind = integrator_from_string(name);
+      if (!kind)
+        in_.fail(n, f,
+                 "unknown integrator '" + name +
+                     "' (expected path, normals, shadow, transparency, albedo or depth)");
+      r.integrator = *kind;
+    });
+    optional(node, "aovs", "render", [&](auto& n, auto& f) {
+      if (!n.IsSequence())
+        in_.fail(n, f, "must be a list of AOV names (albedo, normal, depth, primitive_id)");
+      for (std::size_t i = 0; i < n.size(); ++i) {
+        const std::string item = f + "[" + std::to_string(i) + "]";
+        const std::string name = in_.string(n[i], item);
+        const auto bit = aov_from_string(name);
+        if (!bit)
+          in_.fail(n[i], item,
+                   "unknown AOV '" + name + "' (expected albedo, normal, depth or primitive_id)");
+        r.aovs |= *bit;
+      }
+    });
   }
 
   YamlReader& in_;

@@ -246,3 +246,39 @@ TEST(YamlLoader, ExampleCornellBoxLoads) {
 
 }  // namespace
 }  // namespace tessera
+
+namespace tessera {
+namespace {
+
+TEST(YamlLoaderRender, IntegratorAndAovs) {
+  const SceneDescription s =
+      load_scene_yaml("render:\n  integrator: path\n  aovs: [albedo, depth]\n", "scene.yaml", ".")
+          .scene;
+  EXPECT_EQ(s.render.integrator, IntegratorKind::kPath);
+  EXPECT_EQ(s.render.aovs, kAovAlbedo | kAovDepth);
+  EXPECT_EQ(load_scene_yaml("render: { integrator: transparency }\n", "s.yaml", ".")
+                .scene.render.integrator,
+            IntegratorKind::kTransparency);
+}
+
+TEST(YamlLoaderRender, BadIntegratorAndAovsNameTheField) {
+  const auto error_of = [](const std::string& text) {
+    try {
+      load_scene_yaml(text, "scene.yaml", ".");
+    } catch (const SceneError& e) {
+      return e.issue();
+    }
+    return SceneIssue{};
+  };
+  SceneIssue issue = error_of("render:\n  integrator: raymarch\n");
+  EXPECT_EQ(issue.field, "render.integrator");
+  EXPECT_EQ(issue.line, 2);
+  issue = error_of("render:\n  aovs: [albedo, motion]\n");
+  EXPECT_EQ(issue.field, "render.aovs[1]");
+  issue = error_of("render:\n  integrator: normals\n  aovs: [depth]\n");
+  EXPECT_EQ(issue.field, "render.aovs");
+  EXPECT_NE(issue.message.find("path integrator"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera

@@ -23,6 +23,7 @@ struct Material {
   vec3 emission{0.0f};
   float roughness = 0.0f;
   float ior = 1.5f;
+  float opacity = 1.0f;  // for the transparency integrator only
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tessera/accel/bvh.hpp"
+#include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
 #include "tessera/scene/scene_description.hpp"
@@ -13,8 +14,18 @@
 
 namespace tessera {
 
-struct TileStats {
-  std::uint64_t rays = 0;
+// A rendered tile: the beauty pass and the AOV planes the job asked for, each
+// tile.width * tile.height RGBA floats. aovs[i] is empty unless bit i of the job's AOV
+// mask is set (order of kAovNames).
+struct TilePasses {
+  std::vector<float> beauty;
+  std::array<std::vector<float>, 4> aovs;
+};
+
+struct PrepareOptions {
+  // Use the variant compiled with every feature instead of the smallest cover (tests and
+  // benchmarks compare the two).
+  bool all_features = false;
 };
 
 // The render-ready scene of one job: float arrays per shape type, materials, lights, the
@@ -22,10 +33,18 @@ struct TileStats {
 // and shared read-only by every tile and thread.
 class PreparedScene {
  public:
-  static std::shared_ptr<const PreparedScene> build(const SceneDescription& description);
+  static std::shared_ptr<const PreparedScene> build(const SceneDescription& description,
+                                                    const PrepareOptions& options = {});
 
-  // Renders one tile into `rgba` (tile.width * tile.height * 4 floats, overwritten).
+  // Renders the beauty pass of one tile into `rgba` (tile.width * tile.height * 4 floats,
+  // overwritten). AOVs, if the job asked for any, are computed but not returned.
   TileStats render_tile(const TileRect& tile, std::span<float> rgba) const;
+  // Renders the beauty pass and every AOV the job asked for.
+  TileStats render_tile(const TileRect& tile, TilePasses& passes) const;
+
+  // The specialisation this scene renders with, and what the scene needed.
+  const RenderVariant& variant() const { return *variant_; }
+  const PipelineFeatures& required_features() const { return required_; }
 
   const RenderSettings& settings() const { return settings_; }
   const SceneFeatures& features() const { return features_; }
@@ -35,9 +54,6 @@ class PreparedScene {
 
  private:
   PreparedScene() = default;
-
-  using RenderTileFn = TileStats (*)(const SceneView&, const RenderSettings&, const TileRect&,
-                                     float*);
 
   std::vector<Sphere> spheres_;
   std::vector<Quad> quads_;
@@ -49,7 +65,8 @@ class PreparedScene {
   vec3 background_{0.0f};
   RenderSettings settings_;
   SceneFeatures features_;
-  RenderTileFn render_tile_fn_ = nullptr;
+  PipelineFeatures required_;
+  const RenderVariant* variant_ = nullptr;
   double build_seconds_ = 0.0;
 };
 

@@ -72,6 +72,16 @@ struct SceneIntersection {
     }
     return false;
   }
+
+  // Both crossings of a sphere, one hit for flat shapes: what multi-hit queries need.
+  TESSERA_HD int intersect_all(std::uint32_t primitive, const Ray& ray, float t_max,
+                               HitRecord* hits, int max_hits) const {
+    if (max_hits <= 0 || !intersect(primitive, ray, t_max, hits[0])) return 0;
+    if (primitive_type(primitive) != PrimitiveType::kSphere || max_hits < 2) return 1;
+    Ray beyond = ray;
+    beyond.t_min = hits[0].t;
+    return intersect(primitive, beyond, t_max, hits[1]) ? 2 : 1;
+  }
 };
 
 template <unsigned kShapes>

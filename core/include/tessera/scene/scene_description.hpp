@@ -80,7 +80,28 @@ struct TriangleMeshDesc {
   std::string source_file;  // mesh file it was loaded from, if any
 };
 
-enum class IntegratorKind { kPath };
+// The program set a job renders with.
+enum class IntegratorKind {
+  kPath,          // path tracing with next-event estimation (the beauty render)
+  kNormals,       // first-hit shading normals mapped to [0, 1]
+  kShadow,        // direct light only, any-hit shadow rays
+  kTransparency,  // all hits along the camera ray composited front to back
+  kAlbedo,        // first-hit albedo
+  kDepth,         // first-hit distance
+};
+const char* to_string(IntegratorKind kind);
+std::optional<IntegratorKind> integrator_from_string(const std::string& name);
+
+// Arbitrary output variables a job may ask for besides the beauty pass.
+enum AovBit : std::uint32_t {
+  kAovAlbedo = 1u << 0,
+  kAovNormal = 1u << 1,
+  kAovDepth = 1u << 2,
+  kAovPrimitiveId = 1u << 3,
+};
+inline constexpr std::uint32_t kAllAovs = kAovAlbedo | kAovNormal | kAovDepth | kAovPrimitiveId;
+inline constexpr const char* kAovNames[] = {"albedo", "normal", "depth", "primitive_id"};
+std::optional<AovBit> aov_from_string(const std::string& name);
 
 struct RenderSettings {
   std::uint32_t width = 320;
@@ -90,6 +111,7 @@ struct RenderSettings {
   std::uint32_t tile_size = 32;
   std::uint64_t seed = 0;
   IntegratorKind integrator = IntegratorKind::kPath;
+  std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
 };
 
 struct SceneDescription {

@@ -20,6 +20,13 @@ struct SceneFeatures {
   std::uint32_t material_kinds = 0;  // bit per BsdfKind used by some shape
   std::uint32_t light_count = 0;     // emissive primitives sampled for direct light
   std::size_t primitive_count = 0;
+  bool emissive = false;        // some material emits light
+  bool transmissive = false;    // glass or thin film present
+  bool depth_of_field = false;  // the pinhole camera has none yet
+  std::uint32_t aovs = 0;       // AovBit mask asked for
+
+  // Mirror, glass, thin-film or coated materials present: the specular BSDF code is needed.
+  bool specular() const;
 
   static SceneFeatures of(const SceneDescription& scene);
   std::string summary() const;  // for logs: "spheres+quads, 3 lights, 12 primitives"

@@ -1,0 +1,53 @@
+// The device side of the path tracer: the same pipeline, programs and BVH traversal the
+// CPU runs, compiled by nvcc from the shared headers. One thread renders all samples of
+// one pixel, so film writes never race. The GPU backend's scheduler (a later issue) uploads
+// the SceneView arrays and calls launch_path_tracer_tile.
+#include <cuda_runtime.h>
+
+#include "tessera/render/path_tracer.hpp"
+
+namespace tessera::cuda {
+
+namespace {
+
+// Every feature on: the device build proves the whole pipeline compiles for the GPU.
+constexpr PipelineFeatures kDeviceFeatures = kAllFeatures;
+using DeviceConfig = PathTracerConfig<kDeviceFeatures>;
+
+__global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
+                                        std::uint32_t samples_per_pixel, std::uint32_t max_depth,
+                                        TileRect tile, FilmPlanes film,
+                                        unsigned long long* ray_count) {
+  const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
+  const std::uint32_t local_y = blockIdx.y * blockDim.y + threadIdx.y;
+  if (local_x >= tile.width || local_y >= tile.height) return;
+  std::uint64_t rays = 0;
+  const PathRayGeneration<kDeviceFeatures.aovs> generation{
+      scene.camera, seed, tile, 1.0f / static_cast<float>(samples_per_pixel), film, &rays};
+  const BvhTracer<SceneIntersection<kDeviceFeatures.shapes>> tracer(
+      scene.bvh,
+      SceneIntersection<kDeviceFeatures.shapes>{scene.spheres, scene.quads, scene.triangles});
+  const Pipeline<DeviceConfig> pipeline(generation, tracer,
+                                        PathHit<kDeviceFeatures>{scene, max_depth},
+                                        BackgroundMiss{scene.background});
+  for (std::uint32_t s = 0; s < samples_per_pixel; ++s)
+    pipeline.launch(tile.x + local_x, tile.y + local_y, s);
+  atomicAdd(ray_count, static_cast<unsigned long long>(rays));
+}
+
+}  // namespace
+
+// Renders one tile on the current device. Every pointer in `scene` and `film` must be
+// device memory; `ray_count` too. Returns the launch status.
+cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
+                                    std::uint32_t samples_per_pixel, std::uint32_t max_depth,
+                                    const TileRect& tile, const FilmPlanes& film,
+                                    unsigned long long* ray_count, cudaStream_t stream) {
+  const dim3 block(8, 8);
+  const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
+  path_tracer_tile_kernel<<<grid, block, 0, stream>>>(scene, seed, samples_per_pixel, max_depth,
+                                                      tile, film, ray_count);
+  return cudaGetLastError();
+}
+
+}  // namespace tessera::cuda

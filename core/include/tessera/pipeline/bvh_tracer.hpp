@@ -1,0 +1,89 @@
+#pragma once
+#include <cstdint>
+
+#include "tessera/accel/bvh_traversal.hpp"
+#include "tessera/pipeline/concepts.hpp"
+
+namespace tessera {
+
+// The traversal stage: a BVH walked with the configuration's intersection program.
+// Closest-hit, any-hit and all-hits are separate instantiations of the traversal, so a
+// shadow ray's early exit is compiled in, not tested per node.
+template <IntersectionProgram Intersection>
+class BvhTracer {
+ public:
+  TESSERA_HD BvhTracer(BvhView bvh, Intersection intersection)
+      : bvh_(bvh), intersection_(intersection) {}
+
+  TESSERA_HD bool trace_closest(const Ray& ray, HitRecord& hit) const {
+    hit.t = ray.t_max;
+    return traverse_bvh<false>(
+        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
+  }
+
+  // Any hit, with its record: the first one traversal finds, not necessarily the nearest.
+  TESSERA_HD bool trace_any(const Ray& ray, HitRecord& hit) const {
+    hit.t = ray.t_max;
+    return traverse_bvh<true>(
+        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
+  }
+
+  TESSERA_HD bool occluded(const Ray& ray) const {
+    HitRecord hit;
+    hit.t = ray.t_max;
+    return traverse_bvh<true>(
+        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
+  }
+
+  // Up to kMaxHits nearest hits, sorted by t. Once the list is full, subtrees beyond its
+  // farthest entry are culled, so the cost stays close to a closest-hit query for small N.
+  template <int kMaxHits>
+  TESSERA_HD int trace_all(const Ray& ray, HitRecord (&hits)[kMaxHits]) const {
+    int count = 0;
+    HitRecord bound;
+    bound.t = ray.t_max;
+    traverse_bvh<false>(bvh_, ray, bound,
+                        [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& b) {
+                          HitRecord found[2];
+                          int n;
+                          if constexpr (HasIntersectAll<Intersection>) {
+                            n = intersection_.intersect_all(primitive, r, t_max, found, 2);
+                          } else {
+                            n = intersection_.intersect(primitive, r, t_max, found[0]) ? 1 : 0;
+                          }
+                          for (int i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
+                          if (count == kMaxHits) b.t = hits[kMaxHits - 1].t;
+                          return false;  // the bound was tightened by hand; the walk must not stop
+                        });
+    return count;
+  }
+
+ private:
+  template <int kMaxHits>
+  TESSERA_HD static void insert_sorted(HitRecord (&hits)[kMaxHits], int& count,
+                                       const HitRecord& hit) {
+    int i;
+    if (count == kMaxHits) {
+      if (!(hit.t < hits[kMaxHits - 1].t)) return;  // no nearer than the farthest kept
+      i = kMaxHits - 1;                             // replaces it
+    } else {
+      i = count++;
+    }
+    while (i > 0 && hit.t < hits[i - 1].t) {
+      hits[i] = hits[i - 1];
+      --i;
+    }
+    hits[i] = hit;
+  }
+
+  BvhView bvh_;
+  Intersection intersection_;
+};
+
+}  // namespace tessera

@@ -1,0 +1,129 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tessera/render/prepared_scene.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+namespace {
+
+SceneDescription cornell() {
+  SceneDescription scene =
+      load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml").scene;
+  scene.render.width = 24;
+  scene.render.height = 18;
+  scene.render.samples_per_pixel = 4;
+  scene.render.tile_size = 8;
+  return scene;
+}
+
+// Diffuse triangles under a sky, no emitters: no shadow rays, no specular code.
+SceneDescription triangles_under_sky() {
+  SceneDescription scene;
+  scene.camera.position = {0, 0.5, 3};
+  scene.camera.look_at = {0, 0, 0};
+  scene.background.color = {0.6, 0.7, 0.9};
+  MaterialDesc grey;
+  grey.name = "grey";
+  scene.materials.push_back(grey);
+  TriangleMeshDesc mesh;
+  mesh.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2, 0, 2, 3, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
+  scene.meshes.push_back(mesh);
+  scene.render.width = 24;
+  scene.render.height = 18;
+  scene.render.samples_per_pixel = 4;
+  scene.render.tile_size = 8;
+  return scene;
+}
+
+void expect_same_image(SceneDescription scene) {
+  const auto specialised = PreparedScene::build(scene);
+  const auto general = PreparedScene::build(scene, PrepareOptions{.all_features = true});
+  ASSERT_NE(&specialised->variant(), &general->variant())
+      << "the scene should not need every feature";
+  const auto a = render_image(*specialised);
+  const auto b = render_image(*general);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "float " << i;
+}
+
+TEST(Specialisation, PicksTheSmallestCoveringVariant) {
+  const auto box = PreparedScene::build(cornell());
+  EXPECT_EQ(box->variant().features.shapes, kShapeSphere | kShapeQuad);
+  EXPECT_TRUE(box->variant().features.direct_lighting);
+  EXPECT_TRUE(box->variant().features.specular);
+  EXPECT_FALSE(box->variant().features.aovs);
+
+  const auto sky = PreparedScene::build(triangles_under_sky());
+  EXPECT_EQ(sky->variant().features.shapes, kShapeTriangle);
+  EXPECT_FALSE(sky->variant().features.direct_lighting);
+  EXPECT_FALSE(sky->variant().features.specular);
+  EXPECT_TRUE(sky->variant().features.covers(sky->required_features()));
+}
+
+TEST(Specialisation, CornellBoxSameImageAsAllFeatures) {
+  expect_same_image(cornell());
+}
+
+TEST(Specialisation, TrianglesUnderSkySameImageAsAllFeatures) {
+  expect_same_image(triangles_under_sky());
+}
+
+TEST(Specialisation, MixedShapesSameImageAsAllFeatures) {
+  SceneDescription scene = cornell();
+  TriangleMeshDesc tri;
+  tri.positions = {{-0.5, 1.5, -1}, {0.5, 1.5, -1}, {0, 2, -1}};
+  tri.indices = {0, 1, 2};
+  scene.meshes.push_back(tri);
+  const auto prepared = PreparedScene::build(scene);
+  EXPECT_EQ(prepared->variant().features.shapes, kAllShapes);
+  // Every feature is needed here except AOVs, so ask for none and compare with all on.
+  expect_same_image(scene);
+}
+
+TEST(Specialisation, EveryIntegratorHasAVariantPerShapeClass) {
+  for (IntegratorKind kind :
+       {IntegratorKind::kPath, IntegratorKind::kNormals, IntegratorKind::kShadow,
+        IntegratorKind::kTransparency, IntegratorKind::kAlbedo, IntegratorKind::kDepth}) {
+    for (unsigned shapes : kShapeClasses) {
+      const RenderVariant& v =
+          select_render_variant(kind, PipelineFeatures{shapes, false, false, false});
+      EXPECT_EQ(v.integrator, kind);
+      EXPECT_EQ(v.features.shapes, shapes) << to_string(kind);
+    }
+    EXPECT_EQ(all_features_variant(kind).features.shapes, kAllShapes);
+  }
+}
+
+TEST(Specialisation, AovsAreComputedOnlyWhenAsked) {
+  SceneDescription scene = cornell();
+  TilePasses passes;
+  const TileRect tile{0, 0, 0, 8, 8};
+  PreparedScene::build(scene)->render_tile(tile, passes);
+  for (const auto& plane : passes.aovs) EXPECT_TRUE(plane.empty());
+
+  scene.render.aovs = kAovAlbedo | kAovDepth | kAovPrimitiveId | kAovNormal;
+  const auto with_aovs = PreparedScene::build(scene);
+  EXPECT_TRUE(with_aovs->variant().features.aovs);
+  with_aovs->render_tile(tile, passes);
+  for (const auto& plane : passes.aovs) ASSERT_EQ(plane.size(), 8u * 8u * 4u);
+  // The beauty pass does not change when AOVs are recorded beside it.
+  std::vector<float> beauty_only(8 * 8 * 4);
+  scene.render.aovs = 0;
+  PreparedScene::build(scene)->render_tile(tile, beauty_only);
+  EXPECT_EQ(beauty_only, passes.beauty);
+  // The depth and albedo planes equal what the depth and albedo integrators render: the
+  // same camera rays (same sample streams), recorded at the first hit.
+  for (auto [integrator, aov] :
+       {std::pair{IntegratorKind::kDepth, 2}, std::pair{IntegratorKind::kAlbedo, 0}}) {
+    scene.render.integrator = integrator;
+    std::vector<float> reference(8 * 8 * 4);
+    PreparedScene::build(scene)->render_tile(tile, reference);
+    EXPECT_EQ(reference, passes.aovs[aov]) << to_string(integrator);
+  }
+}
+
+}  // namespace
+}  // namespace tessera
