@@ -1,0 +1,95 @@
+#pragma once
+#include <cmath>
+#include <limits>
+
+#include "tessera/math/host_device.hpp"
+
+namespace tessera {
+
+// A real polynomial c[0] + c[1] x + ... + c[Degree] x^Degree with a fixed degree, so that
+// evaluation and root finding unroll and never allocate.
+template <int Degree, typename T>
+struct Polynomial {
+  static_assert(Degree >= 0, "degree must be non-negative");
+  T c[Degree + 1];
+
+  TESSERA_HD T operator()(T x) const {
+    T value = c[Degree];
+    for (int i = Degree - 1; i >= 0; --i) value = value * x + c[i];
+    return value;
+  }
+
+  // Value and first derivative in one Horner pass.
+  TESSERA_HD T evaluate(T x, T& derivative) const {
+    T value = c[Degree];
+    derivative = T(0);
+    for (int i = Degree - 1; i >= 0; --i) {
+      derivative = derivative * x + value;
+      value = value * x + c[i];
+    }
+    return value;
+  }
+
+  // Value with a rigorous bound on its rounding error (Higham, "Accuracy and Stability of
+  // Numerical Algorithms", 2nd ed., eq. 5.7: running error bound of Horner's rule). The
+  // bound tells a root finder when a sign is noise rather than information.
+  TESSERA_HD T evaluate_with_error(T x, T& error_bound) const {
+    T value = c[Degree];
+    T mu = std::fabs(value) * T(0.5);
+    const T ax = std::fabs(x);
+    for (int i = Degree - 1; i >= 0; --i) {
+      value = value * x + c[i];
+      mu = mu * ax + std::fabs(value);
+    }
+    constexpr T kUnitRoundoff = std::numeric_limits<T>::epsilon() * T(0.5);
+    error_bound = kUnitRoundoff * (T(2) * mu - std::fabs(value));
+    return value;
+  }
+
+  TESSERA_HD Polynomial<(Degree > 0 ? Degree - 1 : 0), T> derivative() const {
+    Polynomial<(Degree > 0 ? Degree - 1 : 0), T> d{};
+    if constexpr (Degree == 0) {
+      d.c[0] = T(0);
+    } else {
+      for (int i = 1; i <= Degree; ++i) d.c[i - 1] = static_cast<T>(i) * c[i];
+    }
+    return d;
+  }
+};
+
+// Newton polishing of an approximate root: steps are taken only while they reduce |p|, so
+// a root that is already as accurate as the evaluation allows is never made worse, and a
+// zero derivative (a multiple root) stops the iteration instead of producing inf or NaN.
+template <int Degree, typename T>
+TESSERA_HD T polish_root(const Polynomial<Degree, T>& p, T x, int max_iterations = 4) {
+  T derivative;
+  T value = p.evaluate(x, derivative);
+  for (int i = 0; i < max_iterations && value != T(0); ++i) {
+    if (derivative == T(0)) break;
+    const T next = x - value / derivative;
+    if (!std::isfinite(next)) break;
+    T next_derivative;
+    const T next_value = p.evaluate(next, next_derivative);
+    if (!(std::fabs(next_value) < std::fabs(value))) break;
+    x = next;
+    value = next_value;
+    derivative = next_derivative;
+  }
+  return x;
+}
+
+// Sorts up to a handful of values in place (insertion sort: the counts here are <= 8).
+template <typename T>
+TESSERA_HD void sort_ascending(T* values, int count) {
+  for (int i = 1; i < count; ++i) {
+    const T key = values[i];
+    int j = i - 1;
+    while (j >= 0 && values[j] > key) {
+      values[j + 1] = values[j];
+      --j;
+    }
+    values[j + 1] = key;
+  }
+}
+
+}  // namespace tessera
