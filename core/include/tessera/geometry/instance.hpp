@@ -1,0 +1,90 @@
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "tessera/geometry/local_frame.hpp"
+#include "tessera/geometry/surface.hpp"
+#include "tessera/geometry/transform.hpp"
+
+namespace tessera {
+
+// Any shape placed by an affine object-to-world transform (translate, rotate, scale,
+// shear). The ray is mapped into object space with the direction left unnormalised, so t
+// means the same thing in both spaces and hits from different instances compare directly.
+// Normals go back to world space by the inverse transpose (the transpose of the
+// world-to-object linear part), which keeps them perpendicular under non-uniform scale.
+template <typename Shape>
+struct Instance {
+  Shape shape;
+  AffineTransform object_to_world;
+  AffineTransform world_to_object;
+
+  // Returns false (and leaves `out` alone) for a singular transform, which would map a
+  // ray to a zero direction: such an instance must be rejected when the scene is built.
+  static bool make(const Shape& shape, const AffineTransform& object_to_world, Instance& out) {
+    const double det = object_to_world.determinant();
+    if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return false;
+    out = Instance{shape, object_to_world, object_to_world.inverse()};
+    return true;
+  }
+};
+
+template <typename Shape>
+TESSERA_HD Ray to_object_ray(const Instance<Shape>& instance, const Ray& ray) {
+  return Ray{vec3(instance.world_to_object.point(dvec3(ray.origin))),
+             vec3(instance.world_to_object.vector(dvec3(ray.direction))), ray.t_min, ray.t_max};
+}
+
+template <typename Shape>
+TESSERA_HD Aabb bounds(const Instance<Shape>& instance) {
+  const Aabb local = bounds(instance.shape);
+  dvec3 lower(kInfinity), upper(-kInfinity);
+  for (int corner = 0; corner < 8; ++corner) {
+    const dvec3 p((corner & 1) ? local.upper.x : local.lower.x,
+                  (corner & 2) ? local.upper.y : local.lower.y,
+                  (corner & 4) ? local.upper.z : local.lower.z);
+    const dvec3 w = instance.object_to_world.point(p);
+    lower = glm::min(lower, w);
+    upper = glm::max(upper, w);
+  }
+  return conservative_aabb(lower, upper);
+}
+
+template <typename Shape>
+TESSERA_HD bool intersect(const Instance<Shape>& instance, const Ray& ray, float t_max,
+                          HitRecord& hit, std::uint32_t primitive) {
+  return intersect(instance.shape, to_object_ray(instance, ray), t_max, hit, primitive);
+}
+
+template <typename Shape>
+TESSERA_HD int intersect_all(const Instance<Shape>& instance, const Ray& ray, float t_max,
+                             HitRecord* hits, int max_hits, std::uint32_t primitive) {
+  return intersect_all(instance.shape, to_object_ray(instance, ray), t_max, hits, max_hits,
+                       primitive);
+}
+
+template <typename Shape>
+TESSERA_HD SurfaceInteraction surface_at(const Instance<Shape>& instance, const Ray& ray,
+                                         const HitRecord& hit) {
+  SurfaceInteraction si = surface_at(instance.shape, to_object_ray(instance, ray), hit);
+  si.position = vec3(instance.object_to_world.point(dvec3(si.position)));
+  const glm::dmat3 normal_matrix = glm::transpose(instance.world_to_object.linear);
+  // n . d is invariant under (M^-T n) . (M d), so the object-space orientation against the
+  // ray (and front_face) carries over.
+  const dvec3 geometric = normal_matrix * dvec3(si.geometric_normal);
+  const dvec3 shading = normal_matrix * dvec3(si.shading_normal);
+  si.geometric_normal = vec3(glm::normalize(geometric));
+  si.shading_normal = vec3(glm::normalize(shading));
+  return si;
+}
+
+// Exact for rigid motions and uniform scale (area times scale^2); for non-uniform scale
+// the true factor depends on the shape's orientation and lies between the products of the
+// two smallest and the two largest singular values: |det|^(2/3) is used as an estimate.
+template <typename Shape>
+TESSERA_HD float surface_area(const Instance<Shape>& instance) {
+  const double det = std::fabs(instance.object_to_world.determinant());
+  return static_cast<float>(surface_area(instance.shape) * std::cbrt(det * det));
+}
+
+}  // namespace tessera
