@@ -1,0 +1,214 @@
+#include "client/cli_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "tessera/scene/scene_description.hpp"
+
+namespace tessera {
+
+std::optional<std::string> check_server_address(const std::string& address) {
+  if (address.empty()) return "must not be empty; expected HOST:PORT";
+  if (address.rfind("unix:", 0) == 0 || address.rfind("dns:", 0) == 0) return std::nullopt;
+  const std::size_t colon = address.rfind(':');
+  if (colon == std::string::npos) return "'" + address + "' has no port; expected HOST:PORT";
+  const std::string host = address.substr(0, colon);
+  const std::string port = address.substr(colon + 1);
+  if (host.empty()) return "'" + address + "' has no host; expected HOST:PORT";
+  if (host.front() == '[' ? host.back() != ']' || host.size() < 3
+                          : host.find(':') != std::string::npos)
+    return "'" + address + "': write an IPv6 host in brackets, e.g. [::1]:50051";
+  if (port.empty() || port.size() > 5 ||
+      !std::all_of(port.begin(), port.end(), [](unsigned char c) { return std::isdigit(c) != 0; }))
+    return "'" + address + "' has no valid port; expected HOST:PORT with PORT in 1..65535";
+  const int number = std::stoi(port);
+  if (number < 1 || number > 65535) return "port " + port + " is out of range 1..65535";
+  return std::nullopt;
+}
+
+namespace {
+
+CLI::Validator server_address_validator() {
+  return CLI::Validator(
+      [](std::string& value) {
+        const auto problem = check_server_address(value);
+        return problem ? *problem : std::string();
+      },
+      "HOST:PORT");
+}
+
+CLI::Validator extension_validator(std::string extension) {
+  return CLI::Validator(
+      [extension](std::string& value) {
+        std::string ext = std::filesystem::path(value).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
+        if (ext != extension) return "'" + value + "' must end in " + extension;
+        return std::string();
+      },
+      "FILE" + extension);
+}
+
+CLI::Validator non_empty_validator() {
+  return CLI::Validator(
+      [](std::string& value) {
+        return value.empty() ? std::string("must not be empty") : std::string();
+      },
+      "TEXT");
+}
+
+void add_server_option(CLI::App& command, std::string& server) {
+  command.add_option("--server", server, "tesserad address")
+      ->envname("TESSERA_SERVER")
+      ->check(server_address_validator())
+      ->capture_default_str();
+}
+
+// Range-checked integer options whose absence leaves the scene file's value.
+class OverrideOptions {
+ public:
+  explicit OverrideOptions(CLI::App& command) {
+    const SceneLimits limits;
+    width_ = command.add_option("--width", width_value_, "image width in pixels")
+                 ->check(CLI::Range(1u, limits.max_dimension));
+    height_ = command.add_option("--height", height_value_, "image height in pixels")
+                  ->check(CLI::Range(1u, limits.max_dimension));
+    spp_ = command.add_option("--spp", spp_value_, "samples per pixel")
+               ->check(CLI::Range(1u, limits.max_samples_per_pixel));
+    depth_ = command.add_option("--max-depth", depth_value_, "maximum path length")
+                 ->check(CLI::Range(1u, limits.max_depth));
+    tile_ = command.add_option("--tile-size", tile_value_, "tile edge in pixels")
+                ->check(CLI::Range(limits.min_tile_size, limits.max_tile_size));
+    seed_ = command.add_option("--seed", seed_value_, "random seed");
+  }
+
+  RenderOverrides values() const {
+    RenderOverrides o;
+    if (*width_) o.width = width_value_;
+    if (*height_) o.height = height_value_;
+    if (*spp_) o.samples_per_pixel = spp_value_;
+    if (*depth_) o.max_depth = depth_value_;
+    if (*tile_) o.tile_size = tile_value_;
+    if (*seed_) o.seed = seed_value_;
+    return o;
+  }
+
+ private:
+  std::uint32_t width_value_ = 0, height_value_ = 0, spp_value_ = 0, depth_value_ = 0,
+                tile_value_ = 0;
+  std::uint64_t seed_value_ = 0;
+  CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_;
+};
+
+}  // namespace
+
+ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
+                                     std::ostream& err) {
+  CLI::App app("Tessera: submit scenes to tesserad and collect the rendered image.", "tessera");
+  app.require_subcommand(1);
+  CliCommand cmd;
+
+  CLI::App* render =
+      app.add_subcommand("render", "render a scene through the server (or --local) and save it");
+  render->add_option("scene", cmd.scene_path, "scene YAML file")->required();
+  render->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR)")
+      ->required()
+      ->check(extension_validator(".exr"));
+  render->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
+      ->check(extension_validator(".png"));
+  OverrideOptions render_overrides(*render);
+  CLI::Option* local =
+      render->add_flag("--local", cmd.local, "render in this process instead of on a server");
+  render
+      ->add_option("--threads", cmd.threads,
+                   "worker threads for --local (default: all hardware threads)")
+      ->check(CLI::Range(1u, 1024u))
+      ->needs(local);
+  render->add_option("--name", cmd.name, "job name (default: the scene file's name)");
+  render->add_option("--priority", cmd.priority, "higher runs first");
+  add_server_option(*render, cmd.server);
+
+  CLI::App* submit =
+      app.add_subcommand("submit", "queue a scene on the server and print the job id");
+  submit->add_option("scene", cmd.scene_path, "scene YAML file")->required();
+  OverrideOptions submit_overrides(*submit);
+  submit->add_option("--name", cmd.name, "job name (default: the scene file's name)");
+  submit->add_option("--priority", cmd.priority, "higher runs first");
+  add_server_option(*submit, cmd.server);
+
+  CLI::App* watch =
+      app.add_subcommand("watch", "stream a job's tiles into an image as they finish");
+  watch->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  watch->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR)")
+      ->required()
+      ->check(extension_validator(".exr"));
+  watch->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
+      ->check(extension_validator(".png"));
+  add_server_option(*watch, cmd.server);
+
+  CLI::App* list = app.add_subcommand("list", "list the server's jobs, newest first");
+  add_server_option(*list, cmd.server);
+
+  CLI::App* status = app.add_subcommand("status", "show one job");
+  status->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*status, cmd.server);
+
+  CLI::App* cancel = app.add_subcommand("cancel", "cancel a queued or running job");
+  cancel->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*cancel, cmd.server);
+
+  // CLI11 reports an unknown first word only as "A subcommand is required".
+  const auto is_command = [&app](const std::string& word) {
+    const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
+    return std::any_of(commands.begin(), commands.end(),
+                       [&](const CLI::App* c) { return c->get_name() == word; });
+  };
+  const char* const expected =
+      "expected render, submit, watch, list, status or cancel; see 'tessera --help'";
+  if (argc <= 1) {
+    err << "tessera: no command given (" << expected << ")\n";
+    return {std::nullopt, kExitUsage};
+  }
+  if (argv[1][0] != '-' && !is_command(argv[1])) {
+    err << "tessera: unknown command '" << argv[1] << "' (" << expected << ")\n";
+    return {std::nullopt, kExitUsage};
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return {std::nullopt, app.exit(e, out, err)};
+  } catch (const CLI::CallForAllHelp& e) {
+    return {std::nullopt, app.exit(e, out, err)};
+  } catch (const CLI::CallForVersion& e) {
+    return {std::nullopt, app.exit(e, out, err)};
+  } catch (const CLI::ParseError& e) {
+    std::string where = "tessera";
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      if (sub->parsed()) where += " " + sub->get_name();
+    }
+    err << "tessera: " << e.what() << " (see '" << where << " --help')\n";
+    return {std::nullopt, kExitUsage};
+  }
+
+  if (render->parsed()) {
+    cmd.kind = CommandKind::kRender;
+    cmd.overrides = render_overrides.values();
+  } else if (submit->parsed()) {
+    cmd.kind = CommandKind::kSubmit;
+    cmd.overrides = submit_overrides.values();
+  } else if (watch->parsed()) {
+    cmd.kind = CommandKind::kWatch;
+  } else if (list->parsed()) {
+    cmd.kind = CommandKind::kList;
+  } else if (status->parsed()) {
+    cmd.kind = CommandKind::kStatus;
+  } else {
+    cmd.kind = CommandKind::kCancel;
+  }
+  return {cmd, kExitOk};
+}
+
+}  // namespace tessera

@@ -1,0 +1,57 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace tessera {
+
+inline constexpr const char* kDefaultServer = "127.0.0.1:50051";
+
+enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel };
+
+// Values given on the command line replace the scene file's `render` section.
+struct RenderOverrides {
+  std::optional<std::uint32_t> width;
+  std::optional<std::uint32_t> height;
+  std::optional<std::uint32_t> samples_per_pixel;
+  std::optional<std::uint32_t> max_depth;
+  std::optional<std::uint32_t> tile_size;
+  std::optional<std::uint64_t> seed;
+};
+
+// One parsed and validated `tessera` invocation.
+struct CliCommand {
+  CommandKind kind = CommandKind::kList;
+  std::string server = kDefaultServer;
+  std::string scene_path;   // render, submit
+  std::string job_id;       // watch, status, cancel
+  std::string output_exr;   // render, watch
+  std::string preview_png;  // render, watch; empty: none
+  RenderOverrides overrides;
+  bool local = false;    // render in-process instead of through a server
+  unsigned threads = 0;  // --local worker threads; 0: all hardware threads
+  std::string name;      // job name; empty: the scene file's stem
+  std::int32_t priority = 0;
+};
+
+struct ParsedCommandLine {
+  std::optional<CliCommand> command;  // empty: nothing to run, exit with exit_code
+  int exit_code = 0;
+};
+
+// Exit codes of `tessera`.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailed = 1;  // job failed or was cancelled, server or I/O error
+inline constexpr int kExitUsage = 2;   // bad arguments or a bad scene
+
+// Parses argv. Help goes to `out` (exit 0); a usage error is one line `tessera: <message>`
+// on `err` (exit 2).
+ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
+                                     std::ostream& err);
+
+// Why `address` is not a usable server address, or nothing if it is: "HOST:PORT" with a
+// port in 1..65535 ("[::1]:PORT" for IPv6), or a gRPC "unix:" / "dns:" target.
+std::optional<std::string> check_server_address(const std::string& address);
+
+}  // namespace tessera

@@ -1,0 +1,60 @@
+#pragma once
+#include <grpcpp/channel.h>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "client/client_error.hpp"
+#include "tessera/v1/render.grpc.pb.h"
+
+namespace tessera {
+
+struct ClientOptions {
+  // A gRPC target: "host:port", "dns:///host:port", "unix:/path".
+  std::string target = "127.0.0.1:50051";
+  // Get, list and cancel answer from memory on the server; a stuck call means a stuck server.
+  std::chrono::milliseconds unary_deadline{10'000};
+  // Submit carries the whole scene, meshes inline, so it may take a while to send.
+  std::chrono::milliseconds submit_deadline{120'000};
+};
+
+// A connection to one tesserad. Thread-safe: calls may run concurrently (a stream on one
+// thread, a cancel on another). Every failed call throws ClientError with the gRPC code and
+// message.
+class Client {
+ public:
+  explicit Client(ClientOptions options = {});
+  // Over an existing channel (in-process servers in tests).
+  Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options = {});
+  ~Client();
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+
+  v1::Job submit(const v1::SubmitJobRequest& request);
+
+  using TileCallback = std::function<void(const v1::Tile&)>;
+  // Calls `on_tile` for every tile of the job, on the calling thread, until the stream ends.
+  // Returns when the job completed; throws ClientError with CANCELLED when the job was
+  // cancelled, ABORTED (and the reason) when it failed, or the transport's error. If
+  // `on_tile` throws, the stream is cancelled and the exception propagates.
+  void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
+
+  v1::Job get(const std::string& job_id);
+  std::vector<v1::Job> list();  // newest first
+  v1::Job cancel(const std::string& job_id);
+
+  const std::string& target() const { return options_.target; }
+
+ private:
+  ClientOptions options_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::RenderService::Stub> stub_;
+};
+
+// A channel to `target` with message limits large enough for big tiles.
+std::shared_ptr<grpc::Channel> make_channel(const std::string& target);
+
+}  // namespace tessera

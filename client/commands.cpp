@@ -1,0 +1,528 @@
+#include "client/commands.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <ctime>
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "client/client.hpp"
+#include "client/local_render.hpp"
+#include "client/progress.hpp"
+#include "client/scene_to_proto.hpp"
+#include "client/tile_assembler.hpp"
+#include "tessera/image/exr.hpp"
+#include "tessera/render/prepared_scene.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A failure that ends the command: printed as `tessera: <message>`, exits with `exit_code`.
+struct CommandFailure {
+  int exit_code;
+  std::string message;
+};
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// ---- Ctrl-C -------------------------------------------------------------------------------
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_interrupt(int) {
+  g_interrupted.store(true);
+  // A second Ctrl-C ends the process the usual way.
+  std::signal(SIGINT, SIG_DFL);
+}
+
+// While alive, Ctrl-C raises g_interrupted instead of killing the process, so a render can
+// cancel its job on the server (or stop its local workers) and exit cleanly.
+class InterruptScope {
+ public:
+  InterruptScope() {
+    g_interrupted.store(false);
+    previous_ = std::signal(SIGINT, on_interrupt);
+  }
+  ~InterruptScope() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  void (*previous_)(int) = SIG_DFL;
+};
+
+// Cancels `job_id` on the server when Ctrl-C is pressed; the tile stream then ends with
+// CANCELLED. gRPC cannot be called from a signal handler, hence the polling thread.
+class CancelOnInterrupt {
+ public:
+  CancelOnInterrupt(Client& client, std::string job_id, std::ostream& err)
+      : client_(client), job_id_(std::move(job_id)), err_(err), thread_([this] { run(); }) {}
+  ~CancelOnInterrupt() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+ private:
+  void run() {
+    std::unique_lock lock(mutex_);
+    while (!done_) {
+      wake_.wait_for(lock, std::chrono::milliseconds(100));
+      if (done_ || !g_interrupted.exchange(false)) continue;
+      err_ << "\ntessera: interrupted; cancelling job " << job_id_ << '\n' << std::flush;
+      try {
+        client_.cancel(job_id_);
+      } catch (const ClientError& e) {
+        err_ << "tessera: could not cancel job " << job_id_ << ": " << e.what() << '\n'
+             << std::flush;
+      }
+    }
+  }
+
+  InterruptScope scope_;
+  Client& client_;
+  std::string job_id_;
+  std::ostream& err_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::thread thread_;
+};
+
+// ---- Messages -----------------------------------------------------------------------------
+
+// A gRPC failure as the user should read it: what we were doing, the code and the message.
+std::string describe(const ClientError& e, const std::string& server, const std::string& doing) {
+  switch (e.code()) {
+    case grpc::StatusCode::UNAVAILABLE:
+      return "cannot reach the server at " + server + " (is tesserad running?): " + e.what();
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+      return "the server at " + server + " did not answer in time: " + e.what();
+    default:
+      return doing + ": " + e.what();
+  }
+}
+
+std::string job_state_name(v1::JobState state) {
+  std::string name = v1::JobState_Name(state);
+  const std::string prefix = "JOB_STATE_";
+  if (name.rfind(prefix, 0) == 0) name.erase(0, prefix.size());
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return name.empty() ? "unknown" : name;
+}
+
+std::string format_unix_ms(std::int64_t unix_ms) {
+  if (unix_ms <= 0) return "-";
+  const std::time_t seconds = static_cast<std::time_t>(unix_ms / 1000);
+  std::tm local{};
+  localtime_r(&seconds, &local);
+  std::ostringstream text;
+  text << std::put_time(&local, "%Y-%m-%d %H:%M:%S");
+  return text.str();
+}
+
+ProgressSnapshot snapshot_of(const v1::JobProgress& p) {
+  return {p.tiles_done(),      p.tiles_total(),     p.rays_traced(),
+          p.elapsed_seconds(), p.rays_per_second(), p.eta_seconds()};
+}
+
+std::string settings_summary(std::uint32_t width, std::uint32_t height, std::uint32_t spp) {
+  return std::to_string(width) + "x" + std::to_string(height) + " at " + std::to_string(spp) +
+         " spp";
+}
+
+// ---- Scenes -------------------------------------------------------------------------------
+
+void apply_overrides(RenderSettings& settings, const RenderOverrides& o) {
+  if (o.width) settings.width = *o.width;
+  if (o.height) settings.height = *o.height;
+  if (o.samples_per_pixel) settings.samples_per_pixel = *o.samples_per_pixel;
+  if (o.max_depth) settings.max_depth = *o.max_depth;
+  if (o.tile_size) settings.tile_size = *o.tile_size;
+  if (o.seed) settings.seed = *o.seed;
+}
+
+// Loads the scene, prints the loader's warnings and applies the command-line overrides.
+// Scene problems end the command with exit code 2 and the loader's `file:line: field: reason`.
+SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
+  LoadedScene loaded;
+  try {
+    loaded = load_scene_file(cmd.scene_path);
+  } catch (const SceneError& e) {
+    throw CommandFailure{kExitUsage, e.what()};
+  }
+  for (const SceneIssue& warning : loaded.warnings)
+    err << "tessera: warning: " << warning.to_string() << '\n';
+  apply_overrides(loaded.scene.render, cmd.overrides);
+  const std::vector<SceneIssue> issues = validate_scene(loaded.scene);
+  if (!issues.empty()) {
+    SceneIssue first = issues.front();
+    first.file = cmd.scene_path;
+    throw CommandFailure{kExitUsage, first.to_string() + " (after command-line overrides)"};
+  }
+  return std::move(loaded.scene);
+}
+
+std::string job_name(const CliCommand& cmd) {
+  return cmd.name.empty() ? std::filesystem::path(cmd.scene_path).stem().string() : cmd.name;
+}
+
+// ---- Output -------------------------------------------------------------------------------
+
+void create_parent_directory(const std::string& file) {
+  const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+  if (parent.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(parent, ec);
+  if (ec)
+    throw CommandFailure{kExitFailed,
+                         "cannot create directory " + parent.string() + ": " + ec.message()};
+}
+
+std::unique_ptr<TileAssembler> open_output(const CliCommand& cmd, std::uint32_t width,
+                                           std::uint32_t height, std::uint32_t tile_size) {
+  create_parent_directory(cmd.output_exr);
+  if (!cmd.preview_png.empty()) create_parent_directory(cmd.preview_png);
+  try {
+    return std::make_unique<TileAssembler>(width, height, tile_size,
+                                           std::filesystem::path(cmd.output_exr));
+  } catch (const std::exception& e) {
+    throw CommandFailure{kExitFailed, e.what()};
+  }
+}
+
+// Gives up on an incomplete output: a file with missing tiles would pass for a result.
+void discard_output(TileAssembler& assembler, const CliCommand& cmd) {
+  assembler.abandon();
+  std::error_code ec;
+  std::filesystem::remove(cmd.output_exr, ec);
+}
+
+// Closes the EXR, writes the PNG preview and prints the summary line.
+void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::string& what,
+                   double seconds, double rays_per_second, std::ostream& out) {
+  try {
+    assembler.finish();
+    if (!cmd.preview_png.empty()) write_image(cmd.preview_png, assembler.image());
+  } catch (const std::exception& e) {
+    discard_output(assembler, cmd);
+    throw CommandFailure{kExitFailed, e.what()};
+  }
+  out << "tessera: rendered " << what << " in " << format_duration(seconds) << ", "
+      << format_rate(rays_per_second) << ": " << cmd.output_exr;
+  if (!cmd.preview_png.empty()) out << ", " << cmd.preview_png;
+  out << '\n' << std::flush;
+}
+
+// ---- Streaming ----------------------------------------------------------------------------
+
+// Turns one streamed tile into pixels, checking that the EXR holds what the rect says.
+void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
+  const v1::TileRect& r = tile.rect();
+  const TileRect rect{r.index(), r.x(), r.y(), r.width(), r.height()};
+  const std::string& bytes = tile.exr();
+  RgbaImage pixels;
+  try {
+    pixels =
+        decode_exr(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+  } catch (const std::exception& e) {
+    throw std::runtime_error("tile " + std::to_string(rect.index) + ": " + e.what());
+  }
+  if (pixels.width != rect.width || pixels.height != rect.height)
+    throw std::runtime_error("tile " + std::to_string(rect.index) + " is " +
+                             std::to_string(rect.width) + "x" + std::to_string(rect.height) +
+                             " but its EXR holds " + std::to_string(pixels.width) + "x" +
+                             std::to_string(pixels.height) + " pixels");
+  assembler.add_tile(rect, pixels.pixels);
+}
+
+// Streams `job`'s tiles into the output until the job ends. `start`: when the user's wait
+// began, for the summary.
+int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
+               std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
+               Clock::time_point start, const CommandOutput& io) {
+  const v1::RenderSettings& s = job.settings();
+  if (!assembler ||
+      assembler->tiles_total() != make_tiles(s.width(), s.height(), s.tile_size()).size() ||
+      assembler->image().width != s.width() || assembler->image().height != s.height()) {
+    assembler.reset();  // close before reopening the same path
+    assembler = open_output(cmd, s.width(), s.height(), s.tile_size());
+  }
+
+  ProgressReporter progress(io.err, io.interactive);
+  v1::JobProgress last = job.progress();
+  std::optional<CancelOnInterrupt> canceller;
+  if (cancel_on_interrupt) canceller.emplace(client, job.id(), io.err);
+  try {
+    client.stream_tiles(job.id(), [&](const v1::Tile& tile) {
+      add_streamed_tile(*assembler, tile);
+      last = tile.progress();
+      progress.update(snapshot_of(last));
+    });
+  } catch (const ClientError& e) {
+    progress.finish();
+    discard_output(*assembler, cmd);
+    const std::string received = std::to_string(assembler->tiles_received()) + " of " +
+                                 std::to_string(assembler->tiles_total()) + " tiles";
+    if (e.code() == grpc::StatusCode::CANCELLED)
+      throw CommandFailure{kExitFailed,
+                           "job " + job.id() + " was cancelled (" + received + " received)"};
+    if (e.code() == grpc::StatusCode::ABORTED)
+      throw CommandFailure{kExitFailed, "job " + job.id() + " failed: " + e.message()};
+    throw CommandFailure{kExitFailed,
+                         describe(e, cmd.server, "streaming tiles of job " + job.id() + " failed")};
+  } catch (const std::exception& e) {
+    progress.finish();
+    discard_output(*assembler, cmd);
+    throw CommandFailure{kExitFailed, "job " + job.id() + ": " + e.what()};
+  }
+  canceller.reset();
+  progress.finish();
+  const double rays_per_second =
+      last.rays_per_second() > 0.0 ? last.rays_per_second()
+      : last.elapsed_seconds() > 0.0
+          ? static_cast<double>(last.rays_traced()) / last.elapsed_seconds()
+          : 0.0;
+  finish_output(*assembler, cmd, settings_summary(s.width(), s.height(), s.samples_per_pixel()),
+                seconds_since(start), rays_per_second, io.out);
+  return kExitOk;
+}
+
+// ---- Commands -----------------------------------------------------------------------------
+
+int render_remote(const CliCommand& cmd, const CommandOutput& io) {
+  const Clock::time_point start = Clock::now();
+  const SceneDescription scene = load_scene(cmd, io.err);
+  // Open the output before queueing work, so an unwritable path fails fast.
+  auto assembler =
+      open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
+  Client client(ClientOptions{.target = cmd.server});
+  v1::Job job;
+  try {
+    job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
+  } catch (const ClientError& e) {
+    discard_output(*assembler, cmd);
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
+  }
+  io.err << "tessera: job " << job.id() << " submitted to " << cmd.server << " ("
+         << settings_summary(job.settings().width(), job.settings().height(),
+                             job.settings().samples_per_pixel())
+         << ", " << job.progress().tiles_total() << " tiles)\n"
+         << std::flush;
+  return stream_job(client, job, cmd, std::move(assembler), true, start, io);
+}
+
+int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
+  const Clock::time_point start = Clock::now();
+  const SceneDescription scene = load_scene(cmd, io.err);
+  auto assembler =
+      open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
+  std::shared_ptr<const PreparedScene> prepared;
+  try {
+    prepared = PreparedScene::build(scene);
+  } catch (const SceneError& e) {
+    discard_output(*assembler, cmd);
+    throw CommandFailure{kExitUsage, e.what()};
+  }
+  const unsigned threads =
+      cmd.threads > 0 ? cmd.threads : std::max(1u, std::thread::hardware_concurrency());
+  io.err << "tessera: rendering "
+         << settings_summary(scene.render.width, scene.render.height,
+                             scene.render.samples_per_pixel)
+         << " locally on " << threads << " threads (" << assembler->tiles_total() << " tiles)\n"
+         << std::flush;
+
+  ProgressReporter progress(io.err, io.interactive);
+  const Clock::time_point render_start = Clock::now();
+  ProgressSnapshot snapshot;
+  snapshot.tiles_total = assembler->tiles_total();
+  InterruptScope interrupt_scope;
+  LocalRenderResult result;
+  try {
+    result = render_local(
+        *prepared, threads,
+        [&](const TileRect& tile, std::span<const float> rgba, std::uint64_t rays) {
+          assembler->add_tile(tile, rgba);
+          ++snapshot.tiles_done;
+          snapshot.rays += rays;
+          snapshot.elapsed_seconds = seconds_since(render_start);
+          snapshot.rays_per_second =
+              snapshot.elapsed_seconds > 0.0
+                  ? static_cast<double>(snapshot.rays) / snapshot.elapsed_seconds
+                  : 0.0;
+          snapshot.eta_seconds = snapshot.elapsed_seconds / snapshot.tiles_done *
+                                 static_cast<double>(snapshot.tiles_total - snapshot.tiles_done);
+          progress.update(snapshot);
+        },
+        &g_interrupted);
+  } catch (const std::exception& e) {
+    progress.finish();
+    discard_output(*assembler, cmd);
+    throw CommandFailure{kExitFailed, e.what()};
+  }
+  progress.finish();
+  if (result.stopped) {
+    discard_output(*assembler, cmd);
+    throw CommandFailure{kExitFailed, "interrupted"};
+  }
+  const double rays_per_second =
+      result.seconds > 0.0 ? static_cast<double>(result.rays) / result.seconds : 0.0;
+  finish_output(
+      *assembler, cmd,
+      settings_summary(scene.render.width, scene.render.height, scene.render.samples_per_pixel),
+      seconds_since(start), rays_per_second, io.out);
+  return kExitOk;
+}
+
+int submit(const CliCommand& cmd, const CommandOutput& io) {
+  const SceneDescription scene = load_scene(cmd, io.err);
+  Client client(ClientOptions{.target = cmd.server});
+  try {
+    const v1::Job job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
+    io.out << job.id() << '\n' << std::flush;
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
+  }
+  return kExitOk;
+}
+
+int watch(const CliCommand& cmd, const CommandOutput& io) {
+  const Clock::time_point start = Clock::now();
+  Client client(ClientOptions{.target = cmd.server});
+  v1::Job job;
+  try {
+    job = client.get(cmd.job_id);
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot watch job " + cmd.job_id)};
+  }
+  // Ctrl-C stops watching; the job is not ours to cancel.
+  return stream_job(client, job, cmd, nullptr, false, start, io);
+}
+
+std::string progress_cell(const v1::Job& job) {
+  const v1::JobProgress& p = job.progress();
+  return std::to_string(p.tiles_done()) + "/" + std::to_string(p.tiles_total()) + " (" +
+         std::to_string(percent_done(snapshot_of(p))) + "%)";
+}
+
+int list(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  std::vector<v1::Job> jobs;
+  try {
+    jobs = client.list();
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "listing jobs failed")};
+  }
+  if (jobs.empty()) {
+    io.out << "no jobs\n";
+    return kExitOk;
+  }
+  const std::vector<std::string> header = {"ID",       "NAME",     "STATE",
+                                           "PROGRESS", "PRIORITY", "SUBMITTED"};
+  std::vector<std::vector<std::string>> rows = {header};
+  for (const v1::Job& job : jobs)
+    rows.push_back({job.id(), job.name().empty() ? "-" : job.name(), job_state_name(job.state()),
+                    progress_cell(job), std::to_string(job.priority()),
+                    format_unix_ms(job.submitted_unix_ms())});
+  std::vector<std::size_t> widths(header.size(), 0);
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
+  for (const auto& row : rows) {
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      io.out << row[c];
+      if (c + 1 < row.size()) io.out << std::string(widths[c] - row[c].size() + 2, ' ');
+    }
+    io.out << '\n';
+  }
+  io.out << std::flush;
+  return kExitOk;
+}
+
+int status(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  v1::Job job;
+  try {
+    job = client.get(cmd.job_id);
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot get job " + cmd.job_id)};
+  }
+  const v1::RenderSettings& s = job.settings();
+  const v1::JobProgress& p = job.progress();
+  io.out << "job        " << job.id() << '\n'
+         << "name       " << (job.name().empty() ? "-" : job.name()) << '\n'
+         << "state      " << job_state_name(job.state()) << '\n'
+         << "priority   " << job.priority() << '\n'
+         << "image      " << settings_summary(s.width(), s.height(), s.samples_per_pixel())
+         << ", max depth " << s.max_depth() << ", tiles of " << s.tile_size() << ", seed "
+         << s.seed() << '\n'
+         << "progress   " << format_progress_line(snapshot_of(p)) << '\n'
+         << "elapsed    " << format_duration(p.elapsed_seconds()) << ", " << p.rays_traced()
+         << " rays\n"
+         << "submitted  " << format_unix_ms(job.submitted_unix_ms()) << '\n'
+         << "finished   " << format_unix_ms(job.finished_unix_ms()) << '\n';
+  if (!job.error().empty()) io.out << "error      " << job.error() << '\n';
+  io.out << std::flush;
+  return kExitOk;
+}
+
+int cancel(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  try {
+    const v1::Job job = client.cancel(cmd.job_id);
+    io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot cancel job " + cmd.job_id)};
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_command(const CliCommand& command, const CommandOutput& io) {
+  try {
+    switch (command.kind) {
+      case CommandKind::kRender:
+        return command.local ? render_in_process(command, io) : render_remote(command, io);
+      case CommandKind::kSubmit:
+        return submit(command, io);
+      case CommandKind::kWatch:
+        return watch(command, io);
+      case CommandKind::kList:
+        return list(command, io);
+      case CommandKind::kStatus:
+        return status(command, io);
+      case CommandKind::kCancel:
+        return cancel(command, io);
+    }
+    return kExitUsage;
+  } catch (const CommandFailure& failure) {
+    io.err << "tessera: " << failure.message << '\n' << std::flush;
+    return failure.exit_code;
+  } catch (const ClientError& e) {
+    io.err << "tessera: " << describe(e, command.server, "request failed") << '\n' << std::flush;
+    return kExitFailed;
+  } catch (const std::exception& e) {
+    io.err << "tessera: " << e.what() << '\n' << std::flush;
+    return kExitFailed;
+  }
+}
+
+}  // namespace tessera

@@ -1,0 +1,74 @@
+#include "client/tile_assembler.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace tessera {
+
+namespace {
+
+std::string describe(const TileRect& t) {
+  return "tile " + std::to_string(t.index) + " (" + std::to_string(t.width) + "x" +
+         std::to_string(t.height) + " at " + std::to_string(t.x) + "," + std::to_string(t.y) + ")";
+}
+
+}  // namespace
+
+TileAssembler::TileAssembler(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
+                             const std::optional<std::filesystem::path>& exr_path)
+    : grid_(make_tiles(width, height, tile_size)), received_(grid_.size(), false) {
+  if (grid_.empty())
+    throw std::invalid_argument("image of " + std::to_string(width) + "x" + std::to_string(height) +
+                                " with tile size " + std::to_string(tile_size) + " has no tiles");
+  image_.width = width;
+  image_.height = height;
+  image_.pixels.assign(static_cast<std::size_t>(width) * height * 4, 0.0f);
+  if (exr_path) writer_ = std::make_unique<TiledExrWriter>(*exr_path, width, height, tile_size);
+}
+
+TileAssembler::~TileAssembler() = default;
+
+void TileAssembler::add_tile(const TileRect& tile, std::span<const float> rgba) {
+  if (tile.index >= grid_.size())
+    throw std::runtime_error("received " + describe(tile) + " but the image has " +
+                             std::to_string(grid_.size()) + " tiles");
+  const TileRect& expected = grid_[tile.index];
+  if (tile.x != expected.x || tile.y != expected.y || tile.width != expected.width ||
+      tile.height != expected.height)
+    throw std::runtime_error("received " + describe(tile) + " but the tile grid has " +
+                             describe(expected));
+  if (rgba.size() != tile.pixel_count() * 4)
+    throw std::runtime_error("received " + describe(tile) + " with " +
+                             std::to_string(rgba.size() / 4) + " pixels instead of " +
+                             std::to_string(tile.pixel_count()));
+  if (received_[tile.index]) throw std::runtime_error("received " + describe(tile) + " twice");
+  received_[tile.index] = true;
+  ++received_count_;
+  for (std::uint32_t row = 0; row < tile.height; ++row)
+    std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
+                image_.pixels.begin() +
+                    (static_cast<std::ptrdiff_t>(tile.y + row) * image_.width + tile.x) * 4);
+  if (writer_) writer_->write_tile(tile, rgba);
+}
+
+void TileAssembler::finish() {
+  const auto missing = std::find(received_.begin(), received_.end(), false);
+  if (missing != received_.end())
+    throw std::runtime_error("the stream ended without " +
+                             describe(grid_[missing - received_.begin()]) + " (" +
+                             std::to_string(received_count_) + " of " +
+                             std::to_string(grid_.size()) + " tiles received)");
+  if (writer_) writer_->close();
+}
+
+void TileAssembler::abandon() {
+  if (!writer_) return;
+  try {
+    writer_->close();
+  } catch (const std::exception&) {
+    // The file is being given up on; a failure to finish it changes nothing.
+  }
+}
+
+}  // namespace tessera

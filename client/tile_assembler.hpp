@@ -1,0 +1,50 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "tessera/image/exr.hpp"
+#include "tessera/render/tile.hpp"
+
+namespace tessera {
+
+// Puts finished tiles together, in whatever order they arrive: each tile is written to the
+// tiled EXR at once (so a long render leaves a usable partial file) and copied into the whole
+// image kept for the PNG preview. Checks that every tile matches the job's tile grid and
+// arrives exactly once, because the output is only right if the stream was.
+class TileAssembler {
+ public:
+  // `exr_path` empty: keep the image in memory only.
+  TileAssembler(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
+                const std::optional<std::filesystem::path>& exr_path);
+  ~TileAssembler();
+  TileAssembler(const TileAssembler&) = delete;
+  TileAssembler& operator=(const TileAssembler&) = delete;
+
+  // `rgba` holds tile.width * tile.height * 4 floats. Throws std::runtime_error for a tile
+  // outside the grid, of the wrong size, or seen before.
+  void add_tile(const TileRect& tile, std::span<const float> rgba);
+
+  std::uint32_t tiles_received() const { return received_count_; }
+  std::uint32_t tiles_total() const { return static_cast<std::uint32_t>(grid_.size()); }
+  bool complete() const { return received_count_ == grid_.size(); }
+
+  // Closes the EXR. Throws std::runtime_error naming the first missing tile, if any.
+  void finish();
+  // Closes the EXR without checking; for giving up on a failed job.
+  void abandon();
+
+  const RgbaImage& image() const { return image_; }
+
+ private:
+  std::vector<TileRect> grid_;
+  std::vector<bool> received_;
+  std::uint32_t received_count_ = 0;
+  RgbaImage image_;
+  std::unique_ptr<TiledExrWriter> writer_;
+};
+
+}  // namespace tessera
