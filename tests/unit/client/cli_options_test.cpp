@@ -1,0 +1,135 @@
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <vector>
+
+#include "client/cli_options.hpp"
+
+namespace tessera {
+namespace {
+
+struct Parsed {
+  ParsedCommandLine result;
+  std::string out, err;
+};
+
+Parsed parse(std::vector<const char*> args) {
+  args.insert(args.begin(), "tessera");
+  std::ostringstream out, err;
+  Parsed p{parse_command_line(static_cast<int>(args.size()), args.data(), out, err), {}, {}};
+  p.out = out.str();
+  p.err = err.str();
+  return p;
+}
+
+TEST(CliOptions, RenderWithOverrides) {
+  const Parsed p =
+      parse({"render", "scene.yaml", "-o", "out/a.exr", "--png", "out/a.png", "--width", "64",
+             "--height", "48", "--spp", "4", "--server", "localhost:6000"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  const CliCommand& c = *p.result.command;
+  EXPECT_EQ(c.kind, CommandKind::kRender);
+  EXPECT_EQ(c.scene_path, "scene.yaml");
+  EXPECT_EQ(c.output_exr, "out/a.exr");
+  EXPECT_EQ(c.preview_png, "out/a.png");
+  EXPECT_EQ(c.overrides.width, 64u);
+  EXPECT_EQ(c.overrides.height, 48u);
+  EXPECT_EQ(c.overrides.samples_per_pixel, 4u);
+  EXPECT_FALSE(c.overrides.tile_size.has_value());
+  EXPECT_FALSE(c.overrides.seed.has_value());
+  EXPECT_EQ(c.server, "localhost:6000");
+  EXPECT_FALSE(c.local);
+}
+
+TEST(CliOptions, DefaultsAndLocal) {
+  const Parsed p = parse({"render", "scene.yaml", "-o", "a.exr", "--local", "--threads", "3"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_TRUE(p.result.command->local);
+  EXPECT_EQ(p.result.command->threads, 3u);
+  EXPECT_EQ(p.result.command->server, kDefaultServer);
+  EXPECT_TRUE(p.result.command->preview_png.empty());
+  EXPECT_FALSE(p.result.command->overrides.width.has_value());
+}
+
+TEST(CliOptions, OtherCommands) {
+  Parsed p = parse({"submit", "s.yaml", "--name", "hello", "--priority", "-5"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kSubmit);
+  EXPECT_EQ(p.result.command->name, "hello");
+  EXPECT_EQ(p.result.command->priority, -5);
+
+  p = parse({"watch", "job-1", "-o", "w.exr"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kWatch);
+  EXPECT_EQ(p.result.command->job_id, "job-1");
+
+  p = parse({"list", "--server", "[::1]:50051"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kList);
+
+  p = parse({"status", "j"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kStatus);
+
+  p = parse({"cancel", "j"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kCancel);
+}
+
+// Each bad invocation: no command, exit code 2, one line `tessera: ...` naming the problem.
+void expect_usage_error(std::vector<const char*> args, const std::string& mentions) {
+  const Parsed p = parse(args);
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, kExitUsage);
+  EXPECT_EQ(p.err.rfind("tessera: ", 0), 0u) << p.err;
+  EXPECT_EQ(std::count(p.err.begin(), p.err.end(), '\n'), 1) << p.err;
+  EXPECT_NE(p.err.find(mentions), std::string::npos)
+      << "expected '" << mentions << "' in: " << p.err;
+}
+
+TEST(CliOptions, RejectsBadArguments) {
+  expect_usage_error({}, "no command");
+  expect_usage_error({"paint"}, "paint");
+  expect_usage_error({"render", "s.yaml"}, "--output");
+  expect_usage_error({"render", "-o", "a.exr"}, "scene");
+  expect_usage_error({"render", "s.yaml", "-o", "a.png"}, ".exr");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--png", "a.jpg"}, ".png");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--width", "0"}, "--width");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--height", "100000"}, "--height");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--spp", "-3"}, "--spp");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--spp", "many"}, "--spp");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--tile-size", "4"}, "--tile-size");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--threads", "4"}, "--local");
+  expect_usage_error({"render", "s.yaml", "-o", "a.exr", "--server", "localhost"}, "no port");
+  expect_usage_error({"list", "--server", "localhost:70000"}, "out of range");
+  expect_usage_error({"list", "extra"}, "extra");
+  expect_usage_error({"status"}, "job");
+  expect_usage_error({"cancel", ""}, "empty");
+}
+
+TEST(CliOptions, HelpGoesToStdoutWithExitZero) {
+  const Parsed p = parse({"render", "--help"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, 0);
+  EXPECT_NE(p.out.find("--spp"), std::string::npos) << p.out;
+  EXPECT_TRUE(p.err.empty()) << p.err;
+}
+
+TEST(CliOptions, ServerAddressChecks) {
+  EXPECT_FALSE(check_server_address("127.0.0.1:50051"));
+  EXPECT_FALSE(check_server_address("render-host.example:1"));
+  EXPECT_FALSE(check_server_address("[::1]:65535"));
+  EXPECT_FALSE(check_server_address("unix:/run/tesserad.sock"));
+  EXPECT_FALSE(check_server_address("dns:///render:50051"));
+  EXPECT_TRUE(check_server_address(""));
+  EXPECT_TRUE(check_server_address("host"));
+  EXPECT_TRUE(check_server_address(":50051"));
+  EXPECT_TRUE(check_server_address("host:"));
+  EXPECT_TRUE(check_server_address("host:0"));
+  EXPECT_TRUE(check_server_address("host:65536"));
+  EXPECT_TRUE(check_server_address("host:12ab"));
+  EXPECT_TRUE(check_server_address("::1:50051"));
+}
+
+}  // namespace
+}  // namespace tessera

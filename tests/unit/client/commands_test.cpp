@@ -1,0 +1,164 @@
+// The CLI's commands as a user sees them: exit codes, the one-line error messages, and the
+// files `render --local` writes. Server-side behaviour is in tests/integration.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "client/commands.hpp"
+#include "tessera/image/exr.hpp"
+#include "tessera/render/prepared_scene.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+namespace {
+
+struct CommandRun {
+  int exit_code;
+  std::string out, err;
+};
+
+CommandRun run(const CliCommand& command) {
+  std::ostringstream out, err;
+  const int code = run_command(command, {out, err, false});
+  return {code, out.str(), err.str()};
+}
+
+class CommandsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tessera_commands_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+std::string cornell_path() {
+  return std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";
+}
+
+// A loopback port nothing listens on: bound once by us, then released.
+int unused_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  address.sin_port = 0;
+  EXPECT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  socklen_t length = sizeof address;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+  ::close(fd);
+  return ntohs(address.sin_port);
+}
+
+TEST_F(CommandsTest, SceneErrorPrintsTheLoaderMessageAndExitsTwo) {
+  const std::filesystem::path scene = dir_ / "bad.yaml";
+  std::ofstream(scene) << "materials:\n  - { name: m, type: lambertian }\ngeometry:\n"
+                          "  - { type: sphere, material: m, center: [0, 0, 0], radius: 1 }\n"
+                          "  - { type: sphere, material: m, center: [0, 0, 0], radius: -2 }\n";
+  CliCommand command;
+  command.kind = CommandKind::kRender;
+  command.scene_path = scene.string();
+  command.output_exr = (dir_ / "out.exr").string();
+  for (bool local : {false, true}) {
+    command.local = local;
+    const CommandRun r = run(command);
+    EXPECT_EQ(r.exit_code, kExitUsage);
+    EXPECT_EQ(r.err,
+              "tessera: " + scene.string() + ":5: geometry[1].radius: must be positive, got -2\n");
+    EXPECT_FALSE(std::filesystem::exists(command.output_exr));
+  }
+  command.kind = CommandKind::kSubmit;
+  EXPECT_EQ(run(command).exit_code, kExitUsage);
+}
+
+TEST_F(CommandsTest, MissingSceneFileIsASceneError) {
+  CliCommand command;
+  command.kind = CommandKind::kSubmit;
+  command.scene_path = (dir_ / "nope.yaml").string();
+  const CommandRun r = run(command);
+  EXPECT_EQ(r.exit_code, kExitUsage);
+  EXPECT_EQ(r.err, "tessera: " + command.scene_path + ": scene file not found\n");
+}
+
+TEST_F(CommandsTest, UnreachableServerNamesTheAddressAndExitsOne) {
+  const std::string server = "127.0.0.1:" + std::to_string(unused_port());
+  CliCommand command;
+  command.server = server;
+  command.scene_path = cornell_path();
+  command.output_exr = (dir_ / "out.exr").string();
+  command.job_id = "some-job";
+  for (CommandKind kind : {CommandKind::kRender, CommandKind::kSubmit, CommandKind::kList,
+                           CommandKind::kStatus, CommandKind::kCancel, CommandKind::kWatch}) {
+    command.kind = kind;
+    const CommandRun r = run(command);
+    SCOPED_TRACE(r.err);
+    EXPECT_EQ(r.exit_code, kExitFailed);
+    EXPECT_EQ(r.err.rfind("tessera: cannot reach the server at " + server, 0), 0u);
+    EXPECT_NE(r.err.find("UNAVAILABLE"), std::string::npos);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+    EXPECT_TRUE(r.out.empty());
+  }
+  EXPECT_FALSE(std::filesystem::exists(command.output_exr));
+}
+
+TEST_F(CommandsTest, LocalRenderWritesTheSameImageAsTheCore) {
+  CliCommand command;
+  command.kind = CommandKind::kRender;
+  command.local = true;
+  command.threads = 3;
+  command.scene_path = cornell_path();
+  command.output_exr = (dir_ / "nested/dir/cornell.exr").string();
+  command.preview_png = (dir_ / "cornell.png").string();
+  command.overrides.width = 40;
+  command.overrides.height = 30;
+  command.overrides.samples_per_pixel = 2;
+  command.overrides.tile_size = 16;
+  const CommandRun r = run(command);
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_EQ(r.out.rfind("tessera: rendered 40x30 at 2 spp in ", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("rays/s: " + command.output_exr + ", " + command.preview_png + "\n"),
+            std::string::npos)
+      << r.out;
+
+  SceneDescription scene = load_scene_file(cornell_path()).scene;
+  scene.render.width = 40;
+  scene.render.height = 30;
+  scene.render.samples_per_pixel = 2;
+  scene.render.tile_size = 16;
+  const std::vector<float> reference = render_image(*PreparedScene::build(scene));
+  const RgbaImage written = read_image(command.output_exr);
+  ASSERT_EQ(written.width, 40u);
+  ASSERT_EQ(written.height, 30u);
+  EXPECT_EQ(std::memcmp(written.pixels.data(), reference.data(), reference.size() * sizeof(float)),
+            0);
+
+  const RgbaImage preview = read_image(command.preview_png);
+  EXPECT_EQ(preview.width, 40u);
+  EXPECT_EQ(preview.height, 30u);
+}
+
+TEST_F(CommandsTest, UnwritableOutputFailsBeforeRendering) {
+  std::ofstream(dir_ / "file") << "x";
+  CliCommand command;
+  command.kind = CommandKind::kRender;
+  command.local = true;
+  command.scene_path = cornell_path();
+  command.output_exr = (dir_ / "file/out.exr").string();  // parent is a file
+  const CommandRun r = run(command);
+  EXPECT_EQ(r.exit_code, kExitFailed);
+  EXPECT_EQ(r.err.rfind("tessera: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("file"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace tessera

@@ -1,0 +1,263 @@
+// SceneDescription -> proto: every field survives, geometry keeps the order it was written in
+// and nothing is left to the server's defaults. The reverse conversion below is written here,
+// independently of the server's, to check the round trip.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "client/scene_to_proto.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+namespace {
+
+glm::dvec3 from_proto(const v1::Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+MaterialType material_type_from_proto(v1::MaterialType type) {
+  switch (type) {
+    case v1::MATERIAL_TYPE_LAMBERTIAN:
+      return MaterialType::kLambertian;
+    case v1::MATERIAL_TYPE_LIGHT:
+      return MaterialType::kLight;
+    case v1::MATERIAL_TYPE_METAL:
+      return MaterialType::kMetal;
+    case v1::MATERIAL_TYPE_ROUGH_MIRROR:
+      return MaterialType::kRoughMirror;
+    case v1::MATERIAL_TYPE_GLASS:
+      return MaterialType::kGlass;
+    case v1::MATERIAL_TYPE_ANISOTROPIC_METAL:
+      return MaterialType::kAnisotropicMetal;
+    case v1::MATERIAL_TYPE_CLEAR_COAT:
+      return MaterialType::kClearCoat;
+    case v1::MATERIAL_TYPE_THIN_FILM:
+      return MaterialType::kThinFilm;
+    default:
+      ADD_FAILURE() << "unexpected material type " << type;
+      return MaterialType::kLambertian;
+  }
+}
+
+// Strict: fields the client must always send are required to be present.
+SceneDescription desc_from_proto(const v1::Scene& scene, const v1::RenderSettings& settings) {
+  SceneDescription d;
+  EXPECT_TRUE(scene.has_camera());
+  d.camera.position = from_proto(scene.camera().position());
+  d.camera.look_at = from_proto(scene.camera().look_at());
+  EXPECT_TRUE(scene.camera().has_up());
+  d.camera.up = from_proto(scene.camera().up());
+  d.camera.fov_degrees = scene.camera().fov_degrees();
+  EXPECT_TRUE(scene.background().has_intensity());
+  d.background.color = from_proto(scene.background().color());
+  d.background.intensity = scene.background().intensity();
+  for (const v1::Material& m : scene.materials()) {
+    EXPECT_TRUE(m.has_albedo() && m.has_refractive_index() && m.has_film_ior()) << m.name();
+    MaterialDesc out;
+    out.name = m.name();
+    out.type = material_type_from_proto(m.type());
+    out.albedo = from_proto(m.albedo());
+    out.emission = from_proto(m.emission());
+    out.roughness = m.roughness();
+    out.refractive_index = m.refractive_index();
+    out.metallic = m.metallic();
+    out.transmission = m.transmission();
+    out.anisotropy = m.anisotropy();
+    out.preset = m.preset();
+    out.film_thickness = m.film_thickness();
+    out.film_ior = m.film_ior();
+    d.materials.push_back(out);
+  }
+  for (int i = 0; i < scene.geometry_size(); ++i) {
+    const v1::Geometry& g = scene.geometry(i);
+    const auto material = d.find_material(g.material());
+    EXPECT_TRUE(material.has_value()) << "geometry[" << i << "] material " << g.material();
+    EXPECT_TRUE(g.has_visible());
+    const auto index = static_cast<std::uint32_t>(i);
+    switch (g.shape_case()) {
+      case v1::Geometry::kSphere:
+        d.spheres.push_back({from_proto(g.sphere().center()), g.sphere().radius(),
+                             material.value_or(0), g.visible(), index});
+        break;
+      case v1::Geometry::kRectangle:
+        d.quads.push_back({from_proto(g.rectangle().corner()), from_proto(g.rectangle().u()),
+                           from_proto(g.rectangle().v()), material.value_or(0), g.visible(),
+                           index});
+        break;
+      case v1::Geometry::kTriangle: {
+        TriangleMeshDesc mesh;
+        mesh.positions = {from_proto(g.triangle().v0()), from_proto(g.triangle().v1()),
+                          from_proto(g.triangle().v2())};
+        mesh.indices = {0, 1, 2};
+        mesh.material = material.value_or(0);
+        mesh.visible = g.visible();
+        mesh.source_index = index;
+        d.meshes.push_back(mesh);
+        break;
+      }
+      case v1::Geometry::kMesh: {
+        TriangleMeshDesc mesh;
+        EXPECT_EQ(g.mesh().positions_size() % 3, 0);
+        for (int p = 0; p + 2 < g.mesh().positions_size(); p += 3)
+          mesh.positions.emplace_back(g.mesh().positions(p), g.mesh().positions(p + 1),
+                                      g.mesh().positions(p + 2));
+        mesh.indices.assign(g.mesh().indices().begin(), g.mesh().indices().end());
+        mesh.material = material.value_or(0);
+        mesh.visible = g.visible();
+        mesh.source_index = index;
+        d.meshes.push_back(mesh);
+        break;
+      }
+      default:
+        ADD_FAILURE() << "geometry[" << i << "] has no shape";
+    }
+  }
+  d.render.width = settings.width();
+  d.render.height = settings.height();
+  d.render.samples_per_pixel = settings.samples_per_pixel();
+  d.render.max_depth = settings.max_depth();
+  d.render.tile_size = settings.tile_size();
+  d.render.seed = settings.seed();
+  return d;
+}
+
+void expect_same_scene(const SceneDescription& a, const SceneDescription& b) {
+  EXPECT_EQ(a.camera.position, b.camera.position);
+  EXPECT_EQ(a.camera.look_at, b.camera.look_at);
+  EXPECT_EQ(a.camera.up, b.camera.up);
+  EXPECT_EQ(a.camera.fov_degrees, b.camera.fov_degrees);
+  EXPECT_EQ(a.background.color, b.background.color);
+  EXPECT_EQ(a.background.intensity, b.background.intensity);
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (std::size_t i = 0; i < a.materials.size(); ++i) {
+    SCOPED_TRACE("material " + a.materials[i].name);
+    const MaterialDesc &x = a.materials[i], &y = b.materials[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.type, y.type);
+    EXPECT_EQ(x.albedo, y.albedo);
+    EXPECT_EQ(x.emission, y.emission);
+    EXPECT_EQ(x.roughness, y.roughness);
+    EXPECT_EQ(x.refractive_index, y.refractive_index);
+    EXPECT_EQ(x.metallic, y.metallic);
+    EXPECT_EQ(x.transmission, y.transmission);
+    EXPECT_EQ(x.anisotropy, y.anisotropy);
+    EXPECT_EQ(x.preset, y.preset);
+    EXPECT_EQ(x.film_thickness, y.film_thickness);
+    EXPECT_EQ(x.film_ior, y.film_ior);
+  }
+  ASSERT_EQ(a.spheres.size(), b.spheres.size());
+  for (std::size_t i = 0; i < a.spheres.size(); ++i) {
+    EXPECT_EQ(a.spheres[i].center, b.spheres[i].center);
+    EXPECT_EQ(a.spheres[i].radius, b.spheres[i].radius);
+    EXPECT_EQ(a.spheres[i].material, b.spheres[i].material);
+    EXPECT_EQ(a.spheres[i].visible, b.spheres[i].visible);
+    EXPECT_EQ(a.spheres[i].source_index, b.spheres[i].source_index);
+  }
+  ASSERT_EQ(a.quads.size(), b.quads.size());
+  for (std::size_t i = 0; i < a.quads.size(); ++i) {
+    EXPECT_EQ(a.quads[i].corner, b.quads[i].corner);
+    EXPECT_EQ(a.quads[i].u, b.quads[i].u);
+    EXPECT_EQ(a.quads[i].v, b.quads[i].v);
+    EXPECT_EQ(a.quads[i].material, b.quads[i].material);
+    EXPECT_EQ(a.quads[i].visible, b.quads[i].visible);
+    EXPECT_EQ(a.quads[i].source_index, b.quads[i].source_index);
+  }
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (std::size_t i = 0; i < a.meshes.size(); ++i) {
+    EXPECT_EQ(a.meshes[i].positions, b.meshes[i].positions);
+    EXPECT_EQ(a.meshes[i].indices, b.meshes[i].indices);
+    EXPECT_EQ(a.meshes[i].material, b.meshes[i].material);
+    EXPECT_EQ(a.meshes[i].visible, b.meshes[i].visible);
+    EXPECT_EQ(a.meshes[i].source_index, b.meshes[i].source_index);
+  }
+  EXPECT_EQ(a.render.width, b.render.width);
+  EXPECT_EQ(a.render.height, b.render.height);
+  EXPECT_EQ(a.render.samples_per_pixel, b.render.samples_per_pixel);
+  EXPECT_EQ(a.render.max_depth, b.render.max_depth);
+  EXPECT_EQ(a.render.tile_size, b.render.tile_size);
+  EXPECT_EQ(a.render.seed, b.render.seed);
+}
+
+TEST(SceneToProto, CornellBoxRoundTripsExactly) {
+  const LoadedScene loaded =
+      load_scene_file(std::filesystem::path(TESSERA_SOURCE_DIR) / "examples/scenes/cornell.yaml");
+  const v1::SubmitJobRequest request = make_submit_request(loaded.scene, "cornell", 7);
+  EXPECT_EQ(request.name(), "cornell");
+  EXPECT_EQ(request.priority(), 7);
+  EXPECT_EQ(request.scene().geometry_size(), 8);
+  EXPECT_EQ(request.settings().width(), 320u);
+  EXPECT_EQ(request.settings().samples_per_pixel(), 32u);
+  EXPECT_EQ(request.settings().seed(), 1u);
+  expect_same_scene(loaded.scene, desc_from_proto(request.scene(), request.settings()));
+}
+
+// Every material type, mixed geometry kinds in an interleaved order, a hidden light, a
+// standalone triangle and an OBJ mesh loaded from a file.
+TEST(SceneToProto, MixedSceneKeepsInputOrderAndEveryField) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "tessera_scene_to_proto_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.5\nf 1 2 3 4\n";
+  const std::string yaml = R"(
+camera: { position: [1, 2, 3], look_at: [0, 0.5, 0], up: [0, 0, 1], fov: 33.3 }
+settings: { background_color: [0.1, 0.2, 0.3], background_intensity: 0.7 }
+materials:
+  - { name: diffuse, type: lambertian, albedo: [0.1, 0.2, 0.3] }
+  - { name: lamp, type: light, emission: [5, 6, 7] }
+  - { name: steel, type: metal, albedo: 0.9, roughness: 0.25 }
+  - { name: blur, type: rough_mirror, roughness: 0.5, metallic: 1 }
+  - { name: glass, type: glass, refractive_index: 1.7, transmission: 1 }
+  - { name: brushed, type: anisotropic_metal, roughness: 0.3, anisotropy: -0.4, preset: gold }
+  - { name: coat, type: clear_coat, albedo: [0.8, 0.1, 0.1], refractive_index: 1.45 }
+  - { name: bubble, type: thin_film, film_thickness: 420, film_ior: 1.4 }
+geometry:
+  - { type: triangle, material: coat, v0: [0, 0, 0], v1: [1, 0, 0], v2: [0, 1, 0] }
+  - { type: sphere, material: glass, center: [0.1, 0.2, 0.3], radius: 0.123456789 }
+  - { type: rectangle, material: lamp, corner: [0, 2, 0], u: [1, 0, 0], v: [0, 0, 1], visible: false }
+  - { type: obj, material: steel, file: quad.obj, position: [1, 0, 0], scale: 2 }
+  - { type: sphere, material: bubble, center: [-1, 0, 0], radius: 0.5 }
+  - { type: quad, material: diffuse, corner: [0, 0, 0], u: [4, 0, 0], v: [0, 0, 4] }
+  - { type: sphere, material: brushed, center: [2, 0, 0], radius: 0.25 }
+  - { type: sphere, material: blur, center: [3, 0, 0], radius: 0.25, visible: false }
+render: { width: 17, height: 9, spp: 3, max_depth: 5, tile_size: 8, seed: 12345678901 }
+)";
+  const LoadedScene loaded = load_scene_yaml(yaml, "mixed.yaml", dir);
+  const v1::SubmitJobRequest request = make_submit_request(loaded.scene, "mixed", -3);
+  std::filesystem::remove_all(dir);
+
+  const v1::Scene& scene = request.scene();
+  ASSERT_EQ(scene.geometry_size(), 8);
+  const v1::Geometry::ShapeCase expected_kinds[] = {
+      v1::Geometry::kTriangle, v1::Geometry::kSphere, v1::Geometry::kRectangle,
+      v1::Geometry::kMesh,     v1::Geometry::kSphere, v1::Geometry::kRectangle,
+      v1::Geometry::kSphere,   v1::Geometry::kSphere};
+  for (int i = 0; i < 8; ++i)
+    EXPECT_EQ(scene.geometry(i).shape_case(), expected_kinds[i]) << "geometry[" << i << "]";
+  EXPECT_EQ(scene.geometry(1).material(), "glass");
+  EXPECT_FALSE(scene.geometry(2).visible());
+  EXPECT_TRUE(scene.geometry(5).visible());
+  // The OBJ quad arrives triangulated, already placed and scaled by the loader.
+  EXPECT_EQ(scene.geometry(3).mesh().indices_size(), 6);
+  EXPECT_EQ(request.settings().seed(), 12345678901u);
+  EXPECT_EQ(request.priority(), -3);
+
+  expect_same_scene(loaded.scene, desc_from_proto(scene, request.settings()));
+}
+
+TEST(SceneToProto, MaterialTypesMapOneToOne) {
+  for (const MaterialType type :
+       {MaterialType::kLambertian, MaterialType::kLight, MaterialType::kMetal,
+        MaterialType::kRoughMirror, MaterialType::kGlass, MaterialType::kAnisotropicMetal,
+        MaterialType::kClearCoat, MaterialType::kThinFilm}) {
+    const v1::MaterialType proto = material_type_to_proto(type);
+    EXPECT_NE(proto, v1::MATERIAL_TYPE_UNSPECIFIED) << to_string(type);
+    // Names agree: MATERIAL_TYPE_<UPPER-CASE YAML NAME>.
+    std::string upper = to_string(type);
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    EXPECT_EQ(v1::MaterialType_Name(proto), "MATERIAL_TYPE_" + upper);
+  }
+}
+
+}  // namespace
+}  // namespace tessera
