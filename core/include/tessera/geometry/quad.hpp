@@ -48,6 +48,14 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const Ray& ray, float t_
   return true;
 }
 
+// A flat shape is hit at most once: the sorted list of all hits is the closest hit.
+TESSERA_HD TESSERA_INLINE int intersect_all(const Quad& q, const Ray& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  if (max_hits <= 0) return 0;
+  return intersect(q, ray, t_max, hits[0], primitive) ? 1 : 0;
+}
+
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;

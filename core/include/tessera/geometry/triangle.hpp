@@ -88,6 +88,14 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray, fl
   return intersect(tri, ray, WatertightRay(ray.direction), t_max, hit, primitive);
 }
 
+// A flat shape is hit at most once: the sorted list of all hits is the closest hit.
+TESSERA_HD TESSERA_INLINE int intersect_all(const Triangle& tri, const Ray& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  if (max_hits <= 0) return 0;
+  return intersect(tri, ray, t_max, hits[0], primitive) ? 1 : 0;
+}
+
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, const Ray& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
