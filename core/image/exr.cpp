@@ -46,9 +46,9 @@ std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t 
 
 RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
   OIIO::Filesystem::IOMemReader proxy(const_cast<std::uint8_t*>(bytes.data()), bytes.size());
-  OIIO::ImageSpec config;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  auto in = OIIO::ImageInput::open("tile.exr", &config);
+  // OIIO 2.4 takes the proxy as open()'s own argument; the "oiio:ioproxy" config hint
+  // alone makes it read "tile.exr" from disk.
+  auto in = OIIO::ImageInput::open("tile.exr", nullptr, &proxy);
   if (!in) throw std::runtime_error("decode_exr: not a readable EXR: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 3)
