@@ -27,7 +27,9 @@ struct DaemonConfig {
   // Created at start if missing. Empty: none (in-process daemons in tests); tesserad
   // defaults to ./var. Holds nothing yet; job persistence will live here.
   std::filesystem::path data_dir;
-  std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
+  // trace, debug, info, warn, error, critical, off. Process-wide, so tesserad's main()
+  // applies it; an in-process Daemon leaves the host's logging alone.
+  std::string log_level = "info";
   std::size_t max_receive_message_bytes = std::size_t{256} << 20;  // large inline meshes
   SceneLimits limits;
   // How long shutdown waits for RPCs in progress before cancelling them.

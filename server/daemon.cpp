@@ -91,6 +91,8 @@ int Daemon::start() {
   grpc::ServerBuilder builder;
   int bound_port = 0;
   builder.AddListeningPort(d.config.listen, grpc::InsecureServerCredentials(), &bound_port);
+  // Without this, Linux lets a second daemon bind the same port and share its traffic.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(d.service.get());
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::size_t>(d.config.max_receive_message_bytes, std::numeric_limits<int>::max())));

@@ -146,7 +146,8 @@ void convert_mesh(const v1::TriangleMesh& in, const std::string& path, ProtoChec
     ok = false;
   }
   const auto vertex_count = static_cast<std::uint64_t>(positions.size() / 3);
-  for (int i = 0; i < indices.size(); ++i) {
+  // With a partial vertex the count is unknown, so index ranges mean nothing yet.
+  for (int i = 0; ok && i < indices.size(); ++i) {
     if (indices[i] >= vertex_count) {
       check.fail(indexed(path + ".indices", static_cast<std::size_t>(i)),
                  "vertex index " + std::to_string(indices[i]) + " out of range (" +

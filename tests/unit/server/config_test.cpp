@@ -1,0 +1,196 @@
+#include "server/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <variant>
+
+#include "server/command_line.hpp"
+#include "server/listen_address.hpp"
+
+namespace tessera::server {
+namespace {
+
+// Runs the parser on `tesserad <args...>`.
+CommandLine parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "tesserad");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  return parse_command_line(static_cast<int>(argv.size()), argv.data());
+}
+
+class ConfigFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tesserad-config-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::string write(const std::string& text) {
+    const auto path = dir_ / "tesserad.yaml";
+    std::ofstream(path) << text;
+    return path.string();
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST(ListenAddress, AcceptsHostsAndPorts) {
+  const auto a = std::get<ListenAddress>(parse_listen_address("127.0.0.1:50051"));
+  EXPECT_EQ(a.host, "127.0.0.1");
+  EXPECT_EQ(a.port, 50051);
+  EXPECT_EQ(std::get<ListenAddress>(parse_listen_address("localhost:0")).port, 0);
+  EXPECT_EQ(std::get<ListenAddress>(parse_listen_address("[::1]:65535")).host, "[::1]");
+  EXPECT_EQ(std::get<ListenAddress>(parse_listen_address("0.0.0.0:8080")).to_string(),
+            "0.0.0.0:8080");
+}
+
+TEST(ListenAddress, RejectsMalformedAddresses) {
+  for (const char* bad : {"", "50051", "localhost", ":50051", "host:", "host:65536", "host:-1",
+                          "host:12a", "::1:50051", "[::1:50051", "ho st:1", "host:1234567"}) {
+    const auto parsed = parse_listen_address(bad);
+    EXPECT_TRUE(std::holds_alternative<std::string>(parsed)) << "accepted '" << bad << "'";
+  }
+}
+
+TEST(CommandLine, DefaultsWithoutFlags) {
+  const CommandLine cl = parse({});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.listen, "127.0.0.1:50051");
+  EXPECT_EQ(cl.config.threads, default_thread_count());
+  EXPECT_GE(cl.config.threads, 1u);
+  EXPECT_EQ(cl.config.data_dir, std::filesystem::path("./var"));
+  EXPECT_EQ(cl.config.log_level, "info");
+}
+
+TEST(CommandLine, FlagsSetEverySetting) {
+  const CommandLine cl = parse(
+      {"--listen", "0.0.0.0:0", "--threads", "3", "--data", "/tmp/x", "--log-level", "debug"});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.listen, "0.0.0.0:0");
+  EXPECT_EQ(cl.config.threads, 3u);
+  EXPECT_EQ(cl.config.data_dir, std::filesystem::path("/tmp/x"));
+  EXPECT_EQ(cl.config.log_level, "debug");
+}
+
+TEST(CommandLine, VersionAndHelpExitZero) {
+  const CommandLine version = parse({"--version"});
+  ASSERT_TRUE(version.exit_code);
+  EXPECT_EQ(*version.exit_code, 0);
+  EXPECT_EQ(version.message, std::string("tesserad ") + TESSERA_VERSION + "\n");
+  const CommandLine help = parse({"--help"});
+  ASSERT_TRUE(help.exit_code);
+  EXPECT_EQ(*help.exit_code, 0);
+  EXPECT_NE(help.message.find("--listen"), std::string::npos);
+  EXPECT_NE(help.message.find("--threads"), std::string::npos);
+}
+
+TEST(CommandLine, BadFlagsAreUsageErrorsNamingTheFlag) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--threads", "0"}, "--threads"},
+      {{"--threads", "lots"}, "--threads"},
+      {{"--listen", "nowhere"}, "--listen"},
+      {{"--listen", "host:99999"}, "--listen"},
+      {{"--log-level", "chatty"}, "--log-level"},
+      {{"--frobnicate"}, "--frobnicate"},
+      {{"--data", ""}, "--data"},
+  };
+  for (const auto& [args, flag] : cases) {
+    const CommandLine cl = parse(args);
+    ASSERT_TRUE(cl.exit_code) << args[0];
+    EXPECT_EQ(*cl.exit_code, kExitUsage);
+    EXPECT_NE(cl.message.find(flag), std::string::npos) << cl.message;
+  }
+}
+
+TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
+  const std::string path = write(
+      "listen: 0.0.0.0:6000\n"
+      "threads: 5\n"
+      "data: /srv/tessera\n"
+      "log_level: warn\n");
+  const CommandLine from_file = parse({"--config", path});
+  ASSERT_FALSE(from_file.exit_code) << from_file.message;
+  EXPECT_EQ(from_file.config.listen, "0.0.0.0:6000");
+  EXPECT_EQ(from_file.config.threads, 5u);
+  EXPECT_EQ(from_file.config.data_dir, std::filesystem::path("/srv/tessera"));
+  EXPECT_EQ(from_file.config.log_level, "warn");
+  EXPECT_TRUE(from_file.warnings.empty());
+
+  const CommandLine overridden =
+      parse({"--threads", "2", "--config", path, "--listen", "127.0.0.1:7"});
+  ASSERT_FALSE(overridden.exit_code) << overridden.message;
+  EXPECT_EQ(overridden.config.threads, 2u);
+  EXPECT_EQ(overridden.config.listen, "127.0.0.1:7");
+  EXPECT_EQ(overridden.config.data_dir, std::filesystem::path("/srv/tessera"));  // from the file
+  EXPECT_EQ(overridden.config.log_level, "warn");
+}
+
+TEST_F(ConfigFile, UnknownKeysWarnWithTheirLine) {
+  const CommandLine cl = parse({"--config", write("threads: 2\nworkers: 9\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.threads, 2u);
+  ASSERT_EQ(cl.warnings.size(), 1u);
+  EXPECT_NE(cl.warnings[0].find(":2: workers: unknown key"), std::string::npos) << cl.warnings[0];
+}
+
+TEST_F(ConfigFile, BadValuesNameTheKey) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"threads: 0\n", ":1: threads: must be an integer from 1 to 1024, got '0'"},
+      {"threads: many\n", "threads: must be an integer"},
+      {"threads: [1, 2]\n", "threads: must be an integer from 1 to 1024, got a list"},
+      {"listen: nowhere\n", "listen: must be HOST:PORT"},
+      {"listen: {a: 1}\n", "listen: must be a string, got a map"},
+      {"log_level: chatty\n", "log_level: must be one of"},
+      {"data: ''\n", "data: must not be empty"},
+      {"- just\n- a list\n", "must be a YAML map"},
+      {"threads: [1\n", "YAML syntax error"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const CommandLine cl = parse({"--config", write(text)});
+    ASSERT_TRUE(cl.exit_code) << text;
+    EXPECT_EQ(*cl.exit_code, kExitUsage);
+    EXPECT_NE(cl.message.find(expected), std::string::npos)
+        << "for " << text << "got " << cl.message;
+  }
+}
+
+TEST_F(ConfigFile, AMissingFileIsAnError) {
+  const CommandLine cl = parse({"--config", (dir_ / "absent.yaml").string()});
+  ASSERT_TRUE(cl.exit_code);
+  EXPECT_NE(cl.message.find("cannot read the config file"), std::string::npos) << cl.message;
+}
+
+TEST_F(ConfigFile, AnEmptyFileChangesNothing) {
+  const CommandLine cl = parse({"--config", write("")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.listen, kDefaultListen);
+}
+
+TEST(ValidateConfig, NamesTheBadSetting) {
+  DaemonConfig config;
+  config.threads = 0;
+  EXPECT_THROW(
+      {
+        try {
+          validate_config(config);
+        } catch (const ConfigError& e) {
+          EXPECT_EQ(std::string(e.what()).rfind("threads:", 0), 0u) << e.what();
+          throw;
+        }
+      },
+      ConfigError);
+  config = DaemonConfig{};
+  config.listen = "bad";
+  EXPECT_THROW(validate_config(config), ConfigError);
+  config = DaemonConfig{};
+  config.log_level = "loud";
+  EXPECT_THROW(validate_config(config), ConfigError);
+  EXPECT_NO_THROW(validate_config(DaemonConfig{}));
+}
+
+}  // namespace
+}  // namespace tessera::server
