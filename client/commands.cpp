@@ -69,8 +69,13 @@ class InterruptScope {
 // CANCELLED. gRPC cannot be called from a signal handler, hence the polling thread.
 class CancelOnInterrupt {
  public:
-  CancelOnInterrupt(Client& client, std::string job_id, std::ostream& err)
-      : client_(client), job_id_(std::move(job_id)), err_(err), thread_([this] { run(); }) {}
+  // `interactive`: a progress line may be open on `err` and must be ended first.
+  CancelOnInterrupt(Client& client, std::string job_id, std::ostream& err, bool interactive)
+      : client_(client),
+        job_id_(std::move(job_id)),
+        err_(err),
+        interactive_(interactive),
+        thread_([this] { run(); }) {}
   ~CancelOnInterrupt() {
     {
       std::lock_guard lock(mutex_);
@@ -86,7 +91,9 @@ class CancelOnInterrupt {
     while (!done_) {
       wake_.wait_for(lock, std::chrono::milliseconds(100));
       if (done_ || !g_interrupted.exchange(false)) continue;
-      err_ << "\ntessera: interrupted; cancelling job " << job_id_ << '\n' << std::flush;
+      err_ << (interactive_ ? "\n" : "") << "tessera: interrupted; cancelling job " << job_id_
+           << '\n'
+           << std::flush;
       try {
         client_.cancel(job_id_);
       } catch (const ClientError& e) {
@@ -100,6 +107,7 @@ class CancelOnInterrupt {
   Client& client_;
   std::string job_id_;
   std::ostream& err_;
+  bool interactive_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool done_ = false;
@@ -216,9 +224,10 @@ void discard_output(TileAssembler& assembler, const CliCommand& cmd) {
   std::filesystem::remove(cmd.output_exr, ec);
 }
 
-// Closes the EXR, writes the PNG preview and prints the summary line.
+// Closes the EXR, writes the PNG preview and prints the summary line; the time reported runs
+// from `start` until both files are written.
 void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::string& what,
-                   double seconds, double rays_per_second, std::ostream& out) {
+                   Clock::time_point start, double rays_per_second, std::ostream& out) {
   try {
     assembler.finish();
     if (!cmd.preview_png.empty()) write_image(cmd.preview_png, assembler.image());
@@ -226,7 +235,7 @@ void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::s
     discard_output(assembler, cmd);
     throw CommandFailure{kExitFailed, e.what()};
   }
-  out << "tessera: rendered " << what << " in " << format_duration(seconds) << ", "
+  out << "tessera: rendered " << what << " in " << format_duration(seconds_since(start)) << ", "
       << format_rate(rays_per_second) << ": " << cmd.output_exr;
   if (!cmd.preview_png.empty()) out << ", " << cmd.preview_png;
   out << '\n' << std::flush;
@@ -270,7 +279,7 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
   ProgressReporter progress(io.err, io.interactive);
   v1::JobProgress last = job.progress();
   std::optional<CancelOnInterrupt> canceller;
-  if (cancel_on_interrupt) canceller.emplace(client, job.id(), io.err);
+  if (cancel_on_interrupt) canceller.emplace(client, job.id(), io.err, io.interactive);
   try {
     client.stream_tiles(job.id(), [&](const v1::Tile& tile) {
       add_streamed_tile(*assembler, tile);
@@ -282,11 +291,14 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
     discard_output(*assembler, cmd);
     const std::string received = std::to_string(assembler->tiles_received()) + " of " +
                                  std::to_string(assembler->tiles_total()) + " tiles";
+    // The server's message already names the job and the reason ("job X was cancelled (...)").
     if (e.code() == grpc::StatusCode::CANCELLED)
-      throw CommandFailure{kExitFailed,
-                           "job " + job.id() + " was cancelled (" + received + " received)"};
+      throw CommandFailure{
+          kExitFailed, (e.message().empty() ? "job " + job.id() + " was cancelled" : e.message()) +
+                           "; " + received + " received"};
     if (e.code() == grpc::StatusCode::ABORTED)
-      throw CommandFailure{kExitFailed, "job " + job.id() + " failed: " + e.message()};
+      throw CommandFailure{kExitFailed,
+                           e.message().empty() ? "job " + job.id() + " failed" : e.message()};
     throw CommandFailure{kExitFailed,
                          describe(e, cmd.server, "streaming tiles of job " + job.id() + " failed")};
   } catch (const std::exception& e) {
@@ -302,7 +314,7 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
           ? static_cast<double>(last.rays_traced()) / last.elapsed_seconds()
           : 0.0;
   finish_output(*assembler, cmd, settings_summary(s.width(), s.height(), s.samples_per_pixel()),
-                seconds_since(start), rays_per_second, io.out);
+                start, rays_per_second, io.out);
   return kExitOk;
 }
 
@@ -388,7 +400,7 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   finish_output(
       *assembler, cmd,
       settings_summary(scene.render.width, scene.render.height, scene.render.samples_per_pixel),
-      seconds_since(start), rays_per_second, io.out);
+      start, rays_per_second, io.out);
   return kExitOk;
 }
 
