@@ -1,0 +1,339 @@
+// The client against a real daemon running in this process on an ephemeral port: the
+// streamed image equals the in-process render bit for bit, bad scenes are rejected without
+// disturbing other jobs, cancellation ends the stream, and job state is reported.
+#include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "client/client.hpp"
+#include "client/commands.hpp"
+#include "client/scene_to_proto.hpp"
+#include "server/daemon.hpp"
+#include "tessera/image/exr.hpp"
+#include "tessera/render/prepared_scene.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+namespace {
+
+const std::string kCornell = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";
+
+SceneDescription cornell(std::uint32_t width, std::uint32_t height, std::uint32_t spp,
+                         std::uint32_t tile_size) {
+  SceneDescription scene = load_scene_file(kCornell).scene;
+  scene.render.width = width;
+  scene.render.height = height;
+  scene.render.samples_per_pixel = spp;
+  scene.render.tile_size = tile_size;
+  return scene;
+}
+
+// What a client receives for one job.
+struct StreamedJob {
+  std::vector<int> times_seen;  // per tile index
+  std::vector<float> image;     // RGBA, assembled from the decoded tiles
+  std::uint32_t tiles = 0;
+  v1::JobProgress last_progress;
+};
+
+// Streams every tile of `job` and assembles them here, independently of the CLI's assembler.
+StreamedJob stream_all(Client& client, const v1::Job& job) {
+  const v1::RenderSettings& s = job.settings();
+  const std::vector<TileRect> grid = make_tiles(s.width(), s.height(), s.tile_size());
+  StreamedJob result;
+  result.times_seen.assign(grid.size(), 0);
+  result.image.assign(static_cast<std::size_t>(s.width()) * s.height() * 4, -1.0f);
+  client.stream_tiles(job.id(), [&](const v1::Tile& tile) {
+    EXPECT_EQ(tile.job_id(), job.id());
+    EXPECT_EQ(tile.pass(), "beauty");
+    const v1::TileRect& r = tile.rect();
+    ASSERT_LT(r.index(), grid.size());
+    ++result.times_seen[r.index()];
+    ++result.tiles;
+    const TileRect& expected = grid[r.index()];
+    ASSERT_EQ(r.x(), expected.x);
+    ASSERT_EQ(r.y(), expected.y);
+    ASSERT_EQ(r.width(), expected.width);
+    ASSERT_EQ(r.height(), expected.height);
+    const RgbaImage pixels = decode_exr(
+        std::span(reinterpret_cast<const std::uint8_t*>(tile.exr().data()), tile.exr().size()));
+    ASSERT_EQ(pixels.width, r.width());
+    ASSERT_EQ(pixels.height, r.height());
+    for (std::uint32_t row = 0; row < r.height(); ++row)
+      std::memcpy(&result.image[((r.y() + row) * s.width() + r.x()) * 4],
+                  &pixels.pixels[row * r.width() * 4], r.width() * 4 * sizeof(float));
+    EXPECT_EQ(tile.progress().tiles_total(), grid.size());
+    EXPECT_GE(tile.progress().tiles_done(), result.last_progress.tiles_done());
+    result.last_progress = tile.progress();
+  });
+  return result;
+}
+
+bool bit_equal(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+class ClientServerTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    server::DaemonConfig config;
+    config.listen = "127.0.0.1:0";
+    config.threads = 2;
+    config.log_level = "warn";
+    spdlog::set_level(spdlog::level::warn);  // job-by-job info lines would drown the test output
+    // Small enough that the CLI test below can exceed it with a scene the client accepts.
+    config.limits.max_dimension = 1024;
+    daemon_ = new server::Daemon(config);
+    port_ = daemon_->start();
+  }
+  static void TearDownTestSuite() {
+    daemon_->shutdown();
+    delete daemon_;
+    daemon_ = nullptr;
+  }
+  static std::string address() { return "127.0.0.1:" + std::to_string(port_); }
+
+  Client client_{ClientOptions{.target = address()}};
+  static server::Daemon* daemon_;
+  static int port_;
+};
+
+server::Daemon* ClientServerTest::daemon_ = nullptr;
+int ClientServerTest::port_ = 0;
+
+TEST_F(ClientServerTest, StreamedImageEqualsTheInProcessRenderBitForBit) {
+  const SceneDescription scene = cornell(64, 48, 4, 16);
+  const v1::Job job = client_.submit(make_submit_request(scene, "cornell-small", 0));
+  ASSERT_FALSE(job.id().empty());
+  EXPECT_EQ(job.settings().width(), 64u);
+  EXPECT_EQ(job.settings().height(), 48u);
+  EXPECT_EQ(job.settings().samples_per_pixel(), 4u);
+  EXPECT_EQ(job.settings().tile_size(), 16u);
+
+  const StreamedJob streamed = stream_all(client_, job);
+  ASSERT_EQ(streamed.times_seen.size(), 12u);
+  for (std::size_t i = 0; i < streamed.times_seen.size(); ++i)
+    EXPECT_EQ(streamed.times_seen[i], 1) << "tile " << i;
+  EXPECT_EQ(streamed.last_progress.tiles_done(), 12u);
+  EXPECT_GT(streamed.last_progress.rays_traced(), 64u * 48u * 4u);
+
+  const std::vector<float> reference = render_image(*PreparedScene::build(scene));
+  EXPECT_TRUE(bit_equal(streamed.image, reference));
+}
+
+TEST_F(ClientServerTest, BadSceneIsRejectedWhileAnotherJobRunsToCompletion) {
+  const SceneDescription good_scene = cornell(128, 96, 16, 16);
+  const v1::Job good = client_.submit(make_submit_request(good_scene, "good", 0));
+
+  // Geometry entry 2 of the proto gets a negative radius, a mistake the server must name.
+  SceneDescription bad = cornell(32, 32, 1, 16);
+  v1::SubmitJobRequest request = make_submit_request(bad, "bad", 0);
+  v1::Geometry* sphere = request.mutable_scene()->mutable_geometry(6);
+  ASSERT_TRUE(sphere->has_sphere());
+  request.mutable_scene()->mutable_geometry()->SwapElements(2, 6);
+  request.mutable_scene()->mutable_geometry(2)->mutable_sphere()->set_radius(-0.5);
+  try {
+    client_.submit(request);
+    FAIL() << "a sphere with radius -0.5 was accepted";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::INVALID_ARGUMENT) << e.what();
+    EXPECT_NE(e.message().find("geometry[2]"), std::string::npos) << e.what();
+    EXPECT_NE(e.message().find("radius"), std::string::npos) << e.what();
+  }
+
+  const StreamedJob streamed = stream_all(client_, good);
+  EXPECT_EQ(streamed.tiles, 48u);
+  for (int seen : streamed.times_seen) EXPECT_EQ(seen, 1);
+  EXPECT_EQ(client_.get(good.id()).state(), v1::JOB_STATE_COMPLETED);
+  EXPECT_TRUE(bit_equal(streamed.image, render_image(*PreparedScene::build(good_scene))));
+}
+
+TEST_F(ClientServerTest, CancelMidJobEndsTheStreamWithCancelled) {
+  // Far more tiles than worker threads, so the job is still running when the first arrives.
+  const v1::Job job = client_.submit(make_submit_request(cornell(256, 192, 64, 16), "long", 0));
+  std::uint32_t received = 0;
+  try {
+    client_.stream_tiles(job.id(), [&](const v1::Tile&) {
+      if (++received == 1) {
+        const v1::Job after_cancel = client_.cancel(job.id());
+        EXPECT_EQ(after_cancel.id(), job.id());
+      }
+    });
+    FAIL() << "the stream of a cancelled job ended OK";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::CANCELLED) << e.what();
+  }
+  EXPECT_GE(received, 1u);
+  EXPECT_LT(received, 192u);
+  const v1::Job final_state = client_.get(job.id());
+  EXPECT_EQ(final_state.state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_GT(final_state.finished_unix_ms(), 0);
+}
+
+TEST_F(ClientServerTest, GetAndListReflectJobStates) {
+  const v1::Job first = client_.submit(make_submit_request(cornell(32, 32, 2, 16), "first", 3));
+  const v1::Job second = client_.submit(make_submit_request(cornell(32, 32, 2, 16), "second", -1));
+  EXPECT_NE(first.id(), second.id());
+
+  const v1::Job queried = client_.get(first.id());
+  EXPECT_EQ(queried.name(), "first");
+  EXPECT_EQ(queried.priority(), 3);
+  EXPECT_TRUE(queried.state() == v1::JOB_STATE_QUEUED || queried.state() == v1::JOB_STATE_RUNNING ||
+              queried.state() == v1::JOB_STATE_COMPLETED)
+      << v1::JobState_Name(queried.state());
+  EXPECT_EQ(queried.progress().tiles_total(), 4u);
+  EXPECT_GT(queried.submitted_unix_ms(), 0);
+
+  stream_all(client_, first);
+  stream_all(client_, second);
+  const v1::Job done = client_.get(first.id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_COMPLETED);
+  EXPECT_EQ(done.progress().tiles_done(), 4u);
+  EXPECT_GE(done.finished_unix_ms(), done.submitted_unix_ms());
+  EXPECT_TRUE(done.error().empty());
+
+  // Newest first: `second` comes before `first`.
+  const std::vector<v1::Job> jobs = client_.list();
+  int first_at = -1, second_at = -1;
+  for (int i = 0; i < static_cast<int>(jobs.size()); ++i) {
+    if (jobs[i].id() == first.id()) first_at = i;
+    if (jobs[i].id() == second.id()) second_at = i;
+  }
+  ASSERT_GE(first_at, 0);
+  ASSERT_GE(second_at, 0);
+  EXPECT_LT(second_at, first_at);
+  EXPECT_EQ(jobs[second_at].state(), v1::JOB_STATE_COMPLETED);
+
+  try {
+    client_.get("no-such-job");
+    FAIL() << "GetJob found a job that was never submitted";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::NOT_FOUND) << e.what();
+  }
+}
+
+// ---- The CLI against the daemon -----------------------------------------------------------
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+CliRun run_cli(const CliCommand& command) {
+  std::ostringstream out, err;
+  const int code = run_command(command, {out, err, false});
+  return {code, out.str(), err.str()};
+}
+
+class CliAgainstDaemonTest : public ClientServerTest {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tessera_cli_daemon_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  CliCommand render_command() const {
+    CliCommand c;
+    c.kind = CommandKind::kRender;
+    c.server = address();
+    c.scene_path = kCornell;
+    c.output_exr = (dir_ / "cornell.exr").string();
+    c.preview_png = (dir_ / "cornell.png").string();
+    c.overrides.width = 48;
+    c.overrides.height = 40;
+    c.overrides.samples_per_pixel = 2;
+    c.overrides.tile_size = 16;
+    return c;
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(CliAgainstDaemonTest, RenderAndWatchWriteTheInProcessImage) {
+  const std::vector<float> reference = render_image(*PreparedScene::build(cornell(48, 40, 2, 16)));
+
+  const CliRun render = run_cli(render_command());
+  ASSERT_EQ(render.exit_code, kExitOk) << render.err;
+  EXPECT_EQ(render.out.rfind("tessera: rendered 48x40 at 2 spp in ", 0), 0u) << render.out;
+  EXPECT_NE(render.err.find("tessera: 100% (9/9 tiles)"), std::string::npos) << render.err;
+  const RgbaImage rendered = read_image(render_command().output_exr);
+  EXPECT_TRUE(bit_equal(rendered.pixels, reference));
+  EXPECT_EQ(read_image(render_command().preview_png).width, 48u);
+
+  // submit + watch: the same image through the other path.
+  CliCommand submit = render_command();
+  submit.kind = CommandKind::kSubmit;
+  submit.name = "watched";
+  const CliRun submitted = run_cli(submit);
+  ASSERT_EQ(submitted.exit_code, kExitOk) << submitted.err;
+  const std::string job_id = submitted.out.substr(0, submitted.out.find('\n'));
+  ASSERT_FALSE(job_id.empty());
+  EXPECT_EQ(client_.get(job_id).name(), "watched");
+
+  CliCommand watch;
+  watch.kind = CommandKind::kWatch;
+  watch.server = address();
+  watch.job_id = job_id;
+  watch.output_exr = (dir_ / "watched.exr").string();
+  const CliRun watched = run_cli(watch);
+  ASSERT_EQ(watched.exit_code, kExitOk) << watched.err;
+  EXPECT_TRUE(bit_equal(read_image(watch.output_exr).pixels, reference));
+
+  CliCommand status;
+  status.kind = CommandKind::kStatus;
+  status.server = address();
+  status.job_id = job_id;
+  const CliRun shown = run_cli(status);
+  ASSERT_EQ(shown.exit_code, kExitOk) << shown.err;
+  EXPECT_NE(shown.out.find("state      completed"), std::string::npos) << shown.out;
+
+  CliCommand list;
+  list.kind = CommandKind::kList;
+  list.server = address();
+  const CliRun listed = run_cli(list);
+  ASSERT_EQ(listed.exit_code, kExitOk) << listed.err;
+  EXPECT_NE(listed.out.find(job_id), std::string::npos) << listed.out;
+}
+
+TEST_F(CliAgainstDaemonTest, ServerRejectionPrintsCodeAndMessage) {
+  // Valid for the client's default limits, beyond this daemon's max_dimension of 1024.
+  CliCommand command = render_command();
+  command.overrides.width = 2000;
+  const CliRun r = run_cli(command);
+  EXPECT_EQ(r.exit_code, kExitFailed);
+  EXPECT_EQ(r.err.rfind("tessera: server rejected the scene: INVALID_ARGUMENT: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("width"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(command.output_exr));
+}
+
+TEST_F(CliAgainstDaemonTest, CancelledJobMakesWatchFail) {
+  const v1::Job job =
+      client_.submit(make_submit_request(cornell(256, 192, 64, 16), "to-cancel", 0));
+  CliCommand cancel;
+  cancel.kind = CommandKind::kCancel;
+  cancel.server = address();
+  cancel.job_id = job.id();
+  const CliRun cancelled = run_cli(cancel);
+  ASSERT_EQ(cancelled.exit_code, kExitOk) << cancelled.err;
+  EXPECT_EQ(cancelled.out, "job " + job.id() + ": cancelled\n");
+
+  CliCommand watch;
+  watch.kind = CommandKind::kWatch;
+  watch.server = address();
+  watch.job_id = job.id();
+  watch.output_exr = (dir_ / "never.exr").string();
+  const CliRun watched = run_cli(watch);
+  EXPECT_EQ(watched.exit_code, kExitFailed);
+  EXPECT_EQ(watched.err.rfind("tessera: job " + job.id() + " was cancelled", 0), 0u) << watched.err;
+  EXPECT_FALSE(std::filesystem::exists(watch.output_exr));
+}
+
+}  // namespace
+}  // namespace tessera
