@@ -189,6 +189,17 @@ SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
   return std::move(loaded.scene);
 }
 
+// load_scene() for a scene that goes to a server, which must receive everything that
+// decides its pixels.
+SceneDescription load_scene_for_server(const CliCommand& cmd, std::ostream& err) {
+  SceneDescription scene = load_scene(cmd, err);
+  if (auto issue = first_field_the_api_cannot_carry(scene)) {
+    issue->file = cmd.scene_path;
+    throw CommandFailure{kExitUsage, issue->to_string()};
+  }
+  return scene;
+}
+
 std::string job_name(const CliCommand& cmd) {
   return cmd.name.empty() ? std::filesystem::path(cmd.scene_path).stem().string() : cmd.name;
 }
@@ -322,7 +333,7 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
 
 int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
-  const SceneDescription scene = load_scene(cmd, io.err);
+  const SceneDescription scene = load_scene_for_server(cmd, io.err);
   // Open the output before queueing work, so an unwritable path fails fast.
   auto assembler =
       open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
@@ -345,6 +356,9 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
 int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   const SceneDescription scene = load_scene(cmd, io.err);
+  if (scene.render.aovs != 0)
+    io.err << "tessera: warning: " << cmd.scene_path
+           << ": render.aovs: the CLI writes only the beauty pass; AOVs ignored\n";
   auto assembler =
       open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
   std::shared_ptr<const PreparedScene> prepared;
@@ -405,7 +419,7 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int submit(const CliCommand& cmd, const CommandOutput& io) {
-  const SceneDescription scene = load_scene(cmd, io.err);
+  const SceneDescription scene = load_scene_for_server(cmd, io.err);
   Client client(ClientOptions{.target = cmd.server});
   try {
     const v1::Job job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));

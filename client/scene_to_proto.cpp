@@ -153,6 +153,19 @@ v1::RenderSettings render_settings_to_proto(const RenderSettings& settings) {
   return out;
 }
 
+std::optional<SceneIssue> first_field_the_api_cannot_carry(const SceneDescription& scene) {
+  if (scene.render.integrator != IntegratorKind::kPath)
+    return SceneIssue{"", 0, "render.integrator",
+                      std::string("the render API has no integrator choice yet, so '") +
+                          to_string(scene.render.integrator) +
+                          "' cannot be sent to a server; render it with --local"};
+  if (scene.render.aovs != 0)
+    return SceneIssue{
+        "", 0, "render.aovs",
+        "the render API streams only the beauty pass; remove aovs to render on a server"};
+  return std::nullopt;
+}
+
 v1::SubmitJobRequest make_submit_request(const SceneDescription& scene, const std::string& name,
                                          std::int32_t priority) {
   v1::SubmitJobRequest request;

@@ -147,6 +147,37 @@ TEST_F(CommandsTest, LocalRenderWritesTheSameImageAsTheCore) {
   EXPECT_EQ(preview.height, 30u);
 }
 
+// The v1 API has no integrator field: a server would path-trace a `normals` scene, so the
+// CLI refuses to send it, and renders it with --local.
+TEST_F(CommandsTest, IntegratorOtherThanPathRendersOnlyLocally) {
+  const std::filesystem::path scene = dir_ / "normals.yaml";
+  std::ofstream(scene)
+      << "materials:\n  - { name: m, type: lambertian }\ngeometry:\n"
+         "  - { type: sphere, material: m, center: [0, 0, 0], radius: 1 }\n"
+         "render: { width: 16, height: 12, spp: 1, tile_size: 8, integrator: normals }\n";
+  CliCommand command;
+  command.kind = CommandKind::kSubmit;
+  command.server = "127.0.0.1:" + std::to_string(unused_port());  // never contacted
+  command.scene_path = scene.string();
+  command.output_exr = (dir_ / "normals.exr").string();
+  CommandRun r = run(command);
+  EXPECT_EQ(r.exit_code, kExitUsage);
+  EXPECT_EQ(r.err.rfind("tessera: " + scene.string() + ": render.integrator: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("--local"), std::string::npos) << r.err;
+  command.kind = CommandKind::kRender;
+  EXPECT_EQ(run(command).exit_code, kExitUsage);
+
+  command.local = true;
+  r = run(command);
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  const std::vector<float> reference =
+      render_image(*PreparedScene::build(load_scene_file(scene).scene));
+  const RgbaImage written = read_image(command.output_exr);
+  ASSERT_EQ(written.pixels.size(), reference.size());
+  EXPECT_EQ(std::memcmp(written.pixels.data(), reference.data(), reference.size() * sizeof(float)),
+            0);
+}
+
 TEST_F(CommandsTest, UnwritableOutputFailsBeforeRendering) {
   std::ofstream(dir_ / "file") << "x";
   CliCommand command;

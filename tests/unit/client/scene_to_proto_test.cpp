@@ -261,3 +261,25 @@ TEST(SceneToProto, MaterialTypesMapOneToOne) {
 
 }  // namespace
 }  // namespace tessera
+
+namespace tessera {
+namespace {
+
+TEST(SceneToProto, NamesWhatTheApiCannotCarry) {
+  SceneDescription scene =
+      load_scene_file(std::filesystem::path(TESSERA_SOURCE_DIR) / "examples/scenes/cornell.yaml")
+          .scene;
+  EXPECT_FALSE(first_field_the_api_cannot_carry(scene));
+  scene.render.aovs = kAovDepth;
+  auto issue = first_field_the_api_cannot_carry(scene);
+  ASSERT_TRUE(issue);
+  EXPECT_EQ(issue->field, "render.aovs");
+  scene.render.integrator = IntegratorKind::kNormals;
+  issue = first_field_the_api_cannot_carry(scene);
+  ASSERT_TRUE(issue);
+  EXPECT_EQ(issue->field, "render.integrator");
+  EXPECT_NE(issue->message.find("'normals'"), std::string::npos) << issue->message;
+}
+
+}  // namespace
+}  // namespace tessera
