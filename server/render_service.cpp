@@ -4,7 +4,6 @@
 
 #include "server/job_proto.hpp"
 #include "server/scene_from_proto.hpp"
-#include "tessera/scene/scene_features.hpp"
 
 namespace tessera::server {
 namespace {
@@ -71,7 +70,6 @@ grpc::Status RenderServiceImpl::submit(const v1::SubmitJobRequest& request,
   SceneDescription& scene = *conversion.scene;
   const RenderSettings settings = scene.render;
   const auto tiles = make_tiles(settings.width, settings.height, settings.tile_size).size();
-  const std::string features = SceneFeatures::of(scene).summary();
 
   auto job = std::make_shared<Job>(ids_.next(), request.name(), request.priority(), settings,
                                    static_cast<std::uint32_t>(tiles), unix_millis_now());
@@ -82,9 +80,10 @@ grpc::Status RenderServiceImpl::submit(const v1::SubmitJobRequest& request,
     job->cancel("daemon shutting down");
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
   }
-  spdlog::info("job {} '{}' submitted: priority {}, {}x{}, {} spp, depth {}, {} tiles; {}",
-               job->id(), job->name(), job->priority(), settings.width, settings.height,
-               settings.samples_per_pixel, settings.max_depth, tiles, features);
+  // The feature summary (with light count) is logged once the scene is prepared.
+  spdlog::info("job {} '{}' submitted: priority {}, {}x{}, {} spp, depth {}, {} tiles", job->id(),
+               job->name(), job->priority(), settings.width, settings.height,
+               settings.samples_per_pixel, settings.max_depth, tiles);
   return grpc::Status::OK;
 }
 
