@@ -1,135 +1,310 @@
+// Parallel binned-SAH build of the binary BVH (Wald 2007, "On fast construction of
+// SAH-based bounding volume hierarchies"): primitives are binned by centroid along each
+// axis, the SAH is evaluated at the bin boundaries, and the two halves are built as
+// separate TBB tasks. Nodes are first written in task order, then flattened depth-first so
+// an interior node's first child directly follows it (the layout the GPU walks).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <array>
-#include <numeric>
+#include <atomic>
+#include <bit>
+#include <memory>
+#include <stdexcept>
 
 #include "tessera/accel/bvh.hpp"
 
 namespace tessera {
 namespace {
 
-constexpr int kBinCount = 16;
-
-struct BuildItem {
-  Aabb bounds;
-  vec3 centroid;
+// Box and reference of one primitive: 32 bytes, so two per cache line while binning.
+struct PrimRef {
+  vec3 lower;
   std::uint32_t reference;
+  vec3 upper;
+  std::uint32_t unused;
+
+  vec3 centroid2() const { return lower + upper; }  // twice the centroid: saves a multiply
 };
+
+// Intermediate node in task order; `second` carries kLeafFlag | count for leaves.
+struct TaskNode {
+  vec3 lower;
+  std::uint32_t first;  // left child, or first primitive of a leaf
+  vec3 upper;
+  std::uint32_t second;  // right child, or kLeafFlag | primitive count
+};
+constexpr std::uint32_t kLeafFlag = 0x80000000U;
+
+struct Range {
+  std::uint32_t begin, end;
+  Aabb bounds;     // of the primitives
+  Aabb centroids;  // of their doubled centroids
+  std::uint32_t count() const { return end - begin; }
+};
+
+struct Bins {
+  std::array<std::array<Aabb, kMaxBvhBins>, 3> bounds;
+  std::array<std::array<std::uint32_t, kMaxBvhBins>, 3> counts{};
+
+  void merge(const Bins& other, std::uint32_t bin_count) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (std::uint32_t b = 0; b < bin_count; ++b) {
+        bounds[axis][b].extend(other.bounds[axis][b]);
+        counts[axis][b] += other.counts[axis][b];
+      }
+  }
+};
+
+// Maps doubled centroids to bins; an axis without extent gets scale 0 (all in bin 0).
+struct BinMapping {
+  vec3 origin;
+  vec3 scale;
+  std::uint32_t bin_count;
+
+  BinMapping(const Aabb& centroids, std::uint32_t bins) : origin(centroids.lower), bin_count(bins) {
+    const vec3 extent = centroids.extent();
+    for (int axis = 0; axis < 3; ++axis)
+      scale[axis] =
+          extent[axis] > 0.0f ? static_cast<float>(bins) * (1.0f - 1e-6f) / extent[axis] : 0.0f;
+  }
+  std::uint32_t bin(const vec3& c2, int axis) const {
+    const auto b = static_cast<std::int32_t>((c2[axis] - origin[axis]) * scale[axis]);
+    return static_cast<std::uint32_t>(
+        std::clamp<std::int32_t>(b, 0, static_cast<std::int32_t>(bin_count) - 1));
+  }
+};
+
+struct Split {
+  int axis = -1;
+  std::uint32_t bin = 0;   // primitives in bins below this go left
+  float cost = kInfinity;  // SAH cost, not normalised by the parent's area
+};
+
+std::uint32_t ceil_log2(std::uint32_t x) {
+  return x <= 1 ? 0 : 32 - static_cast<std::uint32_t>(std::countl_zero(x - 1));
+}
 
 class Builder {
  public:
-  Builder(std::vector<BuildItem>& items, const BvhBuildOptions& options, Bvh& out)
-      : items_(items), options_(options), out_(out) {}
+  Builder(std::span<PrimRef> prims, const BvhBuildOptions& options)
+      : prims_(prims),
+        options_(options),
+        nodes_(new TaskNode[std::max<std::size_t>(1, 2 * prims.size())]) {}
 
-  void build() {
-    out_.nodes.reserve(items_.empty() ? 0 : 2 * items_.size());
-    if (!items_.empty()) build_node(0, static_cast<std::uint32_t>(items_.size()), 1);
-    out_.primitives.resize(items_.size());
-    for (std::size_t i = 0; i < items_.size(); ++i) out_.primitives[i] = items_[i].reference;
+  Bvh build() {
+    Bvh bvh;
+    if (prims_.empty()) return bvh;
+    Range root{0, static_cast<std::uint32_t>(prims_.size()), {}, {}};
+    for (const PrimRef& p : prims_) {
+      root.bounds.extend(Aabb{p.lower, p.upper});
+      root.centroids.extend(p.centroid2());
+    }
+    next_node_.store(1);
+    build_node(0, root, 1);
+    bvh.nodes.resize(next_node_.load());
+    std::uint32_t next = 0;
+    bvh.depth = flatten(0, bvh.nodes, next, 1);
+    bvh.primitives.resize(prims_.size());
+    for (std::size_t i = 0; i < prims_.size(); ++i) bvh.primitives[i] = prims_[i].reference;
+    return bvh;
   }
 
  private:
-  struct Split {
-    int axis = -1;
-    float position = 0.0f;
-    float cost = kInfinity;
-  };
-
-  std::uint32_t build_node(std::uint32_t begin, std::uint32_t end, std::uint32_t depth) {
-    out_.depth = std::max(out_.depth, depth);
-    const auto node_index = static_cast<std::uint32_t>(out_.nodes.size());
-    out_.nodes.push_back(BvhNode{});
-    Aabb bounds, centroid_bounds;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      bounds.extend(items_[i].bounds);
-      centroid_bounds.extend(items_[i].centroid);
-    }
-    const std::uint32_t count = end - begin;
-    const auto make_leaf = [&] {
-      out_.nodes[node_index] = BvhNode{bounds.lower, begin, bounds.upper, count};
-      return node_index;
-    };
-    if (count <= 1 || depth >= kMaxBvhDepth) return make_leaf();
-
-    const Split split = find_split(begin, end, centroid_bounds);
-    const float leaf_cost = options_.intersection_cost * static_cast<float>(count);
-    std::uint32_t middle;
-    if (split.axis < 0) {
-      // All centroids coincide: SAH cannot separate them, so halve the range.
-      if (count <= options_.max_leaf_size) return make_leaf();
-      middle = begin + count / 2;
-    } else {
-      const float split_cost =
-          options_.traversal_cost + options_.intersection_cost * split.cost / bounds.surface_area();
-      if (count <= options_.max_leaf_size && split_cost >= leaf_cost) return make_leaf();
-      auto* first = items_.data() + begin;
-      auto* mid = std::partition(first, items_.data() + end, [&](const BuildItem& item) {
-        return item.centroid[split.axis] < split.position;
-      });
-      middle = static_cast<std::uint32_t>(mid - items_.data());
-      if (middle == begin || middle == end) middle = begin + count / 2;
-    }
-    build_node(begin, middle, depth + 1);
-    const std::uint32_t right = build_node(middle, end, depth + 1);
-    out_.nodes[node_index] = BvhNode{bounds.lower, right, bounds.upper, 0};
-    return node_index;
+  std::uint32_t blocks(std::uint32_t count) const {
+    return (count + options_.leaf_block_size - 1) / options_.leaf_block_size;
   }
 
-  // Evaluates the SAH at the kBinCount - 1 bin boundaries of each axis.
-  Split find_split(std::uint32_t begin, std::uint32_t end, const Aabb& centroid_bounds) const {
-    Split best;
-    for (int axis = 0; axis < 3; ++axis) {
-      const float lo = centroid_bounds.lower[axis];
-      const float extent = centroid_bounds.upper[axis] - lo;
-      if (!(extent > 0.0f)) continue;
-      std::array<Aabb, kBinCount> bins;
-      std::array<std::uint32_t, kBinCount> counts{};
-      const float scale = kBinCount / extent;
-      for (std::uint32_t i = begin; i < end; ++i) {
-        const int bin =
-            std::min(kBinCount - 1, static_cast<int>((items_[i].centroid[axis] - lo) * scale));
-        bins[bin].extend(items_[i].bounds);
-        ++counts[bin];
+  void make_leaf(std::uint32_t index, const Range& range) {
+    nodes_[index] =
+        TaskNode{range.bounds.lower, range.begin, range.bounds.upper, kLeafFlag | range.count()};
+  }
+
+  void build_node(std::uint32_t index, const Range& range, std::uint32_t depth) {
+    const std::uint32_t count = range.count();
+    const std::uint32_t max_leaf = options_.max_leaf_size;
+    if (count == 1 || depth >= kMaxBvhDepth) return make_leaf(index, range);
+
+    // Near the depth cap, median splits guarantee the remaining levels suffice.
+    const bool force_median =
+        depth + 1 + ceil_log2((count + max_leaf - 1) / max_leaf) >= kMaxBvhDepth;
+    Range left, right;
+    bool split_found = false;
+    if (!force_median && !range.centroids.empty() && range.centroids.extent() != vec3(0.0f)) {
+      const BinMapping mapping(range.centroids, options_.bin_count);
+      const Split split = find_split(range, mapping);
+      if (split.axis >= 0) {
+        const float leaf_cost = options_.intersection_cost * static_cast<float>(blocks(count));
+        const float area = range.bounds.surface_area();
+        const float split_cost =
+            options_.traversal_cost +
+            options_.intersection_cost * (area > 0.0f ? split.cost / area : 0.0f);
+        if (count <= max_leaf && leaf_cost <= split_cost) return make_leaf(index, range);
+        partition(range, mapping, split, left, right);
+        split_found = left.count() > 0 && right.count() > 0;
       }
-      std::array<float, kBinCount> left_cost{};
+    }
+    if (!split_found) {
+      if (count <= max_leaf && !force_median) return make_leaf(index, range);
+      median_split(range, left, right);
+    }
+
+    const std::uint32_t children = next_node_.fetch_add(2);
+    nodes_[index] = TaskNode{range.bounds.lower, children, range.bounds.upper, children + 1};
+    if (options_.parallel && count >= kParallelTaskSize) {
+      tbb::parallel_invoke([&] { build_node(children, left, depth + 1); },
+                           [&] { build_node(children + 1, right, depth + 1); });
+    } else {
+      build_node(children, left, depth + 1);
+      build_node(children + 1, right, depth + 1);
+    }
+  }
+
+  Bins bin_range(std::uint32_t begin, std::uint32_t end, const BinMapping& mapping) const {
+    Bins bins;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const PrimRef& p = prims_[i];
+      const vec3 c2 = p.centroid2();
+      const Aabb box{p.lower, p.upper};
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::uint32_t b = mapping.bin(c2, axis);
+        bins.bounds[axis][b].extend(box);
+        ++bins.counts[axis][b];
+      }
+    }
+    return bins;
+  }
+
+  Split find_split(const Range& range, const BinMapping& mapping) const {
+    Bins bins;
+    if (options_.parallel && range.count() >= kParallelBinningSize) {
+      bins = tbb::parallel_reduce(
+          tbb::blocked_range<std::uint32_t>(range.begin, range.end, kParallelBinningSize / 4),
+          Bins{},
+          [&](const tbb::blocked_range<std::uint32_t>& r, Bins acc) {
+            acc.merge(bin_range(r.begin(), r.end(), mapping), mapping.bin_count);
+            return acc;
+          },
+          [&](Bins a, const Bins& b) {
+            a.merge(b, mapping.bin_count);
+            return a;
+          });
+    } else {
+      bins = bin_range(range.begin, range.end, mapping);
+    }
+
+    Split best;
+    const std::uint32_t n = mapping.bin_count;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (mapping.scale[axis] == 0.0f) continue;
+      std::array<float, kMaxBvhBins> right_cost{};
       Aabb accumulated;
       std::uint32_t accumulated_count = 0;
-      for (int b = 0; b < kBinCount - 1; ++b) {
-        accumulated.extend(bins[b]);
-        accumulated_count += counts[b];
-        left_cost[b] = accumulated.surface_area() * static_cast<float>(accumulated_count);
+      for (std::uint32_t b = n - 1; b > 0; --b) {
+        accumulated.extend(bins.bounds[axis][b]);
+        accumulated_count += bins.counts[axis][b];
+        right_cost[b] = accumulated.surface_area() * static_cast<float>(blocks(accumulated_count));
       }
       accumulated = Aabb{};
       accumulated_count = 0;
-      for (int b = kBinCount - 1; b > 0; --b) {
-        accumulated.extend(bins[b]);
-        accumulated_count += counts[b];
+      for (std::uint32_t b = 1; b < n; ++b) {
+        accumulated.extend(bins.bounds[axis][b - 1]);
+        accumulated_count += bins.counts[axis][b - 1];
+        if (accumulated_count == 0 || accumulated_count == range.count()) continue;
         const float cost =
-            left_cost[b - 1] + accumulated.surface_area() * static_cast<float>(accumulated_count);
-        if (cost < best.cost) {
-          best.cost = cost;
-          best.axis = axis;
-          best.position = lo + extent * static_cast<float>(b) / kBinCount;
-        }
+            accumulated.surface_area() * static_cast<float>(blocks(accumulated_count)) +
+            right_cost[b];
+        if (cost < best.cost) best = Split{axis, b, cost};
       }
     }
     return best;
   }
 
-  std::vector<BuildItem>& items_;
+  // In-place partition that gathers both sides' bounds on the way.
+  void partition(const Range& range, const BinMapping& mapping, const Split& split, Range& left,
+                 Range& right) const {
+    left = Range{range.begin, range.begin, {}, {}};
+    right = Range{range.end, range.end, {}, {}};
+    const auto goes_left = [&](const PrimRef& p) {
+      return mapping.bin(p.centroid2(), split.axis) < split.bin;
+    };
+    const auto add = [](Range& side, const PrimRef& p) {
+      side.bounds.extend(Aabb{p.lower, p.upper});
+      side.centroids.extend(p.centroid2());
+    };
+    std::uint32_t i = range.begin, j = range.end;
+    for (;;) {
+      while (i < j && goes_left(prims_[i])) add(left, prims_[i++]);
+      while (i < j && !goes_left(prims_[j - 1])) add(right, prims_[--j]);
+      if (i >= j) break;
+      std::swap(prims_[i], prims_[j - 1]);
+      add(left, prims_[i++]);
+      add(right, prims_[--j]);
+    }
+    left.end = i;
+    right.begin = i;
+  }
+
+  // Object median along the widest centroid axis: always halves the range.
+  void median_split(const Range& range, Range& left, Range& right) const {
+    const int axis = range.centroids.largest_axis();
+    const std::uint32_t middle = range.begin + range.count() / 2;
+    std::nth_element(prims_.begin() + range.begin, prims_.begin() + middle,
+                     prims_.begin() + range.end, [axis](const PrimRef& a, const PrimRef& b) {
+                       return a.centroid2()[axis] < b.centroid2()[axis];
+                     });
+    left = Range{range.begin, middle, {}, {}};
+    right = Range{middle, range.end, {}, {}};
+    for (Range* side : {&left, &right})
+      for (std::uint32_t i = side->begin; i < side->end; ++i) {
+        side->bounds.extend(Aabb{prims_[i].lower, prims_[i].upper});
+        side->centroids.extend(prims_[i].centroid2());
+      }
+  }
+
+  // Depth-first copy; returns the depth of the subtree below `index` (a leaf is 1 deep
+  // at depth `depth`).
+  std::uint32_t flatten(std::uint32_t index, std::vector<BvhNode>& out, std::uint32_t& next,
+                        std::uint32_t depth) const {
+    const TaskNode& node = nodes_[index];
+    const std::uint32_t at = next++;
+    if (node.second & kLeafFlag) {
+      out[at] = BvhNode{node.lower, node.first, node.upper, node.second & ~kLeafFlag};
+      return depth;
+    }
+    const std::uint32_t left_depth = flatten(node.first, out, next, depth + 1);
+    const std::uint32_t right_index = next;
+    const std::uint32_t right_depth = flatten(node.second, out, next, depth + 1);
+    out[at] = BvhNode{node.lower, right_index, node.upper, 0};
+    return std::max(left_depth, right_depth);
+  }
+
+  static constexpr std::uint32_t kParallelTaskSize = 4096;
+  static constexpr std::uint32_t kParallelBinningSize = 65536;
+
+  std::span<PrimRef> prims_;
   const BvhBuildOptions& options_;
-  Bvh& out_;
+  std::unique_ptr<TaskNode[]> nodes_;
+  std::atomic<std::uint32_t> next_node_{0};
 };
 
 }  // namespace
 
 Bvh build_bvh(std::span<const Aabb> bounds, std::span<const std::uint32_t> references,
               const BvhBuildOptions& options) {
-  std::vector<BuildItem> items(bounds.size());
+  if (bounds.size() != references.size())
+    throw std::invalid_argument("build_bvh: bounds and references differ in size");
+  if (bounds.size() >= kLeafFlag) throw std::invalid_argument("build_bvh: too many primitives");
+  BvhBuildOptions checked = options;
+  checked.max_leaf_size = std::max(1u, checked.max_leaf_size);
+  checked.leaf_block_size = std::max(1u, checked.leaf_block_size);
+  checked.bin_count = std::clamp(checked.bin_count, 2u, kMaxBvhBins);
+  std::vector<PrimRef> prims(bounds.size());
   for (std::size_t i = 0; i < bounds.size(); ++i)
-    items[i] = BuildItem{bounds[i], bounds[i].centroid(), references[i]};
-  Bvh bvh;
-  Builder(items, options, bvh).build();
-  return bvh;
+    prims[i] = PrimRef{bounds[i].lower, references[i], bounds[i].upper, 0};
+  return Builder(prims, checked).build();
 }
 
 }  // namespace tessera

@@ -41,12 +41,22 @@ struct Bvh {
 };
 
 struct BvhBuildOptions {
+  // A node with more primitives than this is always split; up to this many may share a
+  // leaf when the SAH says a split does not pay.
   std::uint32_t max_leaf_size = 4;
-  float traversal_cost = 1.0f;  // relative to one primitive test
+  // Leaves are intersected in blocks of this many primitives (4 for the SIMD triangle
+  // blocks of the wide BVH), so the SAH counts a leaf's cost in whole blocks.
+  std::uint32_t leaf_block_size = 1;
+  float traversal_cost = 1.0f;  // relative to one block test
   float intersection_cost = 1.0f;
+  std::uint32_t bin_count = 16;  // SAH bins per axis, at most kMaxBvhBins
+  bool parallel = true;          // split subtrees (and large binning passes) over TBB workers
 };
+inline constexpr std::uint32_t kMaxBvhBins = 64;
 
 // Binned SAH build. `references[i]` is stored in leaves for the primitive with `bounds[i]`.
+// The tree is at most kMaxBvhDepth deep and no leaf holds more than max_leaf_size
+// primitives (both guaranteed: near the depth cap the builder switches to median splits).
 Bvh build_bvh(std::span<const Aabb> bounds, std::span<const std::uint32_t> references,
               const BvhBuildOptions& options = {});
 

@@ -33,27 +33,29 @@ struct Aabb {
   }
 };
 
-// Slab test. With an infinite reciprocal and an origin exactly on a slab plane the product
-// 0 * inf is NaN; min/max written with comparisons drop the NaN operand, so such rays are
-// treated as inside the slab rather than poisoning the interval.
+// Slab test. The near plane of each axis is chosen by the sign of the reciprocal, so a
+// -0.0 component (reciprocal -inf) picks the upper plane, as a tiny negative one would.
+// A ray parallel to an axis whose origin lies exactly on one of that axis' planes gets
+// 0 * inf = NaN for that plane; the comparisons below drop NaN operands, so the plane does
+// not limit the interval and the ray counts as inside the slab, boundary included (it can
+// still hit a triangle lying in that plane's edge). Every other product is finite or a
+// correctly signed infinity.
 TESSERA_HD TESSERA_INLINE bool intersect_aabb(const vec3& lower, const vec3& upper,
                                               const TraversalRay& ray, float t_min, float t_max,
                                               float& t_entry) {
   for (int axis = 0; axis < 3; ++axis) {
-    float t0 = (lower[axis] - ray.origin[axis]) * ray.inv_direction[axis];
-    float t1 = (upper[axis] - ray.origin[axis]) * ray.inv_direction[axis];
-    if (t0 > t1) {
-      const float tmp = t0;
-      t0 = t1;
-      t1 = tmp;
-    }
-    // Robust BVH traversal (Ize 2013): widen the far bound by 2 ulps-ish.
-    t1 *= 1.0f + 2.0f * 1.1920929e-07f;
-    t_min = t0 > t_min ? t0 : t_min;
-    t_max = t1 < t_max ? t1 : t_max;
+    const bool negative = ray.inv_direction[axis] < 0.0f;
+    const float t_near =
+        ((negative ? upper[axis] : lower[axis]) - ray.origin[axis]) * ray.inv_direction[axis];
+    const float t_far =
+        ((negative ? lower[axis] : upper[axis]) - ray.origin[axis]) * ray.inv_direction[axis];
+    t_min = t_near > t_min ? t_near : t_min;
+    t_max = t_far < t_max ? t_far : t_max;
   }
   t_entry = t_min;
-  return t_min <= t_max;
+  // Robust BVH traversal (Ize 2013): widen the far end by 2 ulps, so rounding neither drops
+  // flat boxes nor boxes entered at the distance of the hit found so far.
+  return t_min <= t_max * (1.0f + 2.0f * 1.1920929e-07f);
 }
 
 }  // namespace tessera

@@ -28,8 +28,9 @@ struct HitRecord {
   TESSERA_HD bool valid() const { return primitive != kInvalidIndex; }
 };
 
-// Ray with precomputed reciprocal direction for slab tests. Infinite reciprocals for zero
-// components are intended: the slab test below handles them without NaN.
+// Ray with precomputed reciprocal direction for slab tests. Zero components give infinite
+// reciprocals on purpose (+0.0 gives +inf, -0.0 gives -inf); intersect_aabb handles the
+// 0 * inf = NaN of an origin lying on a slab plane.
 struct TraversalRay {
   vec3 origin;
   vec3 inv_direction;

@@ -1,0 +1,197 @@
+// tessera-bench: ray files and tracing throughput of the acceleration structures.
+//   tessera-bench rays  --mesh FILE --kind primary|diffuse --width W --height H --out FILE.rays
+//   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N] [--accel
+//   bvh|wide|octree|brute|auto]
+//                       [--query closest|any] [--repeat R] [--isa auto|sse2]
+//   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
+//   tessera-bench load  --mesh FILE [--repeat R]
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "mesh_files.hpp"
+#include "ray_file.hpp"
+#include "ray_generation.hpp"
+#include "synthetic_meshes.hpp"
+#include "tessera/accel/triangle_accel.hpp"
+#include "trace_runner.hpp"
+
+namespace tessera::bench {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Aabb bounds_of(std::span<const Triangle> triangles) {
+  Aabb box;
+  for (const Triangle& t : triangles) box.extend(bounds(t));
+  return box;
+}
+
+std::vector<Triangle> load_triangles(const std::string& path) {
+  const auto start = std::chrono::steady_clock::now();
+  const IndexedMesh mesh = load_mesh_with_assimp(path);
+  std::vector<Triangle> triangles = to_triangles(mesh);
+  std::printf("mesh: %s, %zu triangles, loaded through assimp in %.3f s\n", path.c_str(),
+              triangles.size(), seconds_since(start));
+  return triangles;
+}
+
+void print_accel(const TriangleAccel& accel) {
+  const AccelStats& s = accel.stats();
+  std::printf(
+      "accel: %s (%s), build %.3f s, %.1f bytes/triangle, %zu nodes, depth %u, %.2f "
+      "references/triangle\n",
+      std::string(accel_kind_name(s.kind)).c_str(), std::string(s.isa).c_str(), s.build_seconds,
+      s.triangles ? static_cast<double>(s.bytes) / static_cast<double>(s.triangles) : 0.0, s.nodes,
+      s.depth,
+      s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles)
+                  : 0.0);
+}
+
+int run_rays(const std::string& mesh_path, const std::string& kind, std::uint32_t width,
+             std::uint32_t height, const std::string& out) {
+  const std::vector<Triangle> triangles = load_triangles(mesh_path);
+  const Aabb box = bounds_of(triangles);
+  std::vector<Ray> rays = make_primary_rays(box, width, height);
+  if (kind == "diffuse") {
+    const TriangleAccel accel = TriangleAccel::build(triangles);
+    std::vector<HitRecord> hits(rays.size());
+    accel.closest(rays, hits);
+    rays = make_diffuse_rays(rays, hits, triangles, box);
+  }
+  write_ray_file(out, rays);
+  std::printf("wrote %zu %s rays to %s\n", rays.size(), kind.c_str(), out.c_str());
+  return 0;
+}
+
+int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
+                      const std::string& accel_name, const std::string& query, unsigned repeat,
+                      const std::string& isa) {
+  const std::vector<Triangle> triangles = load_triangles(mesh_path);
+  const std::vector<Ray> rays = read_ray_file(rays_path);
+  std::printf("rays: %zu from %s\n", rays.size(), rays_path.c_str());
+  AccelBuildOptions options;
+  options.kind = *parse_accel_kind(accel_name);
+  options.allow_avx2 = isa != "sse2";
+  const TriangleAccel accel = TriangleAccel::build(triangles, options);
+  print_accel(accel);
+
+  TraceChunk chunk;
+  if (query == "any") {
+    chunk = [&](std::size_t begin, std::size_t end, float* t) {
+      for (std::size_t i = begin; i < end; ++i)
+        t[i - begin] = accel.occluded(rays[i]) ? 0.0f : kInfinity;
+    };
+  } else {
+    chunk = [&](std::size_t begin, std::size_t end, float* t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        HitRecord hit;
+        t[i - begin] = accel.closest(rays[i], hit) ? hit.t : kInfinity;
+      }
+    };
+  }
+  const TraceTiming timing = run_trace(rays.size(), threads, repeat, chunk);
+  std::printf("trace: %s, %u threads, best of %u: %.3f s\n", query.c_str(), threads, repeat,
+              timing.best_seconds);
+  print_result_line(timing);
+  return 0;
+}
+
+int run_mesh(const std::string& shape, std::size_t triangles, const std::string& out) {
+  const IndexedMesh mesh = make_synthetic_mesh(*parse_synthetic_mesh(shape), triangles);
+  write_binary_ply(out, mesh);
+  std::printf("wrote %s: %zu triangles, %zu vertices\n", out.c_str(), mesh.triangle_count(),
+              mesh.positions.size());
+  return 0;
+}
+
+int run_load(const std::string& mesh_path, unsigned repeat) {
+  double assimp_best = 1e300, direct_best = 1e300;
+  std::size_t assimp_triangles = 0, direct_triangles = 0;
+  for (unsigned r = 0; r < std::max(1u, repeat); ++r) {
+    auto start = std::chrono::steady_clock::now();
+    assimp_triangles = load_mesh_with_assimp(mesh_path).triangle_count();
+    assimp_best = std::min(assimp_best, seconds_since(start));
+    start = std::chrono::steady_clock::now();
+    direct_triangles = load_binary_ply_direct(mesh_path).triangle_count();
+    direct_best = std::min(direct_best, seconds_since(start));
+  }
+  std::printf("assimp (tessera::load_mesh_file): %.3f s, %zu triangles\n", assimp_best,
+              assimp_triangles);
+  std::printf("direct binary PLY read:           %.3f s, %zu triangles\n", direct_best,
+              direct_triangles);
+  std::printf("assimp_s=%.3f direct_s=%.3f ratio=%.1f\n", assimp_best, direct_best,
+              assimp_best / direct_best);
+  return 0;
+}
+
+}  // namespace
+}  // namespace tessera::bench
+
+int main(int argc, char** argv) {
+  using namespace tessera::bench;
+  spdlog::set_level(spdlog::level::warn);
+  CLI::App app{"Tessera acceleration-structure benchmark"};
+  app.require_subcommand(1);
+
+  std::string mesh, out, kind = "primary", rays_path, accel = "wide", query = "closest",
+                         isa = "auto", shape;
+  std::uint32_t width = 1024, height = 1024;
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency()), repeat = 3;
+  std::size_t triangles = 1'000'000;
+
+  auto* rays = app.add_subcommand("rays", "write a ray file of primary or diffuse rays for a mesh");
+  rays->add_option("--mesh", mesh, "mesh file (any format assimp reads)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  rays->add_option("--kind", kind, "primary or diffuse")
+      ->check(CLI::IsMember({"primary", "diffuse"}));
+  rays->add_option("--width", width, "image width in pixels")->check(CLI::Range(1u, 16384u));
+  rays->add_option("--height", height, "image height in pixels")->check(CLI::Range(1u, 16384u));
+  rays->add_option("--out", out, "ray file to write")->required();
+
+  auto* trace = app.add_subcommand("trace", "trace a ray file and print throughput");
+  trace->add_option("--mesh", mesh, "mesh file")->required()->check(CLI::ExistingFile);
+  trace->add_option("--rays", rays_path, "ray file")->required()->check(CLI::ExistingFile);
+  trace->add_option("--threads", threads, "worker threads")->check(CLI::Range(1u, 1024u));
+  trace->add_option("--accel", accel, "bvh, wide, octree, brute or auto")
+      ->check(CLI::IsMember({"bvh", "wide", "octree", "brute", "auto"}));
+  trace->add_option("--query", query, "closest or any")->check(CLI::IsMember({"closest", "any"}));
+  trace->add_option("--repeat", repeat, "runs over all rays; the fastest counts")
+      ->check(CLI::Range(1u, 1000u));
+  trace->add_option("--isa", isa, "auto (AVX2 where present) or sse2")
+      ->check(CLI::IsMember({"auto", "sse2"}));
+
+  auto* mesh_cmd =
+      app.add_subcommand("mesh", "write a deterministic synthetic benchmark mesh as PLY");
+  mesh_cmd->add_option("--shape", shape, "knot or scatter")
+      ->required()
+      ->check(CLI::IsMember({"knot", "scatter"}));
+  mesh_cmd->add_option("--triangles", triangles, "at least this many triangles")
+      ->check(CLI::Range(1000, 50'000'000));
+  mesh_cmd->add_option("--out", out, "PLY file to write")->required();
+
+  auto* load = app.add_subcommand("load", "time assimp against a direct binary PLY read");
+  load->add_option("--mesh", mesh, "binary little-endian PLY file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  load->add_option("--repeat", repeat, "loads of each kind; the fastest counts")
+      ->check(CLI::Range(1u, 100u));
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*rays) return run_rays(mesh, kind, width, height, out);
+    if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa);
+    if (*mesh_cmd) return run_mesh(shape, triangles, out);
+    if (*load) return run_load(mesh, repeat);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tessera-bench: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

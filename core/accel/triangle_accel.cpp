@@ -1,0 +1,214 @@
+#include "tessera/accel/triangle_accel.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "tessera/accel/bvh_traversal.hpp"
+#include "triangle_kernels.hpp"
+
+namespace tessera {
+
+std::string_view accel_kind_name(AccelKind kind) {
+  switch (kind) {
+    case AccelKind::kAuto:
+      return "auto";
+    case AccelKind::kBvh:
+      return "bvh";
+    case AccelKind::kWide:
+      return "wide";
+    case AccelKind::kOctree:
+      return "octree";
+    case AccelKind::kBrute:
+      return "brute";
+  }
+  return "unknown";
+}
+
+std::optional<AccelKind> parse_accel_kind(std::string_view name) {
+  for (AccelKind kind :
+       {AccelKind::kAuto, AccelKind::kBvh, AccelKind::kWide, AccelKind::kOctree, AccelKind::kBrute})
+    if (accel_kind_name(kind) == name) return kind;
+  return std::nullopt;
+}
+
+bool cpu_supports_avx2_kernels() {
+  return accel_detail::cpu_has_avx2();
+}
+
+AccelKind choose_accel_kind(std::size_t triangle_count) {
+  return triangle_count <= kBruteForceMaxTriangles ? AccelKind::kBrute : AccelKind::kWide;
+}
+
+namespace {
+
+// The same admission rule as the SIMD kernels, for the scalar binary-BVH path.
+bool is_traceable(const Ray& ray) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!std::isfinite(ray.origin[axis]) || !std::isfinite(ray.direction[axis])) return false;
+  if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
+  return ray.t_min <= ray.t_max;
+}
+
+// Per-ray data of the scalar path: the watertight test's shear is computed once per ray,
+// not once per triangle.
+struct ScalarTriangles {
+  const Triangle* triangles;
+  WatertightRay shear;
+
+  bool operator()(std::uint32_t index, const Ray& ray, float t_max, HitRecord& hit) const {
+    return intersect(triangles[index], ray, shear, t_max, hit, index);
+  }
+};
+
+const accel_detail::TriangleKernels* select_kernels(AccelKind kind, bool allow_avx2) {
+#if TESSERA_HAVE_SIMD_KERNELS
+  const bool avx2 = allow_avx2 && accel_detail::cpu_has_avx2();
+  if (kind == AccelKind::kBrute)
+    return avx2 ? &accel_detail::avx2::brute_kernels() : &accel_detail::sse2::brute_kernels();
+  return avx2 ? &accel_detail::avx2::wide_kernels() : &accel_detail::sse2::wide_kernels();
+#else
+  (void)kind;
+  (void)allow_avx2;
+  return nullptr;
+#endif
+}
+
+}  // namespace
+
+TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
+                                   const AccelBuildOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (triangles.size() > (std::size_t{kWideMaxLeafFirst} + 1) * 4)
+    throw std::invalid_argument("TriangleAccel: too many triangles (" +
+                                std::to_string(triangles.size()) + ")");
+  TriangleAccel accel;
+  AccelKind kind =
+      options.kind == AccelKind::kAuto ? choose_accel_kind(triangles.size()) : options.kind;
+  if (!TESSERA_HAVE_SIMD_KERNELS) kind = AccelKind::kBvh;
+
+  std::vector<Aabb> bounds(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) bounds[i] = tessera::bounds(triangles[i]);
+  std::vector<std::uint32_t> ids(triangles.size());
+  std::iota(ids.begin(), ids.end(), 0u);
+
+  switch (kind) {
+    case AccelKind::kAuto:
+    case AccelKind::kBvh:
+      kind = AccelKind::kBvh;
+      accel.bvh_ = build_bvh(bounds, ids, options.bvh);
+      accel.triangles_.assign(triangles.begin(), triangles.end());
+      accel.stats_.bytes = accel.bvh_.nodes.size() * sizeof(BvhNode) +
+                           accel.bvh_.primitives.size() * 4 +
+                           accel.triangles_.size() * sizeof(Triangle);
+      accel.stats_.nodes = accel.bvh_.nodes.size();
+      accel.stats_.depth = accel.bvh_.depth;
+      accel.stats_.leaf_references = accel.bvh_.primitives.size();
+      break;
+    case AccelKind::kWide: {
+      BvhBuildOptions wide = options.wide;
+      wide.max_leaf_size = std::min(wide.max_leaf_size, kWideMaxLeafItems * 4);
+      const Bvh binary = build_bvh(bounds, ids, wide);
+      accel.blocks_.reserve(triangles.size() / 3 + 1);
+      accel.wide_ = collapse_to_wide(binary, [&](std::uint32_t offset, std::uint32_t count) {
+        const std::uint32_t first = append_triangle_blocks(
+            triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
+            accel.blocks_);
+        return make_wide_leaf(first, (count + 3) / 4);
+      });
+      break;
+    }
+    case AccelKind::kOctree: {
+      OctreeLimits limits = options.octree;
+      limits.max_leaf_items = kWideMaxLeafItems * 4;
+      accel.wide_ = build_octree(bounds, limits, [&](std::span<const std::uint32_t> cell) {
+        const std::uint32_t first = append_triangle_blocks(triangles, cell, accel.blocks_);
+        if (first > kWideMaxLeafFirst)
+          throw std::length_error("octree: too many triangle references");
+        return make_wide_leaf(first, static_cast<std::uint32_t>((cell.size() + 3) / 4));
+      });
+      break;
+    }
+    case AccelKind::kBrute:
+      append_triangle_blocks(triangles, ids, accel.blocks_);
+      break;
+  }
+  if (kind != AccelKind::kBvh) {
+    accel.kernels_ = select_kernels(kind, options.allow_avx2);
+    accel.stats_.bytes = accel.wide_.bytes() + accel.blocks_.size() * sizeof(TriangleBlock4);
+    accel.stats_.nodes = accel.wide_.nodes.size();
+    accel.stats_.depth = accel.wide_.depth;
+    accel.stats_.leaf_references = 0;
+    for (const TriangleBlock4& block : accel.blocks_)
+      for (std::uint32_t id : block.ids)
+        accel.stats_.leaf_references += id != kInvalidIndex ? 1 : 0;
+  }
+  accel.stats_.kind = kind;
+  accel.stats_.isa = accel.kernels_ != nullptr ? accel.kernels_->isa : "scalar";
+  accel.stats_.triangles = triangles.size();
+  accel.stats_.build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  spdlog::info(
+      "triangle accel: {} ({}) for {} triangles{}: {:.3f} s, {:.1f} bytes/triangle, depth {}",
+      accel_kind_name(kind), accel.stats_.isa, triangles.size(),
+      options.kind == AccelKind::kAuto ? " (chosen by size)" : " (forced)",
+      accel.stats_.build_seconds,
+      triangles.empty()
+          ? 0.0
+          : static_cast<double>(accel.stats_.bytes) / static_cast<double>(triangles.size()),
+      accel.stats_.depth);
+  return accel;
+}
+
+bool TriangleAccel::closest(const Ray& ray, HitRecord& hit) const {
+  if (kernels_ != nullptr) return kernels_->closest(view(), ray, hit);
+  if (!is_traceable(ray)) return false;
+  HitRecord found;
+  found.t = ray.t_max;
+  if (!traverse_bvh<false>(bvh_.view(), ray, found,
+                           ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)}))
+    return false;
+  hit = found;
+  return true;
+}
+
+bool TriangleAccel::occluded(const Ray& ray) const {
+  if (kernels_ != nullptr) return kernels_->occluded(view(), ray);
+  if (!is_traceable(ray)) return false;
+  HitRecord found;
+  found.t = ray.t_max;
+  return traverse_bvh<true>(bvh_.view(), ray, found,
+                            ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)});
+}
+
+std::uint32_t TriangleAccel::all_hits(const Ray& ray, HitRecord* hits,
+                                      std::uint32_t capacity) const {
+  if (kernels_ != nullptr) return kernels_->all_hits(view(), ray, hits, capacity);
+  if (!is_traceable(ray)) return 0;
+  return traverse_bvh_all(bvh_.view(), ray, hits, capacity,
+                          ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)});
+}
+
+void TriangleAccel::closest(std::span<const Ray> rays, std::span<HitRecord> hits) const {
+  if (hits.size() < rays.size())
+    throw std::invalid_argument("TriangleAccel::closest: fewer hits than rays");
+  if (kernels_ != nullptr)
+    return kernels_->closest_batch(view(), rays.data(), hits.data(), rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    hits[i] = HitRecord{};
+    closest(rays[i], hits[i]);
+  }
+}
+
+void TriangleAccel::occluded(std::span<const Ray> rays, std::span<std::uint8_t> result) const {
+  if (result.size() < rays.size())
+    throw std::invalid_argument("TriangleAccel::occluded: fewer results than rays");
+  if (kernels_ != nullptr)
+    return kernels_->occluded_batch(view(), rays.data(), result.data(), rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) result[i] = occluded(rays[i]) ? 1 : 0;
+}
+
+}  // namespace tessera

@@ -1,0 +1,470 @@
+// SIMD traversal kernels of the wide BVH, octree and brute-force triangle tracers.
+//
+// Included once per instruction set by triangle_kernels_<isa>.cpp, which defines
+// TESSERA_KERNEL_NS (the namespace, so each set's instantiations have their own symbols)
+// and TESSERA_KERNEL_AVX2 (1: eight-wide box tests in one AVX2 instruction; 0: two SSE2
+// halves). The AVX2 file wraps this inclusion in `#pragma GCC target`, so only these
+// functions use AVX2 and the dispatcher can pick them at run time.
+//
+// Everything here is free of fused multiply-adds on purpose (neither file enables FMA):
+// the watertight triangle test relies on edge functions of shared edges being computed
+// with the same roundings, and the results must equal tessera::intersect bit for bit.
+
+namespace tessera::accel_detail::TESSERA_KERNEL_NS {
+namespace {
+
+// Per-ray constants, computed once before the walk.
+struct PreparedRay {
+  // Slab tests: reciprocal direction (never infinite, see prepare) and, per axis, which
+  // bounds row is the near plane and which the far one.
+  float origin[3];
+  float inv_direction[3];
+  std::uint32_t near_row[3];
+  std::uint32_t far_row[3];
+  float t_min;
+  // Watertight triangle test (as WatertightRay): axis permutation and shear.
+  std::uint32_t kx, ky, kz;
+  float sx, sy, sz;
+};
+
+// Zero direction components give infinite reciprocals (+0.0: +inf, -0.0: -inf), and the
+// sign picks the near plane, so -0.0 reads the upper bound first as a tiny negative
+// component would. An origin lying exactly on a slab plane of such an axis gives
+// 0 * inf = NaN for that plane; the box tests drop NaN operands (see test_node), so the
+// ray counts as inside that slab, boundary included, which is what the watertight
+// triangle test needs for a ray running along a triangle's edge.
+inline bool prepare(const Ray& ray, PreparedRay& r) {
+  const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+  const float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+  for (int axis = 0; axis < 3; ++axis)
+    if (!std::isfinite(o[axis]) || !std::isfinite(d[axis])) return false;
+  if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) return false;
+  if (!(ray.t_min <= ray.t_max)) return false;  // also rejects NaN limits
+  for (std::uint32_t axis = 0; axis < 3; ++axis) {
+    r.origin[axis] = o[axis];
+    r.inv_direction[axis] = 1.0f / d[axis];
+    const std::uint32_t negative = std::signbit(d[axis]) ? 1U : 0U;
+    r.near_row[axis] = 2 * axis + negative;
+    r.far_row[axis] = 2 * axis + 1 - negative;
+  }
+  r.t_min = ray.t_min;
+  const float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+  r.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  r.kx = r.kz + 1 == 3 ? 0 : r.kz + 1;
+  r.ky = r.kx + 1 == 3 ? 0 : r.kx + 1;
+  if (d[r.kz] < 0.0f) std::swap(r.kx, r.ky);  // keep the winding
+  r.sx = d[r.kx] / d[r.kz];
+  r.sy = d[r.ky] / d[r.kz];
+  r.sz = 1.0f / d[r.kz];
+  return true;
+}
+
+// ---- Box tests -------------------------------------------------------------------------
+
+// The far end of the interval (the box's exit, or the closest hit so far if nearer) is
+// widened by two ulps, which with the subtract-then-multiply slab test keeps boxes from
+// being missed through rounding (Ize, "Robust BVH ray traversal", JCGT 2013): a flat box
+// holding an axis-aligned quad, or a box entered at the same distance, up to rounding, as
+// the hit found so far.
+constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
+
+#if TESSERA_KERNEL_AVX2
+struct BoxRay {
+  __m256 origin[3], inv_direction[3], t_min;
+  explicit BoxRay(const PreparedRay& r) {
+    for (int axis = 0; axis < 3; ++axis) {
+      origin[axis] = _mm256_set1_ps(r.origin[axis]);
+      inv_direction[axis] = _mm256_set1_ps(r.inv_direction[axis]);
+    }
+    t_min = _mm256_set1_ps(r.t_min);
+  }
+};
+
+// Returns the mask of children whose box the ray enters within [t_min, t_max] and their
+// entry distances.
+inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b, float t_max,
+                               float* entry) {
+  const auto slab = [&](std::uint32_t row, int axis) {
+    return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]), b.inv_direction[axis]);
+  };
+  const __m256 near_x = slab(r.near_row[0], 0), near_y = slab(r.near_row[1], 1), near_z = slab(r.near_row[2], 2);
+  const __m256 far_x = slab(r.far_row[0], 0), far_y = slab(r.far_row[1], 1), far_z = slab(r.far_row[2], 2);
+  // max/min return their second operand when either is NaN: the plane distances go first
+  // and the accumulated interval second, so a NaN plane leaves the interval unchanged.
+  const __m256 t_near = _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
+  const __m256 box_far = _mm256_min_ps(far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(kInfinity))));
+  const __m256 t_far = _mm256_mul_ps(_mm256_min_ps(box_far, _mm256_set1_ps(t_max)), _mm256_set1_ps(kFarScale));
+  _mm256_store_ps(entry, t_near);
+  return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ)));
+}
+#else
+struct BoxRay {
+  __m128 origin[3], inv_direction[3], t_min;
+  explicit BoxRay(const PreparedRay& r) {
+    for (int axis = 0; axis < 3; ++axis) {
+      origin[axis] = _mm_set1_ps(r.origin[axis]);
+      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
+    }
+    t_min = _mm_set1_ps(r.t_min);
+  }
+};
+
+inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b, float t_max,
+                               float* entry) {
+  std::uint32_t mask = 0;
+  const __m128 far_limit = _mm_set1_ps(t_max);
+  const __m128 far_scale = _mm_set1_ps(kFarScale);
+  for (int half = 0; half < 2; ++half) {
+    const int lane = 4 * half;
+    const auto slab = [&](std::uint32_t row, int axis) {
+      return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]), b.inv_direction[axis]);
+    };
+    const __m128 near_x = slab(r.near_row[0], 0), near_y = slab(r.near_row[1], 1), near_z = slab(r.near_row[2], 2);
+    const __m128 far_x = slab(r.far_row[0], 0), far_y = slab(r.far_row[1], 1), far_z = slab(r.far_row[2], 2);
+    // NaN plane distances go first: see the AVX2 version.
+    const __m128 t_near = _mm_max_ps(near_x, _mm_max_ps(near_y, _mm_max_ps(near_z, b.t_min)));
+    const __m128 box_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, _mm_set1_ps(kInfinity))));
+    const __m128 t_far = _mm_mul_ps(_mm_min_ps(box_far, far_limit), far_scale);
+    _mm_store_ps(entry + lane, t_near);
+    mask |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmple_ps(t_near, t_far))) << lane;
+  }
+  return mask;
+}
+#endif
+
+// ---- Triangle blocks -------------------------------------------------------------------
+
+struct TriangleRay {
+  __m128 origin_x, origin_y, origin_z;  // origin in the permuted frame
+  __m128 sx, sy, sz, t_min;
+  std::uint32_t row_x, row_y, row_z;  // float offsets of the permuted axes in a vertex row
+  explicit TriangleRay(const PreparedRay& r)
+      : origin_x(_mm_set1_ps(r.origin[r.kx])),
+        origin_y(_mm_set1_ps(r.origin[r.ky])),
+        origin_z(_mm_set1_ps(r.origin[r.kz])),
+        sx(_mm_set1_ps(r.sx)),
+        sy(_mm_set1_ps(r.sy)),
+        sz(_mm_set1_ps(r.sz)),
+        t_min(_mm_set1_ps(r.t_min)),
+        row_x(4 * r.kx),
+        row_y(4 * r.ky),
+        row_z(4 * r.kz) {}
+};
+
+// Lanes of one block the ray hits in (t_min, t_max), with t and barycentrics per lane.
+struct BlockHits {
+  std::uint32_t mask;
+  __m128 valid, t, b1, b2;
+};
+
+// The watertight test of tessera::intersect on four triangles at once, operation for
+// operation, so each lane's result is bit-identical to the scalar one.
+inline std::uint32_t intersect_block(const TriangleBlock4& block, const TriangleRay& r, float t_max, BlockHits& out) {
+  const float* v = &block.vertices[0][0][0];
+  // Vertex rows are 12 floats apart ([vertex][axis][lane]).
+  const __m128 a_x = _mm_sub_ps(_mm_load_ps(v + r.row_x), r.origin_x);
+  const __m128 a_y = _mm_sub_ps(_mm_load_ps(v + r.row_y), r.origin_y);
+  const __m128 a_z = _mm_sub_ps(_mm_load_ps(v + r.row_z), r.origin_z);
+  const __m128 b_x = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_x), r.origin_x);
+  const __m128 b_y = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_y), r.origin_y);
+  const __m128 b_z = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_z), r.origin_z);
+  const __m128 c_x = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_x), r.origin_x);
+  const __m128 c_y = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_y), r.origin_y);
+  const __m128 c_z = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_z), r.origin_z);
+  const __m128 ax = _mm_sub_ps(a_x, _mm_mul_ps(r.sx, a_z));
+  const __m128 ay = _mm_sub_ps(a_y, _mm_mul_ps(r.sy, a_z));
+  const __m128 bx = _mm_sub_ps(b_x, _mm_mul_ps(r.sx, b_z));
+  const __m128 by = _mm_sub_ps(b_y, _mm_mul_ps(r.sy, b_z));
+  const __m128 cx = _mm_sub_ps(c_x, _mm_mul_ps(r.sx, c_z));
+  const __m128 cy = _mm_sub_ps(c_y, _mm_mul_ps(r.sy, c_z));
+  __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
+  __m128 w1 = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
+  __m128 w2 = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
+  const __m128 zero = _mm_setzero_ps();
+
+  // An edge function of exactly zero is recomputed in double, so the sign decision on a
+  // shared edge or vertex is exact (rare: a scalar pass over the affected lanes).
+  const int zero_lanes = _mm_movemask_ps(
+      _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(w1, zero)), _mm_cmpeq_ps(w2, zero)));
+  if (zero_lanes != 0) [[unlikely]] {
+    alignas(16) float u_[4], w1_[4], w2_[4], ax_[4], ay_[4], bx_[4], by_[4], cx_[4], cy_[4];
+    _mm_store_ps(u_, u);
+    _mm_store_ps(w1_, w1);
+    _mm_store_ps(w2_, w2);
+    _mm_store_ps(ax_, ax);
+    _mm_store_ps(ay_, ay);
+    _mm_store_ps(bx_, bx);
+    _mm_store_ps(by_, by);
+    _mm_store_ps(cx_, cx);
+    _mm_store_ps(cy_, cy);
+    for (int lane = 0; lane < 4; ++lane) {
+      if (!(zero_lanes & (1 << lane))) continue;
+      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] - static_cast<double>(cy_[lane]) * bx_[lane]);
+      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] - static_cast<double>(ay_[lane]) * cx_[lane]);
+      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] - static_cast<double>(by_[lane]) * ax_[lane]);
+    }
+    u = _mm_load_ps(u_);
+    w1 = _mm_load_ps(w1_);
+    w2 = _mm_load_ps(w2_);
+  }
+
+  const __m128 negative =
+      _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(w1, zero)), _mm_cmplt_ps(w2, zero));
+  const __m128 positive =
+      _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(w1, zero)), _mm_cmpgt_ps(w2, zero));
+  const __m128 det = _mm_add_ps(_mm_add_ps(u, w1), w2);
+  // Mixed signs: the ray passes outside. NaN lanes (padding) fail the t test below.
+  __m128 valid = _mm_andnot_ps(_mm_and_ps(negative, positive), _mm_cmpneq_ps(det, zero));
+  if (_mm_movemask_ps(valid) == 0) return 0;
+
+  const __m128 t_scaled = _mm_add_ps(
+      _mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(r.sz, a_z)), _mm_mul_ps(w1, _mm_mul_ps(r.sz, b_z))),
+      _mm_mul_ps(w2, _mm_mul_ps(r.sz, c_z)));
+  const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
+  const __m128 t = _mm_mul_ps(t_scaled, inv_det);
+  valid = _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, r.t_min), _mm_cmplt_ps(t, _mm_set1_ps(t_max))));
+  out.mask = static_cast<std::uint32_t>(_mm_movemask_ps(valid));
+  out.valid = valid;
+  out.t = t;
+  out.b1 = _mm_mul_ps(w1, inv_det);
+  out.b2 = _mm_mul_ps(w2, inv_det);
+  return out.mask;
+}
+
+inline float lane_of(__m128 v, std::uint32_t lane) {
+  alignas(16) float values[4];
+  _mm_store_ps(values, v);
+  return values[lane];
+}
+
+// ---- Queries ---------------------------------------------------------------------------
+
+struct ClosestQuery {
+  static constexpr bool kOrdered = true;  // visit near children first, so t_max shrinks early
+  float t_max;
+  HitRecord best{};
+  bool found = false;
+
+  // Returns true to end the traversal.
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count, const TriangleRay& r) {
+    for (std::uint32_t b = first; b < first + count; ++b) {
+      BlockHits hits;
+      if (intersect_block(blocks[b], r, t_max, hits) == 0) continue;
+      // Nearest lane; on equal t the lowest lane, so the choice is deterministic.
+      const __m128 masked =
+          _mm_or_ps(_mm_and_ps(hits.valid, hits.t), _mm_andnot_ps(hits.valid, _mm_set1_ps(kInfinity)));
+      __m128 m = _mm_min_ps(masked, _mm_shuffle_ps(masked, masked, _MM_SHUFFLE(2, 3, 0, 1)));
+      m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
+      const auto nearest = static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmpeq_ps(masked, m))) & hits.mask;
+      const auto lane = static_cast<std::uint32_t>(__builtin_ctz(nearest));
+      t_max = lane_of(hits.t, lane);
+      best = HitRecord{t_max, lane_of(hits.b1, lane), lane_of(hits.b2, lane), blocks[b].ids[lane]};
+      found = true;
+    }
+    return false;
+  }
+};
+
+struct AnyQuery {
+  static constexpr bool kOrdered = false;  // any hit ends the walk: order does not matter
+  float t_max;
+  bool found = false;
+
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count, const TriangleRay& r) {
+    for (std::uint32_t b = first; b < first + count; ++b) {
+      BlockHits hits;
+      if (intersect_block(blocks[b], r, t_max, hits) != 0) {
+        found = true;
+        return true;
+      }
+    }
+    return false;
+  }
+};
+
+// Keeps the `capacity` nearest hits sorted by t; once full, the farthest kept hit bounds
+// the walk. The octree references a triangle from several cells, so a triangle already
+// kept is not added twice.
+struct AllQuery {
+  static constexpr bool kOrdered = true;
+  float ray_t_max;
+  float t_max;
+  HitRecord* hits;
+  std::uint32_t capacity;
+  std::uint32_t count = 0;
+
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t n, const TriangleRay& r) {
+    for (std::uint32_t b = first; b < first + n; ++b) {
+      BlockHits found;
+      std::uint32_t mask = intersect_block(blocks[b], r, t_max, found);
+      while (mask != 0) {
+        const auto lane = static_cast<std::uint32_t>(__builtin_ctz(mask));
+        mask &= mask - 1;
+        insert(HitRecord{lane_of(found.t, lane), lane_of(found.b1, lane), lane_of(found.b2, lane),
+                         blocks[b].ids[lane]});
+      }
+    }
+    return false;
+  }
+
+  void insert(const HitRecord& hit) {
+    if (!(hit.t < t_max)) return;
+    for (std::uint32_t i = 0; i < count; ++i)
+      if (hits[i].primitive == hit.primitive) return;
+    std::uint32_t at = count < capacity ? count++ : capacity - 1;
+    while (at > 0 && hits[at - 1].t > hit.t) {
+      hits[at] = hits[at - 1];
+      --at;
+    }
+    hits[at] = hit;
+    t_max = count == capacity ? hits[capacity - 1].t : ray_t_max;
+  }
+};
+
+// ---- Walks -----------------------------------------------------------------------------
+
+struct StackEntry {
+  std::uint32_t child;
+  float t;  // entry distance, to skip entries beyond a closer hit found meanwhile
+};
+
+template <typename Query>
+inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+  const BoxRay box_ray(ray);
+  const TriangleRay triangle_ray(ray);
+  StackEntry stack[kWideStackSize];
+  std::uint32_t size = 0;
+  std::uint32_t child = 0;  // the root, always an interior node
+  alignas(32) float entry[kWideBvhWidth];
+  for (;;) {
+    while (!wide_is_leaf(child)) {
+      const WideBvhNode& node = view.nodes[child];
+      std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, entry);
+      if (mask == 0) goto pop;
+      const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
+      mask &= mask - 1;
+      if (mask == 0) {
+        child = node.children[first];
+        continue;
+      }
+      if constexpr (Query::kOrdered) {
+        const auto second = static_cast<std::uint32_t>(__builtin_ctz(mask));
+        mask &= mask - 1;
+        if (mask == 0) {
+          const bool first_nearer = entry[first] <= entry[second];
+          const std::uint32_t near = first_nearer ? first : second, far = first_nearer ? second : first;
+          stack[size++] = StackEntry{node.children[far], entry[far]};
+          child = node.children[near];
+          continue;
+        }
+        // Three or more: push all, sort them so the nearest is on top, continue with it.
+        const std::uint32_t base = size;
+        stack[size++] = StackEntry{node.children[first], entry[first]};
+        stack[size++] = StackEntry{node.children[second], entry[second]};
+        do {
+          const auto slot = static_cast<std::uint32_t>(__builtin_ctz(mask));
+          mask &= mask - 1;
+          stack[size++] = StackEntry{node.children[slot], entry[slot]};
+        } while (mask != 0);
+        for (std::uint32_t i = base + 1; i < size; ++i) {
+          const StackEntry moving = stack[i];
+          std::uint32_t j = i;
+          for (; j > base && stack[j - 1].t < moving.t; --j) stack[j] = stack[j - 1];
+          stack[j] = moving;
+        }
+        child = stack[--size].child;
+      } else {
+        do {
+          const auto slot = static_cast<std::uint32_t>(__builtin_ctz(mask));
+          mask &= mask - 1;
+          stack[size++] = StackEntry{node.children[slot], entry[slot]};
+        } while (mask != 0);
+        child = node.children[first];
+      }
+    }
+    if (query.leaf(view.blocks, wide_leaf_first(child), wide_leaf_count(child), triangle_ray)) return;
+  pop:
+    do {
+      if (size == 0) return;
+      --size;
+    } while (stack[size].t > query.t_max);
+    child = stack[size].child;
+  }
+}
+
+template <typename Query>
+inline void traverse_brute(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+  const TriangleRay triangle_ray(ray);
+  for (std::uint32_t b = 0; b < view.block_count; ++b)
+    if (query.leaf(view.blocks, b, 1, triangle_ray)) return;
+}
+
+template <bool kBrute, typename Query>
+inline void walk(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+  if constexpr (kBrute) {
+    traverse_brute(view, ray, query);
+  } else {
+    if (view.nodes != nullptr) traverse_wide(view, ray, query);
+  }
+}
+
+template <bool kBrute>
+bool closest(const WideTriangleView& view, const Ray& ray, HitRecord& hit) {
+  PreparedRay prepared;
+  if (!prepare(ray, prepared)) return false;
+  ClosestQuery query{ray.t_max};
+  walk<kBrute>(view, prepared, query);
+  if (query.found) hit = query.best;
+  return query.found;
+}
+
+template <bool kBrute>
+bool occluded(const WideTriangleView& view, const Ray& ray) {
+  PreparedRay prepared;
+  if (!prepare(ray, prepared)) return false;
+  AnyQuery query{ray.t_max};
+  walk<kBrute>(view, prepared, query);
+  return query.found;
+}
+
+template <bool kBrute>
+std::uint32_t all_hits(const WideTriangleView& view, const Ray& ray, HitRecord* hits, std::uint32_t capacity) {
+  PreparedRay prepared;
+  if (capacity == 0 || !prepare(ray, prepared)) return 0;
+  AllQuery query{ray.t_max, ray.t_max, hits, capacity};
+  walk<kBrute>(view, prepared, query);
+  return query.count;
+}
+
+template <bool kBrute>
+void closest_batch(const WideTriangleView& view, const Ray* rays, HitRecord* hits, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    hits[i] = HitRecord{};
+    closest<kBrute>(view, rays[i], hits[i]);
+  }
+}
+
+template <bool kBrute>
+void occluded_batch(const WideTriangleView& view, const Ray* rays, std::uint8_t* result, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) result[i] = occluded<kBrute>(view, rays[i]) ? 1 : 0;
+}
+
+template <bool kBrute>
+constexpr TriangleKernels make_kernels(std::string_view isa) {
+  return TriangleKernels{isa, &closest<kBrute>, &occluded<kBrute>, &all_hits<kBrute>, &closest_batch<kBrute>,
+                         &occluded_batch<kBrute>};
+}
+
+}  // namespace
+
+const TriangleKernels& wide_kernels() {
+  static constexpr TriangleKernels kernels = make_kernels<false>(TESSERA_KERNEL_ISA_NAME);
+  return kernels;
+}
+
+const TriangleKernels& brute_kernels() {
+  static constexpr TriangleKernels kernels = make_kernels<true>(TESSERA_KERNEL_ISA_NAME);
+  return kernels;
+}
+
+}  // namespace tessera::accel_detail::TESSERA_KERNEL_NS

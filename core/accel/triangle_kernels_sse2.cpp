@@ -1,0 +1,15 @@
+// SSE2 kernels: the x86-64 baseline, so they run on every 64-bit x86 processor.
+#include "triangle_kernels.hpp"
+
+#if TESSERA_HAVE_SIMD_KERNELS
+#include <immintrin.h>
+
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+#define TESSERA_KERNEL_NS sse2
+#define TESSERA_KERNEL_ISA_NAME "sse2"
+#define TESSERA_KERNEL_AVX2 0
+#include "triangle_kernels.inl"
+#endif

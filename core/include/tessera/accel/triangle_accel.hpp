@@ -1,0 +1,115 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "tessera/accel/bvh.hpp"
+#include "tessera/accel/octree.hpp"
+#include "tessera/accel/triangle_block.hpp"
+#include "tessera/accel/wide_bvh.hpp"
+
+namespace tessera {
+
+// The acceleration structures a triangle set can be traced with.
+//   bvh    - the binary BVH in its flattened GPU layout, walked one box at a time (scalar)
+//   wide   - the BVH collapsed to eight-wide nodes, SIMD box and triangle tests (SSE2/AVX2)
+//   octree - a spatial octree over the scene's bounding cube, triangles referenced by every
+//            cell they overlap; same SIMD node and triangle tests as `wide`
+//   brute  - every triangle block against every ray: for scenes of a few triangles
+enum class AccelKind : std::uint8_t { kAuto, kBvh, kWide, kOctree, kBrute };
+
+std::string_view accel_kind_name(AccelKind kind);
+std::optional<AccelKind> parse_accel_kind(std::string_view name);
+
+// Up to this many triangles brute force is as fast as any tree (measured, see the note in
+// bench/accel/README.md); above it the wide BVH is fastest for every scene measured.
+inline constexpr std::size_t kBruteForceMaxTriangles = 16;
+AccelKind choose_accel_kind(std::size_t triangle_count);
+
+struct AccelBuildOptions {
+  AccelKind kind = AccelKind::kAuto;
+  BvhBuildOptions bvh{};  // for kBvh
+  // For kWide: the binary BVH that is collapsed, with the SAH counting 4-triangle blocks.
+  BvhBuildOptions wide{8, 4, 1.0f, 1.0f, 16, true};
+  OctreeLimits octree{};
+  bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
+};
+
+struct AccelStats {
+  AccelKind kind = AccelKind::kAuto;  // the structure actually built
+  std::string_view isa;               // "scalar", "sse2" or "avx2"
+  double build_seconds = 0.0;
+  std::size_t bytes = 0;  // nodes, leaf data and references, excluding the input triangles
+  std::size_t nodes = 0;
+  std::uint32_t depth = 0;
+  std::size_t triangles = 0;
+  std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
+};
+
+// True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).
+bool cpu_supports_avx2_kernels();
+
+// The read-only data the SIMD kernels walk (wide BVH, octree and brute force).
+struct WideTriangleView {
+  const WideBvhNode* nodes = nullptr;  // null for brute force
+  const TriangleBlock4* blocks = nullptr;
+  std::uint32_t block_count = 0;
+};
+
+namespace accel_detail {
+// One compiled kernel per query, per structure and per instruction set, chosen when the
+// structure is built; a call costs one indirect jump per ray (or per batch), never a
+// test per node.
+struct TriangleKernels {
+  std::string_view isa;
+  bool (*closest)(const WideTriangleView&, const Ray&, HitRecord&);
+  bool (*occluded)(const WideTriangleView&, const Ray&);
+  std::uint32_t (*all_hits)(const WideTriangleView&, const Ray&, HitRecord*, std::uint32_t);
+  void (*closest_batch)(const WideTriangleView&, const Ray*, HitRecord*, std::size_t);
+  void (*occluded_batch)(const WideTriangleView&, const Ray*, std::uint8_t*, std::size_t);
+};
+}  // namespace accel_detail
+
+// Traces rays against a triangle set. Hits name the triangle by its index in the array
+// given to build(); u and v are the barycentric weights of p1 and p2 (as tessera::intersect).
+// Rays with a non-finite origin or direction, a zero direction or t_min > t_max never hit.
+class TriangleAccel {
+ public:
+  TriangleAccel() = default;  // traces nothing
+
+  static TriangleAccel build(std::span<const Triangle> triangles,
+                             const AccelBuildOptions& options = {});
+
+  // Closest hit in (ray.t_min, ray.t_max); `hit` is written only on a hit.
+  bool closest(const Ray& ray, HitRecord& hit) const;
+  // Any hit in (ray.t_min, ray.t_max): stops at the first one found.
+  bool occluded(const Ray& ray) const;
+  // The `capacity` nearest hits in (ray.t_min, ray.t_max), sorted by t, each triangle once;
+  // returns how many were written.
+  std::uint32_t all_hits(const Ray& ray, HitRecord* hits, std::uint32_t capacity) const;
+
+  // Batches: hits[i].primitive is kInvalidIndex where rays[i] missed.
+  void closest(std::span<const Ray> rays, std::span<HitRecord> hits) const;
+  void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
+
+  const AccelStats& stats() const { return stats_; }
+  const Bvh& binary_bvh() const { return bvh_; }
+  const WideBvh& wide_bvh() const { return wide_; }
+
+ private:
+  WideTriangleView view() const {
+    return WideTriangleView{wide_.nodes.empty() ? nullptr : wide_.nodes.data(), blocks_.data(),
+                            static_cast<std::uint32_t>(blocks_.size())};
+  }
+
+  AccelStats stats_;
+  std::vector<Triangle> triangles_;  // kBvh only: its scalar traversal reads them directly
+  Bvh bvh_;                          // kBvh only
+  WideBvh wide_;                     // kWide and kOctree
+  std::vector<TriangleBlock4> blocks_;
+  const accel_detail::TriangleKernels* kernels_ = nullptr;  // null for kBvh
+};
+
+}  // namespace tessera

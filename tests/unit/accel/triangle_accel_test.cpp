@@ -1,0 +1,221 @@
+// Every structure (binary BVH, wide BVH, octree, brute force), on every instruction set the
+// machine has, against the brute-force reference (tessera::intersect on each triangle):
+// same hits, same t, for closest, any and all-hits queries.
+#include "tessera/accel/triangle_accel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+#include <tuple>
+
+#include "accel_test_scenes.hpp"
+
+namespace tessera {
+namespace {
+
+using accel_test::ReferenceHit;
+
+struct Variant {
+  AccelKind kind;
+  bool avx2;
+};
+
+std::string variant_name(const testing::TestParamInfo<Variant>& info) {
+  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2");
+}
+
+class TriangleAccelTest : public testing::TestWithParam<Variant> {
+ protected:
+  void SetUp() override {
+    if (GetParam().avx2 && !cpu_supports_avx2_kernels())
+      GTEST_SKIP() << "no AVX2 on this processor";
+  }
+
+  TriangleAccel build(const std::vector<Triangle>& tris) const {
+    AccelBuildOptions options;
+    options.kind = GetParam().kind;
+    options.allow_avx2 = GetParam().avx2;
+    options.octree.leaf_size = 4;  // deep octrees: more duplicated references
+    TriangleAccel accel = TriangleAccel::build(tris, options);
+    EXPECT_EQ(accel.stats().kind, GetParam().kind);
+    if (GetParam().kind != AccelKind::kBvh) {
+      EXPECT_EQ(accel.stats().isa, GetParam().avx2 ? "avx2" : "sse2");
+    }
+    return accel;
+  }
+
+  // Closest and any-hit against the reference, ray by ray.
+  static void expect_same_hits(const std::vector<Triangle>& tris, const TriangleAccel& accel,
+                               const std::vector<Ray>& rays) {
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Ray& ray = rays[i];
+      const ReferenceHit expected = accel_test::reference_closest(tris, ray);
+      HitRecord got;
+      const bool hit = accel.closest(ray, got);
+      ASSERT_EQ(hit, expected.hit) << "ray " << i;
+      ASSERT_EQ(accel.occluded(ray), expected.hit) << "ray " << i;
+      if (!hit) continue;
+      ++hits;
+      ASSERT_EQ(got.t, expected.record.t) << "ray " << i;
+      if (got.primitive != expected.record.primitive) {
+        // A tie: another triangle at exactly the same distance (shared edges, coplanar
+        // overlaps). The one reported must itself be hit there.
+        HitRecord own;
+        ASSERT_LT(got.primitive, tris.size());
+        ASSERT_TRUE(intersect(tris[got.primitive], ray, kInfinity, own, got.primitive))
+            << "ray " << i;
+        ASSERT_EQ(own.t, got.t) << "ray " << i;
+      } else {
+        ASSERT_EQ(got.u, expected.record.u) << "ray " << i;
+        ASSERT_EQ(got.v, expected.record.v) << "ray " << i;
+      }
+    }
+    // The scenes are built so that a good share of the rays hit something.
+    EXPECT_GT(hits, rays.size() / 10);
+  }
+
+  static void expect_same_all_hits(const std::vector<Triangle>& tris, const TriangleAccel& accel,
+                                   const std::vector<Ray>& rays, std::uint32_t capacity) {
+    std::vector<HitRecord> got(capacity);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const std::vector<HitRecord> all = accel_test::reference_all(tris, rays[i]);
+      const std::uint32_t count = accel.all_hits(rays[i], got.data(), capacity);
+      ASSERT_EQ(count, std::min<std::size_t>(capacity, all.size())) << "ray " << i;
+      for (std::uint32_t k = 0; k < count; ++k) {
+        ASSERT_EQ(got[k].t, all[k].t) << "ray " << i << " hit " << k;
+        if (k > 0) {
+          ASSERT_LE(got[k - 1].t, got[k].t);
+        }
+        for (std::uint32_t j = 0; j < k; ++j)
+          ASSERT_NE(got[j].primitive, got[k].primitive) << "duplicate";
+        // The triangle named must be hit at that t (ties may order equal t differently).
+        HitRecord own;
+        ASSERT_TRUE(intersect(tris[got[k].primitive], rays[i], kInfinity, own, got[k].primitive));
+        ASSERT_EQ(own.t, got[k].t);
+      }
+    }
+  }
+};
+
+TEST_P(TriangleAccelTest, TriangleSoupMatchesBruteForce) {
+  const auto tris = accel_test::triangle_soup(600, 7);
+  const TriangleAccel accel = build(tris);
+  expect_same_hits(tris, accel, accel_test::test_rays(1500, 11, 1.5f));
+}
+
+TEST_P(TriangleAccelTest, AxisAlignedGridMatchesBruteForce) {
+  // Flat boxes, rays running along box faces and triangle edges, +0.0 and -0.0 directions.
+  const auto tris = accel_test::axis_aligned_grid(6);
+  const TriangleAccel accel = build(tris);
+  expect_same_hits(tris, accel, accel_test::test_rays(1500, 12, 6.0f));
+}
+
+TEST_P(TriangleAccelTest, AllHitsMatchBruteForce) {
+  const auto tris = accel_test::triangle_soup(400, 8);
+  const TriangleAccel accel = build(tris);
+  const auto rays = accel_test::test_rays(400, 13, 1.5f);
+  for (std::uint32_t capacity : {1u, 3u, 64u}) expect_same_all_hits(tris, accel, rays, capacity);
+  const auto grid = accel_test::axis_aligned_grid(4);
+  const TriangleAccel grid_accel = build(grid);
+  expect_same_all_hits(grid, grid_accel, accel_test::test_rays(400, 14, 4.0f), 8);
+}
+
+TEST_P(TriangleAccelTest, ClosedMeshIsWatertight) {
+  // From inside a closed mesh every ray hits, including rays aimed exactly at vertices
+  // and along edges, where a non-watertight test lets rays slip between triangles.
+  const auto tris = accel_test::closed_sphere(4);
+  const TriangleAccel accel = build(tris);
+  std::vector<Ray> rays;
+  for (const Triangle& t : tris)
+    for (const vec3& target : {t.p0, t.p1, t.p2, 0.5f * (t.p0 + t.p1)})
+      rays.push_back(Ray{vec3(0.0f), target});
+  for (const Ray& ray : accel_test::test_rays(500, 15, 0.5f))
+    if (ray.t_max == kInfinity && glm::length(ray.origin) < 0.5f) rays.push_back(ray);  // inside
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    HitRecord hit;
+    ASSERT_TRUE(accel.closest(rays[i], hit)) << "ray " << i;
+    ASSERT_TRUE(accel.occluded(rays[i])) << "ray " << i;
+  }
+  expect_same_hits(tris, accel, rays);
+}
+
+TEST_P(TriangleAccelTest, DegenerateRaysNeverHit) {
+  const auto tris = accel_test::triangle_soup(50, 9);
+  const TriangleAccel accel = build(tris);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const Ray& ray :
+       {Ray{vec3(0.0f), vec3(0.0f)}, Ray{vec3(nan, 0, 0), vec3(0, 0, 1)},
+        Ray{vec3(0.0f), vec3(nan, 0, 1)}, Ray{vec3(kInfinity, 0, 0), vec3(-1, 0, 0)},
+        Ray{vec3(-5, 0, 0), vec3(1, 0, 0), 2.0f, 1.0f},
+        Ray{vec3(-5, 0, 0), vec3(1, 0, 0), nan, 10.0f}}) {
+    HitRecord hit;
+    EXPECT_FALSE(accel.closest(ray, hit));
+    EXPECT_FALSE(hit.valid());
+    EXPECT_FALSE(accel.occluded(ray));
+    EXPECT_EQ(accel.all_hits(ray, &hit, 1), 0u);
+  }
+}
+
+TEST_P(TriangleAccelTest, EmptyAndSingleTriangle) {
+  const TriangleAccel empty = build({});
+  HitRecord hit;
+  EXPECT_FALSE(empty.closest(Ray{vec3(0.0f), vec3(0, 0, 1)}, hit));
+  EXPECT_FALSE(empty.occluded(Ray{vec3(0.0f), vec3(0, 0, 1)}));
+
+  const std::vector<Triangle> one{Triangle{vec3(-1, -1, 2), vec3(1, -1, 2), vec3(0, 1, 2), 0}};
+  const TriangleAccel single = build(one);
+  ASSERT_TRUE(single.closest(Ray{vec3(0.0f), vec3(0, 0, 1)}, hit));
+  EXPECT_EQ(hit.t, 2.0f);
+  EXPECT_EQ(hit.primitive, 0u);
+  EXPECT_FALSE(single.closest(Ray{vec3(0.0f), vec3(0, 0, -1)}, hit));
+  EXPECT_FALSE(single.occluded(Ray{vec3(0.0f), vec3(0, 0, 1), 0.0f, 1.5f}));
+}
+
+TEST_P(TriangleAccelTest, BatchesMatchSingleRays) {
+  const auto tris = accel_test::triangle_soup(300, 10);
+  const TriangleAccel accel = build(tris);
+  const auto rays = accel_test::test_rays(300, 16, 1.5f);
+  std::vector<HitRecord> hits(rays.size());
+  std::vector<std::uint8_t> blocked(rays.size());
+  accel.closest(rays, hits);
+  accel.occluded(rays, blocked);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    HitRecord single;
+    const bool hit = accel.closest(rays[i], single);
+    EXPECT_EQ(hits[i].valid(), hit);
+    if (hit) {
+      EXPECT_EQ(hits[i].t, single.t);
+    }
+    EXPECT_EQ(blocked[i] != 0, hit);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllStructures, TriangleAccelTest,
+    testing::Values(Variant{AccelKind::kBvh, false}, Variant{AccelKind::kWide, false},
+                    Variant{AccelKind::kWide, true}, Variant{AccelKind::kOctree, false},
+                    Variant{AccelKind::kOctree, true}, Variant{AccelKind::kBrute, false},
+                    Variant{AccelKind::kBrute, true}),
+    variant_name);
+
+TEST(AccelChooser, BruteForceForFewTrianglesWideBvhOtherwise) {
+  EXPECT_EQ(choose_accel_kind(1), AccelKind::kBrute);
+  EXPECT_EQ(choose_accel_kind(kBruteForceMaxTriangles), AccelKind::kBrute);
+  EXPECT_EQ(choose_accel_kind(kBruteForceMaxTriangles + 1), AccelKind::kWide);
+  EXPECT_EQ(choose_accel_kind(10'000'000), AccelKind::kWide);
+  const auto tris = accel_test::triangle_soup(200, 3);
+  EXPECT_EQ(TriangleAccel::build(tris).stats().kind, AccelKind::kWide);
+  EXPECT_EQ(TriangleAccel::build(std::span(tris).first(4)).stats().kind, AccelKind::kBrute);
+}
+
+TEST(AccelKindNames, RoundTrip) {
+  for (AccelKind kind :
+       {AccelKind::kAuto, AccelKind::kBvh, AccelKind::kWide, AccelKind::kOctree, AccelKind::kBrute})
+    EXPECT_EQ(parse_accel_kind(accel_kind_name(kind)), kind);
+  EXPECT_FALSE(parse_accel_kind("kd-tree").has_value());
+}
+
+}  // namespace
+}  // namespace tessera
