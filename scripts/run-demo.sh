@@ -6,8 +6,10 @@
 # Usage: scripts/run-demo.sh BUILD_DIR
 set -euo pipefail
 
-cd "$(dirname "$0")/.."
 build_dir="${1:-build}"
+# Relative to the caller's directory, before moving to the repository root.
+if [ -d "$build_dir" ]; then build_dir="$(cd "$build_dir" && pwd)"; fi
+cd "$(dirname "$0")/.."
 daemon="$build_dir/server/tesserad"
 cli="$build_dir/client/tessera"
 for binary in "$daemon" "$cli"; do
