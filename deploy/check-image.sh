@@ -3,7 +3,8 @@
 # that tesserad runs inside it. Slow (a full Release build inside the builder stage), so it
 # is not part of `make test`. Run as root on Debian bookworm:
 #
-#   sudo deploy/check-image.sh              build the image and check it
+#   sudo deploy/check-image.sh              build the committed tree (git HEAD) and check it
+#   sudo deploy/check-image.sh --worktree   build the working tree as it is, edits included
 #   sudo deploy/check-image.sh --base-only  only prepare the cached Debian base images
 #
 # How: debootstrap makes a Debian bookworm rootfs from the mirror this machine's apt already
@@ -34,8 +35,9 @@ readonly RUNTIME_IMAGE="localhost/debian:${SUITE}-slim"
 readonly JOBS="${JOBS:-2}"
 # A store of our own, always vfs: overlay needs kernel support that sandboxes often lack.
 readonly STORE=(--root "${CACHE_DIR}/storage" --runroot "${CACHE_DIR}/run" --storage-driver vfs)
-# No systemd or journald is assumed to be running.
-readonly PODMAN=(podman "${STORE[@]}" --cgroup-manager cgroupfs --events-backend file)
+# No systemd or journald is assumed to be running. runc, not crun (podman's default): crun
+# refuses hosts whose cgroups are in hybrid v1/v2 mode, as some VMs and CI runners are.
+readonly PODMAN=(podman "${STORE[@]}" --runtime runc --cgroup-manager cgroupfs --events-backend file)
 readonly BUILDAH=(buildah "${STORE[@]}")
 
 started_at=${SECONDS}
@@ -46,22 +48,25 @@ die() {
 }
 
 base_only=0
-case "${1:-}" in
-  "") ;;
-  --base-only) base_only=1 ;;
-  -h | --help)
-    sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
-    exit 0
-    ;;
-  *) die "unknown argument '$1' (expected --base-only or --help)" ;;
-esac
+use_worktree=0
+for argument in "$@"; do
+  case "$argument" in
+    --base-only) base_only=1 ;;
+    --worktree) use_worktree=1 ;;
+    -h | --help)
+      sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
+      exit 0
+      ;;
+    *) die "unknown argument '$argument' (expected --base-only, --worktree or --help)" ;;
+  esac
+done
 
 [ "$(id -u)" -eq 0 ] || die "must run as root (debootstrap, podman import and buildah need it)"
 
 # ---------------------------------------------------------------------------------------------
 # Tools: buildah, podman and debootstrap from Debian's own archive.
 ensure_tools() {
-  local wanted=(buildah podman debootstrap) missing=() p
+  local wanted=(buildah podman runc debootstrap) missing=() p
   for p in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
@@ -231,6 +236,36 @@ import_base_images() {
 }
 
 # ---------------------------------------------------------------------------------------------
+# The build context: by default an export of the committed tree, so edits in progress in the
+# working tree (other people's included) neither break nor leak into the checked image.
+prepare_context() {
+  if [ "$use_worktree" -eq 1 ] || ! command -v git >/dev/null ||
+    ! git -C "$REPO_ROOT" rev-parse --verify -q HEAD >/dev/null; then
+    CONTEXT_DIR=$REPO_ROOT
+    step "build context: working tree ${CONTEXT_DIR}"
+    return 0
+  fi
+  CONTEXT_DIR="${CACHE_DIR}/context"
+  step "build context: commit $(git -C "$REPO_ROOT" log -1 --format='%h %s') -> ${CONTEXT_DIR}"
+  rm -rf --one-file-system "$CONTEXT_DIR"
+  mkdir -p "$CONTEXT_DIR"
+  git -C "$REPO_ROOT" archive --format=tar HEAD | tar -x -C "$CONTEXT_DIR"
+}
+
+# Podman asks for nofile=1048576 and a large nproc by default; where the hard limits are lower
+# (sandboxes, CI) the runtime cannot set them and the container does not start. Ask for what
+# is grantable: the shell's hard limits, nproc at most 32768, which podman could grant on
+# every machine tried.
+limit_at_most() {
+  local value
+  value=$(ulimit -H "$1")
+  if [ "$value" = unlimited ] || [ "$value" -gt "$2" ]; then value=$2; fi
+  echo "$value"
+}
+nofile=$(limit_at_most -n 1048576)
+nproc=$(limit_at_most -u 32768)
+readonly RUN_FLAGS=(--network none --ulimit "nofile=${nofile}:${nofile}" --ulimit "nproc=${nproc}:${nproc}")
+
 build_image() {
   local layers=false
   [ "${TESSERA_LAYERS:-0}" = 1 ] && layers=true
@@ -245,21 +280,22 @@ build_image() {
     --build-arg BASE_IMAGE="$BASE_IMAGE" \
     --build-arg RUNTIME_IMAGE="$RUNTIME_IMAGE" \
     --build-arg JOBS="$JOBS" \
-    --file "${REPO_ROOT}/Dockerfile" \
+    --file "${CONTEXT_DIR}/Dockerfile" \
     --tag "$IMAGE_TAG" \
-    "$REPO_ROOT"
+    "$CONTEXT_DIR"
 }
 
 check_image() {
   step "podman run --rm ${IMAGE_TAG} --version"
   local version
-  version=$("${PODMAN[@]}" run --rm --network none "$IMAGE_TAG" --version) ||
+  version=$("${PODMAN[@]}" run --rm "${RUN_FLAGS[@]}" --no-healthcheck "$IMAGE_TAG" --version) ||
     die "tesserad --version failed inside the image"
   echo "$version"
   [ -n "$version" ] || die "tesserad --version printed nothing"
 
   step "podman run --rm --entrypoint tessera ${IMAGE_TAG} --help"
-  "${PODMAN[@]}" run --rm --network none --entrypoint tessera "$IMAGE_TAG" --help >/dev/null ||
+  "${PODMAN[@]}" run --rm "${RUN_FLAGS[@]}" --no-healthcheck --entrypoint tessera "$IMAGE_TAG" \
+    --help >/dev/null ||
     die "tessera --help failed inside the image"
   echo "tessera CLI runs"
 
@@ -273,23 +309,34 @@ check_image() {
   case "$healthcheck" in "" | "<nil>") die "the image has no HEALTHCHECK" ;; esac
 
   step "start tesserad in a container and run its HEALTHCHECK"
-  local name="tessera-check-$$"
-  "${PODMAN[@]}" run -d --name "$name" --network none "$IMAGE_TAG" >/dev/null ||
+  # No automatic health timer (that needs systemd): the loop below runs the check itself.
+  # Podman's complaints about the missing systemd go to a log, shown only on failure.
+  local name="tessera-check-$$" log="${CACHE_DIR}/healthcheck.log"
+  "${PODMAN[@]}" run -d "${RUN_FLAGS[@]}" --health-interval disable --name "$name" "$IMAGE_TAG" \
+    >"$log" 2>&1 || {
+    cat "$log" >&2
     die "could not start tesserad in a container"
+  }
   local healthy=0 attempt
   for attempt in $(seq 1 20); do
-    if "${PODMAN[@]}" healthcheck run "$name" >/dev/null 2>&1; then
+    if "${PODMAN[@]}" healthcheck run "$name" >>"$log" 2>&1; then
       healthy=1
       break
     fi
-    if [ "$("${PODMAN[@]}" inspect --format '{{.State.Running}}' "$name")" != true ]; then
+    if [ "$("${PODMAN[@]}" inspect --format '{{.State.Running}}' "$name" 2>>"$log")" != true ]; then
       break
     fi
     sleep 1
   done
   "${PODMAN[@]}" logs "$name" 2>&1 | tail -n 5
-  "${PODMAN[@]}" rm -f -t 5 "$name" >/dev/null
-  [ "$healthy" -eq 1 ] || die "tesserad did not become healthy (HEALTHCHECK failed)"
+  # SIGTERM, then SIGKILL after 10 s: a clean shutdown shows as a prompt removal.
+  local stop_started=${SECONDS}
+  "${PODMAN[@]}" rm -f -t 10 "$name" >>"$log" 2>&1
+  echo "container stopped and removed in $((SECONDS - stop_started)) s"
+  if [ "$healthy" -ne 1 ]; then
+    tail -n 20 "$log" >&2
+    die "tesserad did not become healthy (HEALTHCHECK failed)"
+  fi
   echo "healthcheck passed after ${attempt} attempt(s)"
 
   step "image size"
@@ -308,7 +355,14 @@ if [ "$base_only" -eq 1 ]; then
   step "base images ready"
   exit 0
 fi
-[ -f "${REPO_ROOT}/server/main.cpp" ] || die "server/main.cpp is missing: nothing to build yet"
+prepare_context
+for required in Dockerfile server/main.cpp client/main.cpp; do
+  [ -f "${CONTEXT_DIR}/${required}" ] || die "${required} is missing from the build context"
+done
 build_image
 check_image
+if [ "${TESSERA_LAYERS:-0}" != 1 ]; then
+  # Earlier images of the same tag are left untagged by the new one; vfs stores each in full.
+  "${PODMAN[@]}" image prune -f >/dev/null
+fi
 step "image check passed in $((SECONDS - started_at)) s"
