@@ -280,8 +280,8 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
                std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
                Clock::time_point start, const CommandOutput& io) {
   const v1::RenderSettings& s = job.settings();
-  if (!assembler ||
-      assembler->tiles_total() != make_tiles(s.width(), s.height(), s.tile_size()).size() ||
+  // The output was opened from the scene's settings; the server's are the ones that count.
+  if (!assembler || assembler->tile_size() != s.tile_size() ||
       assembler->image().width != s.width() || assembler->image().height != s.height()) {
     assembler.reset();  // close before reopening the same path
     assembler = open_output(cmd, s.width(), s.height(), s.tile_size());

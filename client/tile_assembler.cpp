@@ -17,7 +17,9 @@ std::string describe(const TileRect& t) {
 
 TileAssembler::TileAssembler(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
                              const std::optional<std::filesystem::path>& exr_path)
-    : grid_(make_tiles(width, height, tile_size)), received_(grid_.size(), false) {
+    : tile_size_(tile_size),
+      grid_(make_tiles(width, height, tile_size)),
+      received_(grid_.size(), false) {
   if (grid_.empty())
     throw std::invalid_argument("image of " + std::to_string(width) + "x" + std::to_string(height) +
                                 " with tile size " + std::to_string(tile_size) + " has no tiles");

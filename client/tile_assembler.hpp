@@ -28,6 +28,7 @@ class TileAssembler {
   // outside the grid, of the wrong size, or seen before.
   void add_tile(const TileRect& tile, std::span<const float> rgba);
 
+  std::uint32_t tile_size() const { return tile_size_; }
   std::uint32_t tiles_received() const { return received_count_; }
   std::uint32_t tiles_total() const { return static_cast<std::uint32_t>(grid_.size()); }
   bool complete() const { return received_count_ == grid_.size(); }
@@ -40,6 +41,7 @@ class TileAssembler {
   const RgbaImage& image() const { return image_; }
 
  private:
+  std::uint32_t tile_size_;
   std::vector<TileRect> grid_;
   std::vector<bool> received_;
   std::uint32_t received_count_ = 0;
