@@ -39,53 +39,56 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Cone& c) {
 }
 
 namespace detail {
-TESSERA_HD TESSERA_INLINE HitCandidates<4> cone_candidates(const Cone& c, const Ray& ray,
-                                                           double& margin) {
-  HitCandidates<4> candidates;
-  const AxisFrame frame = AxisFrame::from_axis(c.axis);
-  const LocalRay local = to_local_ray(ray, c.base, frame);
+TESSERA_HD TESSERA_INLINE HitCandidates<4> cone_candidates(const Cone& c, const PreciseRay& ray) {
+  HitCandidates<4> out;
+  const LocalRay local = to_local_ray(ray, c.base, AxisFrame::from_axis(c.axis));
   const double dd = glm::dot(local.direction, local.direction);
   const double r0 = c.base_radius, r1 = c.top_radius, h = c.height;
-  margin = origin_margin(max_abs(dvec3(ray.origin)) + glm::max(r0, r1) + h, std::sqrt(dd));
-  if (!(dd > 0.0) || !(h > 0.0)) return candidates;
+  if (!(dd > 0.0) || !(h > 0.0)) return out;
+  const double band = ray.origin_error + 1e-15 * (glm::max(r0, r1) + h);
   // Move the origin to the closest approach to the cone's middle before forming
   // coefficients; a shift along the ray changes no root, only the digits kept.
   const dvec3 to_middle = dvec3(0.0, 0.0, 0.5 * h) - local.origin;
   const double t_shift = glm::dot(to_middle, local.direction) / dd;
-  lateral_roots(local, t_shift, r0, (r1 - r0) / h, h, candidates);
+  lateral_roots(local, t_shift, r0, (r1 - r0) / h, h, band, out);
   if (c.capped != 0) {
-    cap_root(local, 0.0, r0, kPartBottomCap, candidates);
-    cap_root(local, h, r1, kPartTopCap, candidates);
+    cap_root(local, 0.0, r0, kPartBottomCap, band, out);
+    cap_root(local, h, r1, kPartTopCap, band, out);
   }
-  return candidates;
+  return out;
 }
 }  // namespace detail
 
+TESSERA_HD TESSERA_INLINE bool intersect(const Cone& c, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  return detail::cone_candidates(c, ray).closest(ray.t_min, t_max, hit, primitive);
+}
 TESSERA_HD TESSERA_INLINE bool intersect(const Cone& c, const Ray& ray, float t_max, HitRecord& hit,
                                          std::uint32_t primitive) {
-  double margin;
-  const HitCandidates<4> candidates = detail::cone_candidates(c, ray, margin);
-  return candidates.closest(ray.t_min, t_max, margin, hit, primitive);
+  return intersect(c, make_precise_ray(ray), t_max, hit, primitive);
 }
-
+TESSERA_HD TESSERA_INLINE int intersect_all(const Cone& c, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  return detail::cone_candidates(c, ray).all(ray.t_min, t_max, hits, max_hits, primitive);
+}
 TESSERA_HD TESSERA_INLINE int intersect_all(const Cone& c, const Ray& ray, float t_max,
                                             HitRecord* hits, int max_hits,
                                             std::uint32_t primitive) {
-  double margin;
-  const HitCandidates<4> candidates = detail::cone_candidates(c, ray, margin);
-  return candidates.all(ray.t_min, t_max, margin, hits, max_hits, primitive);
+  return intersect_all(c, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cone& c, const Ray& ray,
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cone& c, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   const AxisFrame frame = AxisFrame::from_axis(c.axis);
   const LocalRay local = to_local_ray(ray, c.base, frame);
-  dvec3 p = local.origin + static_cast<double>(hit.t) * local.direction;
+  const std::uint32_t part = static_cast<std::uint32_t>(hit.v);
+  const double t = detail::cone_candidates(c, ray).nearest(hit.t, part);
+  dvec3 p = local.origin + t * local.direction;
   const double rho = std::sqrt(p.x * p.x + p.y * p.y);
   const double h = c.height;
   const double slope = (static_cast<double>(c.top_radius) - c.base_radius) / h;
-  const std::uint32_t part = static_cast<std::uint32_t>(hit.v);
   dvec3 normal;
   if (part == kPartSide) {
     const double z = glm::clamp(p.z, 0.0, h);
@@ -107,9 +110,13 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cone& c, const Ray
     si.uv = vec2(angle_fraction(p.y, p.x), static_cast<float>(glm::min(rho / cap_radius, 1.0)));
   }
   si.position = vec3(dvec3(c.base) + frame.to_world(p));
-  set_face_normal(si, ray.direction, vec3(glm::normalize(frame.to_world(normal))));
+  set_face_normal(si, vec3(ray.direction), vec3(glm::normalize(frame.to_world(normal))));
   si.material = c.material;
   return si;
+}
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cone& c, const Ray& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(c, make_precise_ray(ray), hit);
 }
 
 TESSERA_HD TESSERA_INLINE float surface_area(const Cone& c) {

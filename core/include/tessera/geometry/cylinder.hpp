@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "tessera/geometry/local_frame.hpp"
+#include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/surface.hpp"
 #include "tessera/math/solver_quadratic.hpp"
 
@@ -40,14 +41,14 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Cylinder& c) {
 
 namespace detail {
 
-// Roots of the side of a circular cone/cylinder x^2 + y^2 = (r0 + k z)^2 for local ray o + t
-// d, with the origin first moved along the ray to `t_shift` so that the coefficients are
-// formed from small numbers (no cancellation for origins far away), and the constant term
-// written as a product so that it keeps its digits near the surface. Appends roots with
-// 0 <= z <= height.
+// Side roots of the circular cone/cylinder x^2 + y^2 = (r0 + k z)^2, 0 <= z <= height, for
+// the local ray. The origin is first moved along the ray to `t_shift` (near the shape) so
+// that the coefficients are formed from small numbers, and the constant term is written
+// as a product so that it keeps its digits near the surface; the quadratic itself is the
+// stable one (q = -(b + sign(b) sqrt(disc)) / 2).
 template <int N>
 TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, double slope,
-                              double height, HitCandidates<N>& out) {
+                              double height, double band, HitCandidates<N>& out) {
   const dvec3 o = ray.origin + t_shift * ray.direction;
   const dvec3& d = ray.direction;
   const double radius_at_o = r0 + slope * o.z;
@@ -56,70 +57,100 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
   const double b = 2.0 * (o.x * d.x + o.y * d.y - slope * d.z * radius_at_o);
   const double c = (rho - radius_at_o) * (rho + radius_at_o);
   double s[2];
-  const int n = solve_quadratic(a, b, c, s);
+  int n = solve_quadratic(a, b, c, s);
+  // a < 0: the direction is steeper than the cone's generators, and such a line meets the
+  // double cone in two points in exact arithmetic (one per nappe). Near the apex the two
+  // roots differ by the ray's distance from the apex, below what the rounded coefficients
+  // resolve, and the discriminant can come out negative: it is then a double root at the
+  // apex, which the ray passes through.
+  if (n == 0 && a < 0.0) {
+    s[0] = -b / (2.0 * a);
+    n = 1;
+  }
+  // A root at a pointed end (radius 0: the apex) is a near-double root, known only to about
+  // sqrt(epsilon) of the size, and may land that far outside [0, height].
+  const double radius_scale = std::fabs(r0) + std::fabs(r0 + slope * height);
+  const double normalisation = 1.0 / std::sqrt(1.0 + slope * slope);
+  const auto distance = [r0, slope, normalisation](const dvec3& p) {
+    return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
+  };
   for (int i = 0; i < n; ++i) {
     const double z = o.z + s[i] * d.z;
-    if (z >= 0.0 && z <= height) out.add(t_shift + s[i], kPartSide);
+    const double t = t_shift + s[i];
+    const bool in_range = z >= 0.0 && z <= height;
+    const bool at_apex = std::fabs(r0 + slope * z) <= 1e-7 * radius_scale && z >= -1e-6 * height &&
+                         z <= height * (1.0 + 1e-6);
+    // Both roots at the apex: one is on the mirrored nappe (radius < 0), keep the other.
+    if (at_apex && n == 2) {
+      const double other_z = o.z + s[1 - i] * d.z;
+      if (slope * (z - other_z) < 0.0) continue;
+    }
+    if ((in_range || at_apex) && !is_start_surface_root(distance, ray, t, band))
+      out.add(t, kPartSide);
   }
 }
 
 // Cap at local height z_cap with radius cap_radius (a disk perpendicular to the axis).
 template <int N>
 TESSERA_HD void cap_root(const LocalRay& ray, double z_cap, double cap_radius, std::uint32_t part,
-                         HitCandidates<N>& out) {
-  if (ray.direction.z == 0.0 || !(cap_radius > 0.0)) return;
-  const double t = (z_cap - ray.origin.z) / ray.direction.z;
+                         double band, HitCandidates<N>& out) {
+  if (!(cap_radius > 0.0)) return;
+  double t;
+  if (!local_plane_root(ray, z_cap, band, t)) return;
   const double x = ray.origin.x + t * ray.direction.x;
   const double y = ray.origin.y + t * ray.direction.y;
   if (x * x + y * y <= cap_radius * cap_radius) out.add(t, part);
 }
 
-TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c, const Ray& ray,
-                                                               double& margin) {
-  HitCandidates<4> candidates;
-  const AxisFrame frame = AxisFrame::from_axis(c.axis);
-  const LocalRay local = to_local_ray(ray, c.base, frame);
-  const double dd = glm::dot(local.direction, local.direction);
-  margin = origin_margin(max_abs(dvec3(ray.origin)) + c.radius + c.height, std::sqrt(dd));
+TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c,
+                                                               const PreciseRay& ray) {
+  HitCandidates<4> out;
+  const LocalRay local = to_local_ray(ray, c.base, AxisFrame::from_axis(c.axis));
+  const double band = ray.origin_error + 1e-15 * (c.radius + c.height);
   const double a = local.direction.x * local.direction.x + local.direction.y * local.direction.y;
   if (a > 0.0) {
     // Closest approach to the axis: the side roots are symmetric around it.
     const double t_shift =
         -(local.origin.x * local.direction.x + local.origin.y * local.direction.y) / a;
-    lateral_roots(local, t_shift, c.radius, 0.0, c.height, candidates);
+    lateral_roots(local, t_shift, c.radius, 0.0, c.height, band, out);
   }
   if (c.capped != 0) {
-    cap_root(local, 0.0, c.radius, kPartBottomCap, candidates);
-    cap_root(local, c.height, c.radius, kPartTopCap, candidates);
+    cap_root(local, 0.0, c.radius, kPartBottomCap, band, out);
+    cap_root(local, c.height, c.radius, kPartTopCap, band, out);
   }
-  return candidates;
+  return out;
 }
 
 }  // namespace detail
 
+TESSERA_HD TESSERA_INLINE bool intersect(const Cylinder& c, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  return detail::cylinder_candidates(c, ray).closest(ray.t_min, t_max, hit, primitive);
+}
 TESSERA_HD TESSERA_INLINE bool intersect(const Cylinder& c, const Ray& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
-  double margin;
-  const HitCandidates<4> candidates = detail::cylinder_candidates(c, ray, margin);
-  return candidates.closest(ray.t_min, t_max, margin, hit, primitive);
+  return intersect(c, make_precise_ray(ray), t_max, hit, primitive);
 }
-
+TESSERA_HD TESSERA_INLINE int intersect_all(const Cylinder& c, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  return detail::cylinder_candidates(c, ray).all(ray.t_min, t_max, hits, max_hits, primitive);
+}
 TESSERA_HD TESSERA_INLINE int intersect_all(const Cylinder& c, const Ray& ray, float t_max,
                                             HitRecord* hits, int max_hits,
                                             std::uint32_t primitive) {
-  double margin;
-  const HitCandidates<4> candidates = detail::cylinder_candidates(c, ray, margin);
-  return candidates.all(ray.t_min, t_max, margin, hits, max_hits, primitive);
+  return intersect_all(c, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cylinder& c, const Ray& ray,
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cylinder& c, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   const AxisFrame frame = AxisFrame::from_axis(c.axis);
   const LocalRay local = to_local_ray(ray, c.base, frame);
-  dvec3 p = local.origin + static_cast<double>(hit.t) * local.direction;
-  const double rho = std::sqrt(p.x * p.x + p.y * p.y);
   const std::uint32_t part = static_cast<std::uint32_t>(hit.v);
+  const double t = detail::cylinder_candidates(c, ray).nearest(hit.t, part);
+  dvec3 p = local.origin + t * local.direction;
+  const double rho = std::sqrt(p.x * p.x + p.y * p.y);
   dvec3 normal;
   if (part == kPartSide) {
     // Project back onto the surface (the ray-evaluated point is off by t's rounding).
@@ -135,9 +166,13 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cylinder& c, const
     si.uv = vec2(angle_fraction(p.y, p.x), static_cast<float>(glm::min(rho / c.radius, 1.0)));
   }
   si.position = vec3(dvec3(c.base) + frame.to_world(p));
-  set_face_normal(si, ray.direction, vec3(glm::normalize(frame.to_world(normal))));
+  set_face_normal(si, vec3(ray.direction), vec3(glm::normalize(frame.to_world(normal))));
   si.material = c.material;
   return si;
+}
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cylinder& c, const Ray& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(c, make_precise_ray(ray), hit);
 }
 
 TESSERA_HD TESSERA_INLINE float surface_area(const Cylinder& c) {

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "tessera/geometry/local_frame.hpp"
+#include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/surface.hpp"
 
 namespace tessera {
@@ -30,59 +31,47 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Disk& d) {
 }
 
 namespace detail {
-// Plane hit of a disk-shaped cap at `center` with normal `normal`: t and squared radial
-// distance of the hit, all in double.
-TESSERA_HD TESSERA_INLINE bool disk_hit(const dvec3& center, const dvec3& normal,
-                                        const dvec3& origin, const dvec3& direction, double& t,
-                                        double& radius2) {
-  const double denominator = glm::dot(normal, direction);
-  if (denominator == 0.0) return false;
-  const dvec3 to_center = center - origin;
-  t = glm::dot(normal, to_center) / denominator;
-  if (!std::isfinite(t)) return false;
-  // Offset of the hit from the centre: (origin - center) + t d, evaluated as one sum so the
-  // in-plane distance is not the difference of two large numbers when t d is large.
-  const dvec3 offset = t * direction - to_center;
-  const dvec3 in_plane = offset - glm::dot(offset, normal) * normal;
-  radius2 = glm::dot(in_plane, in_plane);
-  return true;
+TESSERA_HD TESSERA_INLINE HitCandidates<1> disk_candidates(const Disk& d, const PreciseRay& ray) {
+  HitCandidates<1> out;
+  const LocalRay local = to_local_ray(ray, d.center, AxisFrame::from_axis(d.normal));
+  double t;
+  if (!local_plane_root(local, 0.0, ray.origin_error, t)) return out;
+  const double x = local.origin.x + t * local.direction.x;
+  const double y = local.origin.y + t * local.direction.y;
+  const double rho2 = x * x + y * y;
+  const double r = d.radius, ri = d.inner_radius;
+  if (rho2 <= r * r && rho2 >= ri * ri) out.add(t, 0);
+  return out;
 }
 }  // namespace detail
 
+TESSERA_HD TESSERA_INLINE bool intersect(const Disk& d, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  return detail::disk_candidates(d, ray).closest(ray.t_min, t_max, hit, primitive);
+}
 TESSERA_HD TESSERA_INLINE bool intersect(const Disk& d, const Ray& ray, float t_max, HitRecord& hit,
                                          std::uint32_t primitive) {
-  double t, radius2;
-  if (!detail::disk_hit(dvec3(d.center), dvec3(d.normal), dvec3(ray.origin), dvec3(ray.direction),
-                        t, radius2))
-    return false;
-  const double r = d.radius, ri = d.inner_radius;
-  if (!(radius2 <= r * r && radius2 >= ri * ri)) return false;
-  float tf;
-  const double margin =
-      origin_margin(max_abs(dvec3(ray.origin)), glm::length(dvec3(ray.direction)));
-  if (!accept_root(t, ray.t_min, t_max, margin, tf)) return false;
-  hit.t = tf;
-  hit.u = 0.0f;
-  hit.v = 0.0f;
-  hit.primitive = primitive;
-  return true;
+  return intersect(d, make_precise_ray(ray), t_max, hit, primitive);
 }
-
+TESSERA_HD TESSERA_INLINE int intersect_all(const Disk& d, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  return detail::disk_candidates(d, ray).all(ray.t_min, t_max, hits, max_hits, primitive);
+}
 TESSERA_HD TESSERA_INLINE int intersect_all(const Disk& d, const Ray& ray, float t_max,
                                             HitRecord* hits, int max_hits,
                                             std::uint32_t primitive) {
-  if (max_hits <= 0) return 0;
-  return intersect(d, ray, t_max, hits[0], primitive) ? 1 : 0;
+  return intersect_all(d, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Disk& d, const Ray& ray,
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Disk& d, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   const AxisFrame frame = AxisFrame::from_axis(d.normal);
-  const dvec3 local = frame.to_local(
-      dvec3(ray.origin) + static_cast<double>(hit.t) * dvec3(ray.direction) - dvec3(d.center));
+  const double t = detail::disk_candidates(d, ray).nearest(hit.t, 0);
+  const dvec3 local = frame.to_local(ray.origin + t * ray.direction - dvec3(d.center));
   si.position = vec3(dvec3(d.center) + frame.u * local.x + frame.v * local.y);
-  set_face_normal(si, ray.direction, d.normal);
+  set_face_normal(si, vec3(ray.direction), d.normal);
   const double rho = std::sqrt(local.x * local.x + local.y * local.y);
   const double width = static_cast<double>(d.radius) - d.inner_radius;
   si.uv =
@@ -91,6 +80,10 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Disk& d, const Ray
                        : 0.0f);
   si.material = d.material;
   return si;
+}
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Disk& d, const Ray& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(d, make_precise_ray(ray), hit);
 }
 
 TESSERA_HD TESSERA_INLINE float surface_area(const Disk& d) {

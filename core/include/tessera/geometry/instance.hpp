@@ -29,10 +29,29 @@ struct Instance {
   }
 };
 
+// Shapes that intersect a double-precision ray directly (the analytic ones); the others
+// (triangle, quad) get the object-space ray rounded to float.
 template <typename Shape>
-TESSERA_HD Ray to_object_ray(const Instance<Shape>& instance, const Ray& ray) {
-  return Ray{vec3(instance.world_to_object.point(dvec3(ray.origin))),
-             vec3(instance.world_to_object.vector(dvec3(ray.direction))), ray.t_min, ray.t_max};
+concept PreciseIntersectable = requires(const Shape& shape, const PreciseRay& ray, HitRecord& hit) {
+  intersect(shape, ray, 1.0f, hit, 0u);
+};
+
+// The world ray in object space, in double. The origin's uncertainty is carried over: the
+// world origin's own (its float rounding) mapped through the linear part, bounded by the
+// Frobenius norm.
+template <typename Shape>
+TESSERA_HD PreciseRay to_object_ray(const Instance<Shape>& instance, const Ray& ray) {
+  const PreciseRay world = make_precise_ray(ray);
+  const glm::dmat3& m = instance.world_to_object.linear;
+  double norm2 = 0.0;
+  for (int c = 0; c < 3; ++c) norm2 += glm::dot(m[c], m[c]);
+  return PreciseRay{instance.world_to_object.point(world.origin),
+                    instance.world_to_object.vector(world.direction), ray.t_min,
+                    world.origin_error * std::sqrt(norm2)};
+}
+
+TESSERA_HD TESSERA_INLINE Ray to_float_ray(const PreciseRay& ray) {
+  return Ray{vec3(ray.origin), vec3(ray.direction), ray.t_min, kInfinity};
 }
 
 template <typename Shape>
@@ -53,20 +72,35 @@ TESSERA_HD Aabb bounds(const Instance<Shape>& instance) {
 template <typename Shape>
 TESSERA_HD bool intersect(const Instance<Shape>& instance, const Ray& ray, float t_max,
                           HitRecord& hit, std::uint32_t primitive) {
-  return intersect(instance.shape, to_object_ray(instance, ray), t_max, hit, primitive);
+  const PreciseRay object = to_object_ray(instance, ray);
+  if constexpr (PreciseIntersectable<Shape>) {
+    return intersect(instance.shape, object, t_max, hit, primitive);
+  } else {
+    return intersect(instance.shape, to_float_ray(object), t_max, hit, primitive);
+  }
 }
 
 template <typename Shape>
 TESSERA_HD int intersect_all(const Instance<Shape>& instance, const Ray& ray, float t_max,
                              HitRecord* hits, int max_hits, std::uint32_t primitive) {
-  return intersect_all(instance.shape, to_object_ray(instance, ray), t_max, hits, max_hits,
-                       primitive);
+  const PreciseRay object = to_object_ray(instance, ray);
+  if constexpr (PreciseIntersectable<Shape>) {
+    return intersect_all(instance.shape, object, t_max, hits, max_hits, primitive);
+  } else {
+    return intersect_all(instance.shape, to_float_ray(object), t_max, hits, max_hits, primitive);
+  }
 }
 
 template <typename Shape>
 TESSERA_HD SurfaceInteraction surface_at(const Instance<Shape>& instance, const Ray& ray,
                                          const HitRecord& hit) {
-  SurfaceInteraction si = surface_at(instance.shape, to_object_ray(instance, ray), hit);
+  const PreciseRay object = to_object_ray(instance, ray);
+  SurfaceInteraction si;
+  if constexpr (PreciseIntersectable<Shape>) {
+    si = surface_at(instance.shape, object, hit);
+  } else {
+    si = surface_at(instance.shape, to_float_ray(object), hit);
+  }
   si.position = vec3(instance.object_to_world.point(dvec3(si.position)));
   const glm::dmat3 normal_matrix = glm::transpose(instance.world_to_object.linear);
   // n . d is invariant under (M^-T n) . (M d), so the object-space orientation against the

@@ -7,11 +7,12 @@
 
 namespace tessera {
 
-// Shared by the analytic shapes (plane, disk, cylinder, cone, torus): the ray is taken into
-// the shape's own frame in double before anything is subtracted, because the subtractions
-// that decide hit or miss (origin minus centre, the perpendicular distance to an axis) lose
-// the digits that matter when the origin is 1e4 to 1e6 shape sizes away. Every product of
-// two floats is exact in double, so the local ray is accurate to ~1e-16 relative.
+// Shared by the analytic shapes (sphere, plane, disk, cylinder, cone, torus): the ray is
+// taken into the shape's own frame in double before anything is subtracted, because the
+// subtractions that decide hit or miss (origin minus centre, the perpendicular distance to
+// an axis) lose the digits that matter when the origin is 1e4 to 1e6 shape sizes away.
+// Every product of two floats is exact in double, so the local ray is accurate to ~1e-16
+// relative; t is rounded to float only when it is stored in the HitRecord.
 
 struct AxisFrame {
   dvec3 u, v, w;  // right-handed orthonormal, w is the shape's axis
@@ -33,42 +34,64 @@ struct AxisFrame {
   }
 };
 
-// The ray in a shape's frame, in double; t is unchanged by the change of frame.
+// Largest absolute coordinate.
+TESSERA_HD TESSERA_INLINE double max_abs(const dvec3& p) {
+  return glm::max(std::fabs(p.x), glm::max(std::fabs(p.y), std::fabs(p.z)));
+}
+
+// A ray in double with the uncertainty of its origin: how far the point the caller means
+// may lie from `origin` (the rounding of a float origin, or that rounding carried through
+// an instance transform). The analytic shapes intersect this form; instances hand their
+// object-space ray over in it, so that it is never rounded to float.
+struct PreciseRay {
+  dvec3 origin;
+  dvec3 direction;
+  float t_min;
+  double origin_error;
+};
+
+// A float origin lies within sqrt(3)/2 ulp of the point it stands for, and an ulp of x is
+// at most 2^-23 |x|: 2^-23 |o|_max bounds the distance (the surface a ray "starts on" is
+// one within about one ulp of its origin).
+TESSERA_HD TESSERA_INLINE PreciseRay make_precise_ray(const Ray& ray) {
+  return PreciseRay{dvec3(ray.origin), dvec3(ray.direction), ray.t_min,
+                    1.1920928955078125e-07 * max_abs(dvec3(ray.origin))};
+}
+
+// The ray in a shape's frame; t is unchanged by the change of frame.
 struct LocalRay {
   dvec3 origin;
   dvec3 direction;
 };
 
-TESSERA_HD TESSERA_INLINE LocalRay to_local_ray(const Ray& ray, const vec3& center,
+TESSERA_HD TESSERA_INLINE LocalRay to_local_ray(const PreciseRay& ray, const vec3& center,
                                                 const AxisFrame& frame) {
-  return LocalRay{frame.to_local(dvec3(ray.origin) - dvec3(center)),
-                  frame.to_local(dvec3(ray.direction))};
+  return LocalRay{frame.to_local(ray.origin - dvec3(center)), frame.to_local(ray.direction)};
 }
 
-// Hits closer to the origin than a few float ulps of the coordinates involved are not
-// hits: a ray that starts on a surface (to float precision) must not find that surface
-// again at t ~ 0, whatever the sign the rounding gives that root. `scale` is the size of
-// the coordinates the origin was rounded at (its largest world coordinate, plus the
-// shape's extent for curved shapes whose double roots carry an error relative to their
-// size). 2^-21 is 8 half-ulps of float, far below the 256-ulp offset of offset_ray_origin.
-TESSERA_HD TESSERA_INLINE double origin_margin(double scale, double direction_length) {
-  return 4.76837158203125e-07 * scale / direction_length;
+// Self-hits of rays that start on a surface. A ray whose origin lies on a surface (to the
+// precision the origin is known: `band`) finds that surface again at some t near 0, and
+// rounding decides whether that t comes out slightly positive; for a ray leaving at a
+// grazing angle it can be far from 0, so no threshold on t separates it from real hits.
+// It is recognised geometrically instead: the origin is within the band of the surface and
+// so is the midpoint between origin and root, i.e. the ray never left the band before
+// "returning". A genuine second hit (the far side of a sphere, another part of a torus)
+// has its midpoint well away from the surface. `distance` is the part's signed distance
+// (or a function with the same zero set and unit slope there) in the local frame.
+template <typename Distance>
+TESSERA_HD TESSERA_INLINE bool is_start_surface_root(const Distance& distance, const LocalRay& ray,
+                                                     double t, double band) {
+  return std::fabs(distance(ray.origin)) <= band &&
+         std::fabs(distance(ray.origin + (0.5 * t) * ray.direction)) <= band;
 }
 
-// A root in double becomes a hit when its float t lies strictly inside the ray interval
-// and beyond the origin margin.
-TESSERA_HD TESSERA_INLINE bool accept_root(double t, float t_min, float t_max, double margin,
-                                           float& t_out) {
-  if (!(t > margin)) return false;
+// A root in double becomes a hit when its float t lies strictly inside the ray interval.
+TESSERA_HD TESSERA_INLINE bool accept_root(double t, float t_min, float t_max, float& t_out) {
+  if (!(t > 0.0)) return false;
   const float tf = static_cast<float>(t);
   if (!(tf > t_min && tf < t_max)) return false;
   t_out = tf;
   return true;
-}
-
-// Largest absolute coordinate, the scale for origin_margin.
-TESSERA_HD TESSERA_INLINE double max_abs(const dvec3& p) {
-  return glm::max(std::fabs(p.x), glm::max(std::fabs(p.y), std::fabs(p.z)));
 }
 
 // A float box that contains the double box [lower, upper] despite rounding.
@@ -90,12 +113,12 @@ TESSERA_HD TESSERA_INLINE dvec3 circle_half_extent(const dvec3& unit_axis, doubl
                radius * std::sqrt(glm::max(0.0, 1.0 - unit_axis.z * unit_axis.z)));
 }
 
-// Inserts t into the ascending list hits[0..count) keeping at most max_hits entries.
+// Inserts hit into the ascending list hits[0..count) keeping at most max_hits entries.
 TESSERA_HD TESSERA_INLINE int insert_hit_sorted(HitRecord* hits, int count, int max_hits,
                                                 const HitRecord& hit) {
   if (max_hits <= 0) return 0;
-  int i = count < max_hits ? count : max_hits - 1;
   if (count >= max_hits && !(hit.t < hits[max_hits - 1].t)) return count;
+  int i = count < max_hits ? count : max_hits - 1;
   while (i > 0 && hits[i - 1].t > hit.t) {
     hits[i] = hits[i - 1];
     --i;
@@ -121,14 +144,13 @@ struct HitCandidates {
   }
 
   // Closest accepted root; the part goes to hit.v (as a small integer), hit.u is 0.
-  TESSERA_HD bool closest(float t_min, float t_max, double margin, HitRecord& hit,
-                          std::uint32_t primitive) const {
+  TESSERA_HD bool closest(float t_min, float t_max, HitRecord& hit, std::uint32_t primitive) const {
     bool found = false;
     float best = t_max;
     std::uint32_t best_part = 0;
     for (int i = 0; i < count; ++i) {
       float tf;
-      if (accept_root(t[i], t_min, best, margin, tf)) {
+      if (accept_root(t[i], t_min, best, tf)) {
         best = tf;
         best_part = part[i];
         found = true;
@@ -142,12 +164,12 @@ struct HitCandidates {
     return true;
   }
 
-  TESSERA_HD int all(float t_min, float t_max, double margin, HitRecord* hits, int max_hits,
+  TESSERA_HD int all(float t_min, float t_max, HitRecord* hits, int max_hits,
                      std::uint32_t primitive) const {
     int n = 0;
     for (int i = 0; i < count; ++i) {
       float tf;
-      if (accept_root(t[i], t_min, t_max, margin, tf)) {
+      if (accept_root(t[i], t_min, t_max, tf)) {
         HitRecord h;
         h.t = tf;
         h.u = 0.0f;
@@ -157,6 +179,24 @@ struct HitCandidates {
       }
     }
     return n;
+  }
+
+  // The candidate of `which` part closest to a float t (for surface_at, which refines the
+  // stored float t to the double root it came from).
+  TESSERA_HD double nearest(double t_float, std::uint32_t which) const {
+    double best = t_float;
+    double best_distance = -1.0;
+    for (int i = 0; i < count; ++i) {
+      if (part[i] != which) continue;
+      const double distance = std::fabs(t[i] - t_float);
+      if (best_distance < 0.0 || distance < best_distance) {
+        best = t[i];
+        best_distance = distance;
+      }
+    }
+    // Only a root that rounds to (nearly) the stored t is the same hit.
+    return best_distance >= 0.0 && best_distance <= 1e-5 * std::fabs(t_float) + 1e-30 ? best
+                                                                                      : t_float;
   }
 };
 

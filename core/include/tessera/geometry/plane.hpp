@@ -35,52 +35,62 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Plane& p) {
 }
 
 namespace detail {
-// t of the plane hit in double: dot(n, point - origin) is exact enough for any origin.
-TESSERA_HD TESSERA_INLINE bool plane_hit_t(const vec3& point, const vec3& normal, const Ray& ray,
-                                           double& t, double& margin) {
-  const dvec3 n(normal);
-  const dvec3 d(ray.direction);
-  const double denominator = glm::dot(n, d);
-  if (denominator == 0.0) return false;  // parallel (or zero direction): no hit, no 0/0
-  const dvec3 to_point = dvec3(point) - dvec3(ray.origin);
-  t = glm::dot(n, to_point) / denominator;
-  margin = origin_margin(max_abs(dvec3(ray.origin)), glm::length(d));
-  return std::isfinite(t);
+
+// Root of a plane z = z_plane in a local frame, unless it is the plane the ray starts on.
+TESSERA_HD TESSERA_INLINE bool local_plane_root(const LocalRay& local, double z_plane, double band,
+                                                double& t) {
+  if (local.direction.z == 0.0) return false;  // parallel (or zero direction): no 0/0
+  t = (z_plane - local.origin.z) / local.direction.z;
+  if (!std::isfinite(t)) return false;
+  const auto height = [z_plane](const dvec3& p) { return p.z - z_plane; };
+  return !is_start_surface_root(height, local, t, band);
 }
+
+TESSERA_HD TESSERA_INLINE HitCandidates<1> plane_candidates(const Plane& p, const PreciseRay& ray) {
+  HitCandidates<1> out;
+  const LocalRay local = to_local_ray(ray, p.point, AxisFrame::from_axis(p.normal));
+  double t;
+  if (local_plane_root(local, 0.0, ray.origin_error, t)) out.add(t, 0);
+  return out;
+}
+
 }  // namespace detail
 
+TESSERA_HD TESSERA_INLINE bool intersect(const Plane& p, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  return detail::plane_candidates(p, ray).closest(ray.t_min, t_max, hit, primitive);
+}
 TESSERA_HD TESSERA_INLINE bool intersect(const Plane& p, const Ray& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
-  double t, margin;
-  if (!detail::plane_hit_t(p.point, p.normal, ray, t, margin)) return false;
-  float tf;
-  if (!accept_root(t, ray.t_min, t_max, margin, tf)) return false;
-  hit.t = tf;
-  hit.u = 0.0f;
-  hit.v = 0.0f;
-  hit.primitive = primitive;
-  return true;
+  return intersect(p, make_precise_ray(ray), t_max, hit, primitive);
 }
-
+TESSERA_HD TESSERA_INLINE int intersect_all(const Plane& p, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  return detail::plane_candidates(p, ray).all(ray.t_min, t_max, hits, max_hits, primitive);
+}
 TESSERA_HD TESSERA_INLINE int intersect_all(const Plane& p, const Ray& ray, float t_max,
                                             HitRecord* hits, int max_hits,
                                             std::uint32_t primitive) {
-  if (max_hits <= 0) return 0;
-  return intersect(p, ray, t_max, hits[0], primitive) ? 1 : 0;
+  return intersect_all(p, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Plane& p, const Ray& ray,
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Plane& p, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   const AxisFrame frame = AxisFrame::from_axis(p.normal);
-  const dvec3 local = frame.to_local(
-      dvec3(ray.origin) + static_cast<double>(hit.t) * dvec3(ray.direction) - dvec3(p.point));
+  const double t = detail::plane_candidates(p, ray).nearest(hit.t, 0);
+  const dvec3 local = frame.to_local(ray.origin + t * ray.direction - dvec3(p.point));
   // Project onto the plane: the ray-evaluated point is off it by the rounding of t.
   si.position = vec3(dvec3(p.point) + frame.u * local.x + frame.v * local.y);
-  set_face_normal(si, ray.direction, p.normal);
+  set_face_normal(si, vec3(ray.direction), p.normal);
   si.uv = vec2(static_cast<float>(local.x / p.uv_scale), static_cast<float>(local.y / p.uv_scale));
   si.material = p.material;
   return si;
+}
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Plane& p, const Ray& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(p, make_precise_ray(ray), hit);
 }
 
 TESSERA_HD TESSERA_INLINE float surface_area(const Plane&) {

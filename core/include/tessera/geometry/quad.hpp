@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "tessera/geometry/aabb.hpp"
+#include "tessera/geometry/local_frame.hpp"
 #include "tessera/geometry/surface.hpp"
 
 namespace tessera {
@@ -31,21 +32,45 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Quad& q) {
   return b;
 }
 
-TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const Ray& ray, float t_max, HitRecord& hit,
-                                         std::uint32_t primitive) {
-  const float denom = glm::dot(q.normal, ray.direction);
-  if (denom == 0.0f) return false;  // parallel: no hit, and no 0/0 below
-  const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
-  if (!(t > ray.t_min && t < t_max)) return false;
-  const vec3 planar = ray.origin + t * ray.direction - q.corner;
-  const float s = glm::dot(q.w, glm::cross(planar, q.v));
-  const float r = glm::dot(q.w, glm::cross(q.u, planar));
-  if (!(s >= 0.0f && s <= 1.0f && r >= 0.0f && r <= 1.0f)) return false;
-  hit.t = t;
-  hit.u = s;
-  hit.v = r;
+// Plane hit and parallelogram coordinates in double: the hit point relative to the corner
+// is formed as (origin - corner) + t d without rounding to float first, which for origins
+// far away (1e5 quad sizes) would otherwise move the point by ulps of the origin and flip
+// decisions near the edges. A ray starting on the quad's plane (within its origin's
+// uncertainty) does not hit it again.
+TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  const dvec3 u(q.u), v(q.v);
+  const dvec3 n = glm::cross(u, v);
+  const double n2 = glm::dot(n, n);
+  const double denominator = glm::dot(n, ray.direction);
+  if (denominator == 0.0 || !(n2 > 0.0)) return false;  // parallel or degenerate: no 0/0
+  const dvec3 offset = ray.origin - dvec3(q.corner);
+  const double height = glm::dot(n, offset);
+  if (std::fabs(height) <= ray.origin_error * std::sqrt(n2)) return false;  // starts on it
+  const double t = -height / denominator;
+  float tf;
+  if (!accept_root(t, ray.t_min, t_max, tf)) return false;
+  const dvec3 planar = offset + t * ray.direction;
+  const double s = glm::dot(glm::cross(planar, v), n) / n2;
+  const double r = glm::dot(glm::cross(u, planar), n) / n2;
+  if (!(s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0)) return false;
+  hit.t = tf;
+  hit.u = static_cast<float>(s);
+  hit.v = static_cast<float>(r);
   hit.primitive = primitive;
   return true;
+}
+
+TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const Ray& ray, float t_max, HitRecord& hit,
+                                         std::uint32_t primitive) {
+  return intersect(q, make_precise_ray(ray), t_max, hit, primitive);
+}
+
+TESSERA_HD TESSERA_INLINE int intersect_all(const Quad& q, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  if (max_hits <= 0) return 0;
+  return intersect(q, ray, t_max, hits[0], primitive) ? 1 : 0;
 }
 
 // A flat shape is hit at most once: the sorted list of all hits is the closest hit.
@@ -64,6 +89,11 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray
   si.uv = vec2(hit.u, hit.v);
   si.material = q.material;
   return si;
+}
+
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const PreciseRay& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(q, Ray{vec3(ray.origin), vec3(ray.direction), ray.t_min, kInfinity}, hit);
 }
 
 TESSERA_HD TESSERA_INLINE float surface_area(const Quad& q) {

@@ -50,28 +50,33 @@ TESSERA_HD TESSERA_INLINE TorusFactors torus_factors(const dvec3& q, double R, d
   return TorusFactors{(rho - R) * (rho - R) + z_term, (rho + R) * (rho + R) + z_term};
 }
 
-// Roots t of ray/torus, ascending, accepted against [t_min, t_max] and the origin margin.
-TESSERA_HD TESSERA_INLINE int torus_roots(const Torus& torus, const Ray& ray, float t_max,
-                                          double roots[4]) {
+// Signed distance to the tube on the point's own side of the axis.
+TESSERA_HD TESSERA_INLINE double torus_distance(const dvec3& q, double R, double r) {
+  const double rho = std::sqrt(q.x * q.x + q.y * q.y);
+  return std::sqrt((rho - R) * (rho - R) + q.z * q.z) - r;
+}
+
+// Roots t of ray/torus, ascending, found inside [max(t_min, 0), t_max].
+TESSERA_HD TESSERA_INLINE HitCandidates<4> torus_candidates(const Torus& torus,
+                                                            const PreciseRay& ray, float t_max) {
+  HitCandidates<4> out;
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
   const double length = glm::length(local.direction);
-  if (!(length > 0.0) || !std::isfinite(length)) return 0;
+  if (!(length > 0.0) || !std::isfinite(length)) return out;
   const dvec3 d = local.direction / length;  // unit: s = t * length is a distance
   const dvec3& o = local.origin;
   const double R = torus.major_radius, r = torus.minor_radius;
   const double bound = R + r;
-  const double margin = origin_margin(max_abs(dvec3(ray.origin)) + bound, length);
 
   // The search interval: inside the bounding sphere and the slab |z| <= r, and inside the
   // ray's own interval. Clipping first keeps the expansion point near the torus (the
   // origin is moved there before the coefficients are formed) and the interval short.
   const double f = glm::dot(o, d);
   const dvec3 perpendicular = o - f * d;
-  const double perpendicular2 = glm::dot(perpendicular, perpendicular);
-  if (perpendicular2 > bound * bound) return 0;
-  const double half_chord =
-      std::sqrt((bound - std::sqrt(perpendicular2)) * (bound + std::sqrt(perpendicular2)));
+  const double distance = glm::length(perpendicular);
+  if (distance > bound) return out;
+  const double half_chord = std::sqrt((bound - distance) * (bound + distance));
   double s0 = -f - half_chord;
   double s1 = -f + half_chord;
   if (d.z != 0.0) {
@@ -79,14 +84,14 @@ TESSERA_HD TESSERA_INLINE int torus_roots(const Torus& torus, const Ray& ray, fl
     s0 = glm::max(s0, glm::min(sa, sb));
     s1 = glm::min(s1, glm::max(sa, sb));
   } else if (std::fabs(o.z) > r) {
-    return 0;
+    return out;
   }
   // A root can sit exactly on the bounding sphere or slab (the outer equator, the top
   // circle): widen by a hair so that its sign change lies inside the interval.
   const double pad = 1e-9 * bound;
-  s0 = glm::max(s0 - pad, glm::max(static_cast<double>(ray.t_min), margin) * length);
+  s0 = glm::max(s0 - pad, glm::max(static_cast<double>(ray.t_min), 0.0) * length);
   s1 = glm::min(s1 + pad, static_cast<double>(t_max) * length);
-  if (!(s0 <= s1)) return 0;
+  if (!(s0 <= s1)) return out;
 
   const double s_mid = 0.5 * (s0 + s1);
   const dvec3 oc = o + s_mid * d;
@@ -101,71 +106,49 @@ TESSERA_HD TESSERA_INLINE int torus_roots(const Torus& torus, const Ray& ray, fl
   double sigma[4];
   const int n = roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, sigma);
   const bool spindle = r > R;
-  int count = 0;
+  const double band = ray.origin_error + 1e-14 * bound;
+  const auto signed_distance = [R, r](const dvec3& q) { return torus_distance(q, R, r); };
   for (int i = 0; i < n; ++i) {
     if (spindle) {
       const TorusFactors at_root = torus_factors(oc + sigma[i] * d, R, r);
       if (std::fabs(at_root.near) > std::fabs(at_root.far)) continue;  // inner lemon
     }
     const double t = (s_mid + sigma[i]) / length;
-    if (t > margin) roots[count++] = t;
+    if (!is_start_surface_root(signed_distance, local, t, band)) out.add(t, 0);
   }
-  return count;
+  return out;
 }
 
 }  // namespace detail
 
+TESSERA_HD TESSERA_INLINE bool intersect(const Torus& torus, const PreciseRay& ray, float t_max,
+                                         HitRecord& hit, std::uint32_t primitive) {
+  return detail::torus_candidates(torus, ray, t_max).closest(ray.t_min, t_max, hit, primitive);
+}
 TESSERA_HD TESSERA_INLINE bool intersect(const Torus& torus, const Ray& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
-  double roots[4];
-  const int n = detail::torus_roots(torus, ray, t_max, roots);
-  for (int i = 0; i < n; ++i) {
-    const float t = static_cast<float>(roots[i]);
-    if (t > ray.t_min && t < t_max) {
-      hit.t = t;
-      hit.u = 0.0f;
-      hit.v = 0.0f;
-      hit.primitive = primitive;
-      return true;
-    }
-  }
-  return false;
+  return intersect(torus, make_precise_ray(ray), t_max, hit, primitive);
 }
-
+TESSERA_HD TESSERA_INLINE int intersect_all(const Torus& torus, const PreciseRay& ray, float t_max,
+                                            HitRecord* hits, int max_hits,
+                                            std::uint32_t primitive) {
+  return detail::torus_candidates(torus, ray, t_max)
+      .all(ray.t_min, t_max, hits, max_hits, primitive);
+}
 TESSERA_HD TESSERA_INLINE int intersect_all(const Torus& torus, const Ray& ray, float t_max,
                                             HitRecord* hits, int max_hits,
                                             std::uint32_t primitive) {
-  double roots[4];
-  const int n = detail::torus_roots(torus, ray, t_max, roots);
-  int count = 0;
-  for (int i = 0; i < n && count < max_hits; ++i) {
-    const float t = static_cast<float>(roots[i]);
-    if (!(t > ray.t_min && t < t_max)) continue;
-    hits[count].t = t;
-    hits[count].u = 0.0f;
-    hits[count].v = 0.0f;
-    hits[count].primitive = primitive;
-    ++count;
-  }
-  return count;
+  return intersect_all(torus, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
 
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Torus& torus, const Ray& ray,
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Torus& torus, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
-  // The float t is refined to the double root nearest to it, so that the point, normal and
+  // The float t is refined to the double root it came from, so that the point, normal and
   // uv do not inherit float rounding of t (which is large for far-away origins).
-  double t = hit.t;
-  double roots[4];
-  Ray full = ray;
-  full.t_min = -kInfinity;
-  const int n = detail::torus_roots(torus, full, kInfinity, roots);
-  for (int i = 0; i < n; ++i)
-    if (std::fabs(roots[i] - hit.t) < std::fabs(t - hit.t) || i == 0) t = roots[i];
-  if (!(std::fabs(t - hit.t) <=
-        1e-3 * (std::fabs(static_cast<double>(hit.t)) + torus.major_radius + torus.minor_radius)))
-    t = hit.t;
-
+  PreciseRay search = ray;
+  search.t_min = 0.0f;
+  const double t = detail::torus_candidates(torus, search, kInfinity).nearest(hit.t, 0);
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
   const dvec3 q = local.origin + t * local.direction;
@@ -179,10 +162,14 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Torus& torus, cons
   outward = distance > 0.0 ? outward / distance : dvec3(cos_phi, sin_phi, 0.0);
   const dvec3 p = tube_center + r * outward;
   si.position = vec3(dvec3(torus.center) + frame.to_world(p));
-  set_face_normal(si, ray.direction, vec3(glm::normalize(frame.to_world(outward))));
+  set_face_normal(si, vec3(ray.direction), vec3(glm::normalize(frame.to_world(outward))));
   si.uv = vec2(angle_fraction(q.y, q.x), angle_fraction(q.z, rho - R));
   si.material = torus.material;
   return si;
+}
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Torus& torus, const Ray& ray,
+                                                        const HitRecord& hit) {
+  return surface_at(torus, make_precise_ray(ray), hit);
 }
 
 // Area of the visible surface: the tube's circle swept around the axis, for a spindle
