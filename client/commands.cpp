@@ -20,6 +20,7 @@
 #include "client/scene_to_proto.hpp"
 #include "client/tile_assembler.hpp"
 #include "tessera/image/exr.hpp"
+#include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -192,12 +193,7 @@ SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
 // load_scene() for a scene that goes to a server, which must receive everything that
 // decides its pixels.
 SceneDescription load_scene_for_server(const CliCommand& cmd, std::ostream& err) {
-  SceneDescription scene = load_scene(cmd, err);
-  if (auto issue = first_field_the_api_cannot_carry(scene)) {
-    issue->file = cmd.scene_path;
-    throw CommandFailure{kExitUsage, issue->to_string()};
-  }
-  return scene;
+  return load_scene(cmd, err);
 }
 
 std::string job_name(const CliCommand& cmd) {
@@ -217,12 +213,13 @@ void create_parent_directory(const std::string& file) {
 }
 
 std::unique_ptr<TileAssembler> open_output(const CliCommand& cmd, std::uint32_t width,
-                                           std::uint32_t height, std::uint32_t tile_size) {
+                                           std::uint32_t height, std::uint32_t tile_size,
+                                           std::uint32_t aovs) {
   create_parent_directory(cmd.output_exr);
   if (!cmd.preview_png.empty()) create_parent_directory(cmd.preview_png);
   try {
-    return std::make_unique<TileAssembler>(width, height, tile_size,
-                                           std::filesystem::path(cmd.output_exr));
+    return std::make_unique<TileAssembler>(
+        width, height, tile_size, std::filesystem::path(cmd.output_exr), output_channels(aovs));
   } catch (const std::exception& e) {
     throw CommandFailure{kExitFailed, e.what()};
   }
@@ -259,10 +256,10 @@ void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
   const v1::TileRect& r = tile.rect();
   const TileRect rect{r.index(), r.x(), r.y(), r.width(), r.height()};
   const std::string& bytes = tile.exr();
-  RgbaImage pixels;
+  ChannelImage pixels;
   try {
-    pixels =
-        decode_exr(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+    pixels = decode_exr_channels(
+        std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
   } catch (const std::exception& e) {
     throw std::runtime_error("tile " + std::to_string(rect.index) + ": " + e.what());
   }
@@ -271,6 +268,11 @@ void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
                              std::to_string(rect.width) + "x" + std::to_string(rect.height) +
                              " but its EXR holds " + std::to_string(pixels.width) + "x" +
                              std::to_string(pixels.height) + " pixels");
+  try {
+    pixels = select_channels(pixels, assembler.channels());
+  } catch (const std::exception& e) {
+    throw std::runtime_error("tile " + std::to_string(rect.index) + ": " + e.what());
+  }
   assembler.add_tile(rect, pixels.pixels);
 }
 
@@ -280,11 +282,15 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
                std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
                Clock::time_point start, const CommandOutput& io) {
   const v1::RenderSettings& s = job.settings();
+  std::uint32_t aovs = 0;
+  for (int aov : s.aovs())
+    if (aov >= v1::AOV_ALBEDO && aov <= v1::AOV_PRIMITIVE_ID) aovs |= 1u << (aov - v1::AOV_ALBEDO);
   // The output was opened from the scene's settings; the server's are the ones that count.
   if (!assembler || assembler->tile_size() != s.tile_size() ||
-      assembler->image().width != s.width() || assembler->image().height != s.height()) {
+      assembler->image().width != s.width() || assembler->image().height != s.height() ||
+      assembler->channels() != output_channels(aovs)) {
     assembler.reset();  // close before reopening the same path
-    assembler = open_output(cmd, s.width(), s.height(), s.tile_size());
+    assembler = open_output(cmd, s.width(), s.height(), s.tile_size(), aovs);
   }
 
   ProgressReporter progress(io.err, io.interactive);
@@ -335,8 +341,8 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
   // Open the output before queueing work, so an unwritable path fails fast.
-  auto assembler =
-      open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
+  auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
+                               scene.render.aovs);
   Client client(ClientOptions{.target = cmd.server});
   v1::Job job;
   try {
@@ -356,11 +362,8 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
 int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   const SceneDescription scene = load_scene(cmd, io.err);
-  if (scene.render.aovs != 0)
-    io.err << "tessera: warning: " << cmd.scene_path
-           << ": render.aovs: the CLI writes only the beauty pass; AOVs ignored\n";
-  auto assembler =
-      open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size);
+  auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
+                               scene.render.aovs);
   std::shared_ptr<const PreparedScene> prepared;
   try {
     prepared = PreparedScene::build(scene);

@@ -1,5 +1,7 @@
 #include "client/local_render.hpp"
 
+#include "tessera/render/output_channels.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <exception>
@@ -26,18 +28,21 @@ LocalRenderResult render_local(const PreparedScene& scene, unsigned threads,
   std::size_t tiles_done = 0;
 
   const auto worker = [&] {
-    std::vector<float> rgba;
+    TilePasses passes;
+    std::vector<float> interleaved;
+    const std::uint32_t aovs = scene.settings().aovs;
     try {
       while (!failed.load(std::memory_order_relaxed) &&
              !(stop && stop->load(std::memory_order_relaxed))) {
         const std::size_t i = next_tile.fetch_add(1, std::memory_order_relaxed);
         if (i >= tiles.size()) break;
-        rgba.resize(tiles[i].pixel_count() * 4);
-        const TileStats stats = scene.render_tile(tiles[i], rgba);
+        const TileStats stats = scene.render_tile(tiles[i], passes);
+        if (aovs != 0) interleaved = interleave_passes(passes, aovs);
+        const std::vector<float>& pixels = aovs != 0 ? interleaved : passes.beauty;
         std::lock_guard lock(callback_mutex);
         rays += stats.rays;
         ++tiles_done;
-        if (on_tile) on_tile(tiles[i], rgba, stats.rays);
+        if (on_tile) on_tile(tiles[i], pixels, stats.rays);
       }
     } catch (...) {
       std::lock_guard lock(callback_mutex);

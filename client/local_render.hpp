@@ -15,6 +15,7 @@ struct LocalRenderResult {
 };
 
 // Called once per finished tile, one call at a time (under a lock), from a worker thread.
+// `rgba` holds the tile in output_channels(aovs) layout: R, G, B, A, then any AOVs.
 using LocalTileCallback =
     std::function<void(const TileRect& tile, std::span<const float> rgba, std::uint64_t rays)>;
 

@@ -150,20 +150,12 @@ v1::RenderSettings render_settings_to_proto(const RenderSettings& settings) {
   out.set_max_depth(settings.max_depth);
   out.set_tile_size(settings.tile_size);
   out.set_seed(settings.seed);
+  // IntegratorKind and AovBit follow the proto enums' order, offset by their UNSPECIFIED.
+  out.set_integrator(
+      static_cast<v1::Integrator>(static_cast<int>(settings.integrator) + v1::INTEGRATOR_PATH));
+  for (int i = 0; i < 4; ++i)
+    if ((settings.aovs & (1u << i)) != 0) out.add_aovs(static_cast<v1::Aov>(v1::AOV_ALBEDO + i));
   return out;
-}
-
-std::optional<SceneIssue> first_field_the_api_cannot_carry(const SceneDescription& scene) {
-  if (scene.render.integrator != IntegratorKind::kPath)
-    return SceneIssue{"", 0, "render.integrator",
-                      std::string("the render API has no integrator choice yet, so '") +
-                          to_string(scene.render.integrator) +
-                          "' cannot be sent to a server; render it with --local"};
-  if (scene.render.aovs != 0)
-    return SceneIssue{
-        "", 0, "render.aovs",
-        "the render API streams only the beauty pass; remove aovs to render on a server"};
-  return std::nullopt;
 }
 
 v1::SubmitJobRequest make_submit_request(const SceneDescription& scene, const std::string& name,

@@ -20,12 +20,8 @@ v1::Scene scene_to_proto(const SceneDescription& scene);
 
 v1::MaterialType material_type_to_proto(MaterialType type);
 
-// Width, height, spp, depth, tile size and seed, all written explicitly.
+// Width, height, spp, depth, tile size, seed, integrator and AOVs, all written explicitly.
 v1::RenderSettings render_settings_to_proto(const RenderSettings& settings);
-
-// The first thing in `scene` that tessera.v1 cannot carry, so a server would render something
-// else than asked: a non-path integrator, or AOVs. Field set, file and line left empty.
-std::optional<SceneIssue> first_field_the_api_cannot_carry(const SceneDescription& scene);
 
 v1::SubmitJobRequest make_submit_request(const SceneDescription& scene, const std::string& name,
                                          std::int32_t priority);

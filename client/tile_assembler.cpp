@@ -16,22 +16,28 @@ std::string describe(const TileRect& t) {
 }  // namespace
 
 TileAssembler::TileAssembler(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
-                             const std::optional<std::filesystem::path>& exr_path)
+                             const std::optional<std::filesystem::path>& exr_path,
+                             std::vector<std::string> channels)
     : tile_size_(tile_size),
+      channels_(std::move(channels)),
       grid_(make_tiles(width, height, tile_size)),
       received_(grid_.size(), false) {
   if (grid_.empty())
     throw std::invalid_argument("image of " + std::to_string(width) + "x" + std::to_string(height) +
                                 " with tile size " + std::to_string(tile_size) + " has no tiles");
+  if (channels_.size() < 4 || channels_[0] != "R" || channels_[3] != "A")
+    throw std::invalid_argument("output channels must start with R, G, B, A");
   image_.width = width;
   image_.height = height;
   image_.pixels.assign(static_cast<std::size_t>(width) * height * 4, 0.0f);
-  if (exr_path) writer_ = std::make_unique<TiledExrWriter>(*exr_path, width, height, tile_size);
+  if (exr_path)
+    writer_ = std::make_unique<TiledExrWriter>(*exr_path, width, height, tile_size, channels_);
 }
 
 TileAssembler::~TileAssembler() = default;
 
-void TileAssembler::add_tile(const TileRect& tile, std::span<const float> rgba) {
+void TileAssembler::add_tile(const TileRect& tile, std::span<const float> pixels) {
+  const std::size_t stride = channels_.size();
   if (tile.index >= grid_.size())
     throw std::runtime_error("received " + describe(tile) + " but the image has " +
                              std::to_string(grid_.size()) + " tiles");
@@ -40,18 +46,20 @@ void TileAssembler::add_tile(const TileRect& tile, std::span<const float> rgba) 
       tile.height != expected.height)
     throw std::runtime_error("received " + describe(tile) + " but the tile grid has " +
                              describe(expected));
-  if (rgba.size() != tile.pixel_count() * 4)
+  if (pixels.size() != tile.pixel_count() * stride)
     throw std::runtime_error("received " + describe(tile) + " with " +
-                             std::to_string(rgba.size() / 4) + " pixels instead of " +
+                             std::to_string(pixels.size() / stride) + " pixels instead of " +
                              std::to_string(tile.pixel_count()));
   if (received_[tile.index]) throw std::runtime_error("received " + describe(tile) + " twice");
   received_[tile.index] = true;
   ++received_count_;
   for (std::uint32_t row = 0; row < tile.height; ++row)
-    std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
-                image_.pixels.begin() +
-                    (static_cast<std::ptrdiff_t>(tile.y + row) * image_.width + tile.x) * 4);
-  if (writer_) writer_->write_tile(tile, rgba);
+    for (std::uint32_t col = 0; col < tile.width; ++col)
+      std::copy_n(
+          pixels.begin() + static_cast<std::ptrdiff_t>((row * tile.width + col) * stride), 4,
+          image_.pixels.begin() +
+              (static_cast<std::ptrdiff_t>(tile.y + row) * image_.width + tile.x + col) * 4);
+  if (writer_) writer_->write_tile(tile, pixels);
 }
 
 void TileAssembler::finish() {

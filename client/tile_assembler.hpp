@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "tessera/image/exr.hpp"
@@ -18,15 +19,18 @@ namespace tessera {
 class TileAssembler {
  public:
   // `exr_path` empty: keep the image in memory only.
+  // `channels`: the EXR's channels, R, G, B and A first (see output_channels()).
   TileAssembler(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
-                const std::optional<std::filesystem::path>& exr_path);
+                const std::optional<std::filesystem::path>& exr_path,
+                std::vector<std::string> channels = rgba_channels());
   ~TileAssembler();
   TileAssembler(const TileAssembler&) = delete;
   TileAssembler& operator=(const TileAssembler&) = delete;
 
-  // `rgba` holds tile.width * tile.height * 4 floats. Throws std::runtime_error for a tile
-  // outside the grid, of the wrong size, or seen before.
-  void add_tile(const TileRect& tile, std::span<const float> rgba);
+  // `pixels` holds tile.width * tile.height pixels of channels().size() floats. Throws
+  // std::runtime_error for a tile outside the grid, of the wrong size, or seen before.
+  void add_tile(const TileRect& tile, std::span<const float> pixels);
+  const std::vector<std::string>& channels() const { return channels_; }
 
   std::uint32_t tile_size() const { return tile_size_; }
   std::uint32_t tiles_received() const { return received_count_; }
@@ -38,10 +42,12 @@ class TileAssembler {
   // Closes the EXR without checking; for giving up on a failed job.
   void abandon();
 
+  // The beauty pass (R, G, B, A) of the tiles received so far, for the preview.
   const RgbaImage& image() const { return image_; }
 
  private:
   std::uint32_t tile_size_;
+  std::vector<std::string> channels_;
   std::vector<TileRect> grid_;
   std::vector<bool> received_;
   std::uint32_t received_count_ = 0;

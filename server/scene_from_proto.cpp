@@ -281,6 +281,29 @@ RenderSettings settings_from_proto(const v1::RenderSettings& in) {
   out.max_depth = in.max_depth() != 0 ? in.max_depth() : kDefaultMaxDepth;
   out.tile_size = in.tile_size() != 0 ? in.tile_size() : kDefaultTileSize;
   out.seed = in.seed();
+  switch (in.integrator()) {
+    case v1::INTEGRATOR_NORMALS:
+      out.integrator = IntegratorKind::kNormals;
+      break;
+    case v1::INTEGRATOR_SHADOW:
+      out.integrator = IntegratorKind::kShadow;
+      break;
+    case v1::INTEGRATOR_TRANSPARENCY:
+      out.integrator = IntegratorKind::kTransparency;
+      break;
+    case v1::INTEGRATOR_ALBEDO:
+      out.integrator = IntegratorKind::kAlbedo;
+      break;
+    case v1::INTEGRATOR_DEPTH:
+      out.integrator = IntegratorKind::kDepth;
+      break;
+    default:
+      out.integrator = IntegratorKind::kPath;
+      break;  // unknown values are rejected in scene_from_proto
+  }
+  for (int aov : in.aovs())
+    if (aov >= v1::AOV_ALBEDO && aov <= v1::AOV_PRIMITIVE_ID)
+      out.aovs |= 1u << (aov - v1::AOV_ALBEDO);
   return out;
 }
 
@@ -292,6 +315,11 @@ v1::RenderSettings settings_to_proto(const RenderSettings& in) {
   out.set_max_depth(in.max_depth);
   out.set_tile_size(in.tile_size);
   out.set_seed(in.seed);
+  out.set_integrator(
+      static_cast<v1::Integrator>(static_cast<int>(in.integrator) + v1::INTEGRATOR_PATH));
+  for (std::uint32_t i = 0; i < 4; ++i)
+    if ((in.aovs & (1u << i)) != 0)
+      out.add_aovs(static_cast<v1::Aov>(v1::AOV_ALBEDO + static_cast<int>(i)));
   return out;
 }
 
@@ -305,6 +333,13 @@ SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& 
   convert_materials(in, check, scene.materials);
   convert_geometry(in, check, scene);
   scene.render = settings_from_proto(settings);
+  if (!v1::Integrator_IsValid(settings.integrator()))
+    check.fail("settings.integrator",
+               "unknown integrator value " + std::to_string(settings.integrator()));
+  for (int i = 0; i < settings.aovs_size(); ++i)
+    if (settings.aovs(i) < v1::AOV_ALBEDO || settings.aovs(i) > v1::AOV_PRIMITIVE_ID)
+      check.fail("settings.aovs[" + std::to_string(i) + "]",
+                 "unknown AOV value " + std::to_string(settings.aovs(i)));
   // The semantic checks assume a structurally sound scene (finite numbers, valid
   // references), so they run only once the structure is right.
   if (!result.issues.empty()) return result;

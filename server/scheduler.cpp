@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "tessera/image/exr.hpp"
+#include "tessera/render/output_channels.hpp"
 
 namespace tessera::server {
 
@@ -179,12 +180,15 @@ void Scheduler::prepare(Entry& entry) {
 void Scheduler::render(Entry& entry, const TileRect& rect) {
   Job& job = *entry.job;
   if (job.finished()) return;  // cancelled after the tile was handed out
-  thread_local std::vector<float> rgba;
+  thread_local TilePasses passes;
   AddTileResult added = AddTileResult::kDropped;
   try {
-    rgba.resize(rect.pixel_count() * 4);
-    const TileStats stats = entry.prepared->render_tile(rect, rgba);
-    std::vector<std::uint8_t> exr = encode_exr(rgba, rect.width, rect.height, rect.x, rect.y);
+    const TileStats stats = entry.prepared->render_tile(rect, passes);
+    const std::uint32_t aovs = entry.prepared->settings().aovs;
+    std::vector<std::uint8_t> exr =
+        aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
+                  : encode_exr(interleave_passes(passes, aovs), rect.width, rect.height,
+                               output_channels(aovs), rect.x, rect.y);
     added = job.add_tile(rect, std::move(exr), stats.rays);
   } catch (const std::exception& e) {
     const std::string message = "tile " + std::to_string(rect.index) + " failed: " + e.what();

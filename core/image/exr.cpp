@@ -10,12 +10,20 @@
 namespace tessera {
 
 namespace {
-OIIO::ImageSpec rgba_spec(std::uint32_t width, std::uint32_t height) {
-  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 4, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"R", "G", "B", "A"};
-  spec.alpha_channel = 3;
+OIIO::ImageSpec channel_spec(std::uint32_t width, std::uint32_t height,
+                             const std::vector<std::string>& channels) {
+  if (channels.empty()) throw std::invalid_argument("an EXR needs at least one channel");
+  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height),
+                       static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = channels;
+  const auto alpha = std::find(channels.begin(), channels.end(), "A");
+  spec.alpha_channel = alpha == channels.end() ? -1 : static_cast<int>(alpha - channels.begin());
   spec.attribute("compression", "zip");
   return spec;
+}
+
+OIIO::ImageSpec rgba_spec(std::uint32_t width, std::uint32_t height) {
+  return channel_spec(width, height, rgba_channels());
 }
 
 float linear_to_srgb(float c) {
@@ -24,24 +32,47 @@ float linear_to_srgb(float c) {
 }
 }  // namespace
 
-std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width,
-                                     std::uint32_t height, std::uint32_t x, std::uint32_t y) {
-  if (rgba.size() != static_cast<std::size_t>(width) * height * 4)
-    throw std::invalid_argument("encode_exr: buffer size does not match width * height * 4");
+std::vector<std::uint8_t> encode_exr(std::span<const float> pixels, std::uint32_t width,
+                                     std::uint32_t height, const std::vector<std::string>& channels,
+                                     std::uint32_t x, std::uint32_t y) {
+  if (pixels.size() != static_cast<std::size_t>(width) * height * channels.size())
+    throw std::invalid_argument("encode_exr: buffer size does not match width * height * channels");
   std::vector<std::uint8_t> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
   auto out = OIIO::ImageOutput::create("tile.exr", &proxy);
   if (!out)
     throw std::runtime_error("encode_exr: OpenImageIO has no EXR writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec = rgba_spec(width, height);
+  OIIO::ImageSpec spec = channel_spec(width, height, channels);
   spec.x = static_cast<int>(x);
   spec.y = static_cast<int>(y);
   spec.full_x = 0;
   spec.full_y = 0;
-  if (!out->open("tile.exr", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgba.data()) ||
+  if (!out->open("tile.exr", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) ||
       !out->close())
     throw std::runtime_error("encode_exr: " + out->geterror());
   return bytes;
+}
+
+std::vector<std::uint8_t> encode_exr(std::span<const float> rgba, std::uint32_t width,
+                                     std::uint32_t height, std::uint32_t x, std::uint32_t y) {
+  return encode_exr(rgba, width, height, rgba_channels(), x, y);
+}
+
+ChannelImage decode_exr_channels(std::span<const std::uint8_t> bytes) {
+  OIIO::Filesystem::IOMemReader proxy(const_cast<std::uint8_t*>(bytes.data()), bytes.size());
+  auto in = OIIO::ImageInput::open("tile.exr", nullptr, &proxy);
+  if (!in) throw std::runtime_error("decode_exr: not a readable EXR: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1)
+    throw std::runtime_error("decode_exr: unexpected image layout");
+  ChannelImage image;
+  image.width = static_cast<std::uint32_t>(spec.width);
+  image.height = static_cast<std::uint32_t>(spec.height);
+  image.channels = spec.channelnames;
+  image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw std::runtime_error("decode_exr: " + in->geterror());
+  return image;
 }
 
 RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
@@ -64,23 +95,47 @@ RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
   return image;
 }
 
+ChannelImage select_channels(const ChannelImage& image, const std::vector<std::string>& wanted) {
+  const std::size_t stride = image.channels.size();
+  std::vector<std::size_t> source;
+  for (const std::string& name : wanted) {
+    const auto it = std::find(image.channels.begin(), image.channels.end(), name);
+    if (it == image.channels.end())
+      throw std::runtime_error("the image has no channel '" + name + "'");
+    source.push_back(static_cast<std::size_t>(it - image.channels.begin()));
+  }
+  ChannelImage out;
+  out.width = image.width;
+  out.height = image.height;
+  out.channels = wanted;
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  out.pixels.resize(pixels * wanted.size());
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (std::size_t c = 0; c < source.size(); ++c)
+      out.pixels[p * source.size() + c] = image.pixels[p * stride + source[c]];
+  return out;
+}
+
 struct TiledExrWriter::Impl {
   std::unique_ptr<OIIO::ImageOutput> out;
   std::uint32_t width, height, tile_size;
+  std::size_t channel_count;
   std::vector<float> padded;
   bool open = false;
 };
 
 TiledExrWriter::TiledExrWriter(const std::filesystem::path& path, std::uint32_t width,
-                               std::uint32_t height, std::uint32_t tile_size)
+                               std::uint32_t height, std::uint32_t tile_size,
+                               const std::vector<std::string>& channels)
     : impl_(std::make_unique<Impl>()) {
+  impl_->channel_count = channels.size();
   impl_->width = width;
   impl_->height = height;
   impl_->tile_size = tile_size;
   impl_->out = OIIO::ImageOutput::create(path.string());
   if (!impl_->out)
     throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
-  OIIO::ImageSpec spec = rgba_spec(width, height);
+  OIIO::ImageSpec spec = channel_spec(width, height, channels);
   spec.tile_width = static_cast<int>(tile_size);
   spec.tile_height = static_cast<int>(tile_size);
   if (!impl_->out->supports("tiles"))
@@ -97,15 +152,19 @@ TiledExrWriter::~TiledExrWriter() {
   }
 }
 
-void TiledExrWriter::write_tile(const TileRect& tile, std::span<const float> rgba) {
+void TiledExrWriter::write_tile(const TileRect& tile, std::span<const float> pixels) {
   const std::uint32_t ts = impl_->tile_size;
+  const std::size_t nc = impl_->channel_count;
   if (tile.x % ts != 0 || tile.y % ts != 0 || tile.width > ts || tile.height > ts)
     throw std::invalid_argument("write_tile: tile does not match the file's tile grid");
+  if (pixels.size() != tile.pixel_count() * nc)
+    throw std::invalid_argument("write_tile: buffer size does not match the tile and channels");
   // Edge tiles are smaller than the grid; OpenImageIO expects a full tile buffer.
-  impl_->padded.assign(static_cast<std::size_t>(ts) * ts * 4, 0.0f);
+  impl_->padded.assign(static_cast<std::size_t>(ts) * ts * nc, 0.0f);
+  const std::size_t row_floats = tile.width * nc;
   for (std::uint32_t row = 0; row < tile.height; ++row)
-    std::copy_n(rgba.begin() + static_cast<std::ptrdiff_t>(row) * tile.width * 4, tile.width * 4,
-                impl_->padded.begin() + static_cast<std::ptrdiff_t>(row) * ts * 4);
+    std::copy_n(pixels.begin() + static_cast<std::ptrdiff_t>(row * row_floats), row_floats,
+                impl_->padded.begin() + static_cast<std::ptrdiff_t>(row * ts * nc));
   if (!impl_->out->write_tile(static_cast<int>(tile.x), static_cast<int>(tile.y), 0,
                               OIIO::TypeDesc::FLOAT, impl_->padded.data()))
     throw std::runtime_error("write_tile: " + impl_->out->geterror());

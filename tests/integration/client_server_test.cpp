@@ -6,6 +6,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -333,6 +335,48 @@ TEST_F(CliAgainstDaemonTest, CancelledJobMakesWatchFail) {
   EXPECT_EQ(watched.exit_code, kExitFailed);
   EXPECT_EQ(watched.err.rfind("tessera: job " + job.id() + " was cancelled", 0), 0u) << watched.err;
   EXPECT_FALSE(std::filesystem::exists(watch.output_exr));
+}
+
+}  // namespace
+}  // namespace tessera
+
+namespace tessera {
+namespace {
+
+std::vector<std::uint8_t> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Integrator and AOVs travel through the API: the CLI's remote render of a transparency
+// scene, and of a path-traced scene with every AOV, write the same EXR channels and pixels
+// as --local.
+TEST_F(CliAgainstDaemonTest, RemoteIntegratorsAndAovsMatchLocalRendering) {
+  for (const char* render_section :
+       {"{ integrator: transparency }", "{ aovs: [albedo, normal, depth, primitive_id] }"}) {
+    const std::filesystem::path scene = dir_ / "scene.yaml";
+    std::ifstream cornell_file(kCornell);
+    std::string text((std::istreambuf_iterator<char>(cornell_file)),
+                     std::istreambuf_iterator<char>());
+    text = text.substr(0, text.find("\nrender:")) + "\nrender: " + render_section + "\n";
+    std::ofstream(scene) << text;
+
+    CliCommand remote = render_command();
+    remote.scene_path = scene.string();
+    remote.preview_png.clear();
+    remote.output_exr = (dir_ / "remote.exr").string();
+    CliCommand local = remote;
+    local.local = true;
+    local.output_exr = (dir_ / "local.exr").string();
+    ASSERT_EQ(run_cli(remote).exit_code, kExitOk) << render_section;
+    ASSERT_EQ(run_cli(local).exit_code, kExitOk) << render_section;
+    const ChannelImage a = decode_exr_channels(read_bytes(remote.output_exr));
+    const ChannelImage b = decode_exr_channels(read_bytes(local.output_exr));
+    EXPECT_EQ(a.channels.size(),
+              std::string(render_section).find("aovs") != std::string::npos ? 12u : 4u);
+    EXPECT_EQ(a.channels, b.channels) << render_section;
+    EXPECT_TRUE(bit_equal(a.pixels, b.pixels)) << render_section;
+  }
 }
 
 }  // namespace

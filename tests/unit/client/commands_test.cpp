@@ -9,10 +9,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "client/commands.hpp"
 #include "tessera/image/exr.hpp"
+#include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -147,35 +149,40 @@ TEST_F(CommandsTest, LocalRenderWritesTheSameImageAsTheCore) {
   EXPECT_EQ(preview.height, 30u);
 }
 
-// The v1 API has no integrator field: a server would path-trace a `normals` scene, so the
-// CLI refuses to send it, and renders it with --local.
-TEST_F(CommandsTest, IntegratorOtherThanPathRendersOnlyLocally) {
-  const std::filesystem::path scene = dir_ / "normals.yaml";
+// A preview integrator with AOVs asked for renders locally into one EXR holding the beauty
+// channels and every AOV's channels, equal to the core's own passes.
+TEST_F(CommandsTest, LocalRenderWritesAovChannels) {
+  const std::filesystem::path scene = dir_ / "aovs.yaml";
   std::ofstream(scene)
-      << "materials:\n  - { name: m, type: lambertian }\ngeometry:\n"
+      << "materials:\n  - { name: m, type: lambertian, albedo: [0.2, 0.4, 0.6] }\ngeometry:\n"
          "  - { type: sphere, material: m, center: [0, 0, 0], radius: 1 }\n"
-         "render: { width: 16, height: 12, spp: 1, tile_size: 8, integrator: normals }\n";
+         "render: { width: 16, height: 12, spp: 1, tile_size: 8, aovs: [albedo, depth] }\n";
   CliCommand command;
-  command.kind = CommandKind::kSubmit;
-  command.server = "127.0.0.1:" + std::to_string(unused_port());  // never contacted
-  command.scene_path = scene.string();
-  command.output_exr = (dir_ / "normals.exr").string();
-  CommandRun r = run(command);
-  EXPECT_EQ(r.exit_code, kExitUsage);
-  EXPECT_EQ(r.err.rfind("tessera: " + scene.string() + ": render.integrator: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("--local"), std::string::npos) << r.err;
   command.kind = CommandKind::kRender;
-  EXPECT_EQ(run(command).exit_code, kExitUsage);
-
   command.local = true;
-  r = run(command);
+  command.scene_path = scene.string();
+  command.output_exr = (dir_ / "aovs.exr").string();
+  const CommandRun r = run(command);
   ASSERT_EQ(r.exit_code, kExitOk) << r.err;
-  const std::vector<float> reference =
-      render_image(*PreparedScene::build(load_scene_file(scene).scene));
-  const RgbaImage written = read_image(command.output_exr);
-  ASSERT_EQ(written.pixels.size(), reference.size());
-  EXPECT_EQ(std::memcmp(written.pixels.data(), reference.data(), reference.size() * sizeof(float)),
-            0);
+
+  std::ifstream in(command.output_exr, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
+  const ChannelImage file = decode_exr_channels(bytes);
+  EXPECT_EQ(std::set<std::string>(file.channels.begin(), file.channels.end()),
+            (std::set<std::string>{"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "Z"}));
+  const ChannelImage written = select_channels(file, output_channels(kAovAlbedo | kAovDepth));
+  const auto prepared = PreparedScene::build(load_scene_file(scene).scene);
+  for (const TileRect& tile : make_tiles(16, 12, 8)) {
+    TilePasses passes;
+    prepared->render_tile(tile, passes);
+    const std::vector<float> expected = interleave_passes(passes, kAovAlbedo | kAovDepth);
+    const std::size_t stride = written.channels.size();
+    for (std::uint32_t row = 0; row < tile.height; ++row)
+      for (std::uint32_t col = 0; col < tile.width * stride; ++col)
+        ASSERT_EQ(written.pixels[((tile.y + row) * 16 + tile.x) * stride + col],
+                  expected[row * tile.width * stride + col]);
+  }
 }
 
 TEST_F(CommandsTest, UnwritableOutputFailsBeforeRendering) {

@@ -265,20 +265,25 @@ TEST(SceneToProto, MaterialTypesMapOneToOne) {
 namespace tessera {
 namespace {
 
-TEST(SceneToProto, NamesWhatTheApiCannotCarry) {
+TEST(SceneToProto, IntegratorAndAovsTravel) {
   SceneDescription scene =
       load_scene_file(std::filesystem::path(TESSERA_SOURCE_DIR) / "examples/scenes/cornell.yaml")
           .scene;
-  EXPECT_FALSE(first_field_the_api_cannot_carry(scene));
-  scene.render.aovs = kAovDepth;
-  auto issue = first_field_the_api_cannot_carry(scene);
-  ASSERT_TRUE(issue);
-  EXPECT_EQ(issue->field, "render.aovs");
-  scene.render.integrator = IntegratorKind::kNormals;
-  issue = first_field_the_api_cannot_carry(scene);
-  ASSERT_TRUE(issue);
-  EXPECT_EQ(issue->field, "render.integrator");
-  EXPECT_NE(issue->message.find("'normals'"), std::string::npos) << issue->message;
+  EXPECT_EQ(render_settings_to_proto(scene.render).integrator(), v1::INTEGRATOR_PATH);
+  scene.render.aovs = kAovDepth | kAovNormal;
+  v1::RenderSettings settings = render_settings_to_proto(scene.render);
+  ASSERT_EQ(settings.aovs_size(), 2);
+  EXPECT_EQ(settings.aovs(0), v1::AOV_NORMAL);
+  EXPECT_EQ(settings.aovs(1), v1::AOV_DEPTH);
+  for (IntegratorKind kind :
+       {IntegratorKind::kNormals, IntegratorKind::kShadow, IntegratorKind::kTransparency,
+        IntegratorKind::kAlbedo, IntegratorKind::kDepth}) {
+    scene.render.integrator = kind;
+    std::string upper = to_string(kind);
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    EXPECT_EQ(v1::Integrator_Name(render_settings_to_proto(scene.render).integrator()),
+              "INTEGRATOR_" + upper);
+  }
 }
 
 }  // namespace
