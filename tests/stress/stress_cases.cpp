@@ -9,6 +9,8 @@
 #include "sampling.hpp"
 #include "tessera/geometry/triangle_precise.hpp"
 #include "tessera/math/offset_ray.hpp"
+#include "tessera/math/solver_bracketed.hpp"
+#include "tessera/math/solver_quartic.hpp"
 
 namespace tessera::stress {
 namespace {
@@ -355,6 +357,133 @@ double surface_distance_bound(const PreciseTriangle& p, const dvec3& point) {
   return stress::surface_distance_bound(p.triangle, point);
 }
 
+// The torus with its quartic solved by Algorithm 1010 instead of root isolation: the same
+// families on both show why the default is isolation.
+struct Torus1010 {
+  Torus torus;
+};
+bool intersect(const Torus1010& t, const Ray& ray, float t_max, HitRecord& hit,
+               std::uint32_t primitive) {
+  return detail::torus_candidates<detail::QuarticMethod::kAlgorithm1010>(
+             t.torus, make_precise_ray(ray), t_max)
+      .closest(ray.t_min, t_max, hit, primitive);
+}
+int intersect_all(const Torus1010& t, const Ray& ray, float t_max, HitRecord* hits, int max_hits,
+                  std::uint32_t primitive) {
+  return detail::torus_candidates<detail::QuarticMethod::kAlgorithm1010>(
+             t.torus, make_precise_ray(ray), t_max)
+      .all(ray.t_min, t_max, hits, max_hits, primitive);
+}
+SurfaceInteraction surface_at(const Torus1010& t, const Ray& ray, const HitRecord& hit) {
+  return surface_at(t.torus, ray, hit);
+}
+ReferenceHits reference_hits(const Torus1010& t, const QRay& ray) {
+  return stress::reference_hits(t.torus, ray);
+}
+BoundingSphere bounding_sphere(const Torus1010& t) {
+  return stress::bounding_sphere(t.torus);
+}
+SurfacePoint sample_surface(const Torus1010& t, Rng& rng) {
+  return stress::sample_surface(t.torus, rng);
+}
+dvec3 shape_axis(const Torus1010& t, Rng& rng) {
+  return stress::shape_axis(t.torus, rng);
+}
+double surface_distance_bound(const Torus1010& t, const dvec3& point) {
+  return stress::surface_distance_bound(t.torus, point);
+}
+
+// ---- the quartic solvers on their own: random quartics with known real roots (and
+// complex pairs), coefficients rounded to double, compared with the quad-precision roots
+// of the rounded polynomial. wrong = a different number of real roots; t = the largest
+// error of a root relative to the largest root magnitude.
+enum class QuarticCase { kSeparated, kPairsComplex, kClosePairs, kNearDouble, kSpread1e4 };
+
+std::function<RowResult(int, std::uint64_t)> quartic_row(QuarticCase which, bool use_1010) {
+  return [which, use_1010](int count, std::uint64_t seed) {
+    Rng rng(seed);
+    RowResult result;
+    for (int k = 0; k < count; ++k) {
+      quad c[5] = {1, 0, 0, 0, 0};
+      const auto multiply = [&](quad q0, quad q1) {  // by x^2 + q1 x + q0
+        quad n[5] = {0, 0, 0, 0, 0};
+        for (int i = 0; i < 5; ++i) {
+          if (c[i] == 0) continue;
+          n[i] += c[i] * q0;
+          if (i + 1 < 5) n[i + 1] += c[i] * q1;
+          if (i + 2 < 5) n[i + 2] += c[i];
+        }
+        for (int i = 0; i < 5; ++i) c[i] = n[i];
+      };
+      const auto real_pair = [&](double a, double b) {
+        multiply(quad(a) * quad(b), -(quad(a) + quad(b)));
+      };
+      const auto complex_pair = [&](double re, double im) {
+        multiply(quad(re) * re + quad(im) * im, -2 * quad(re));
+      };
+      const auto value = [&] { return rng.uniform(-1.0, 1.0); };
+      switch (which) {
+        case QuarticCase::kSeparated:
+          real_pair(value(), value());
+          real_pair(value(), value());
+          break;
+        case QuarticCase::kPairsComplex:
+          real_pair(value(), value());
+          complex_pair(value(), rng.log_uniform(1e-6, 1.0));
+          break;
+        case QuarticCase::kClosePairs:
+        case QuarticCase::kNearDouble: {
+          const double lo = which == QuarticCase::kClosePairs ? 1e-6 : 1e-9;
+          const double hi = which == QuarticCase::kClosePairs ? 1e-3 : 1e-7;
+          const double a = value(), b = value();
+          real_pair(a, a + rng.log_uniform(lo, hi));
+          real_pair(b, b + rng.log_uniform(lo, hi));
+          break;
+        }
+        case QuarticCase::kSpread1e4:
+          real_pair(value() * 1e-4, value() * 1e4);
+          real_pair(value(), value() * 1e2);
+          break;
+      }
+      double coefficient[5];
+      quad rounded[5];
+      quad bound = 0;
+      for (int i = 0; i < 5; ++i) {
+        coefficient[i] = to_double(c[i]);
+        rounded[i] = coefficient[i];
+      }
+      for (int i = 0; i < 4; ++i) bound = std::max<quad>(bound, qabs(rounded[i] / rounded[4]));
+      bound += 1;  // Cauchy: every root is inside [-bound, bound]
+      quad expected[4];
+      const int expected_count = reference_roots(rounded, 4, -bound, bound, expected);
+      double roots[4];
+      int n;
+      if (use_1010) {
+        n = solve_quartic(coefficient[4], coefficient[3], coefficient[2], coefficient[1],
+                          coefficient[0], roots);
+      } else {
+        const Polynomial<4, double> p{
+            {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4]}};
+        n = roots_in_interval(p, -to_double(bound), to_double(bound), roots);
+      }
+      ++result.rays;
+      if (expected_count > 0) ++result.reference_hits;
+      for (int i = 0; i < n; ++i)
+        if (!std::isfinite(roots[i])) ++result.nan;
+      if (n != expected_count) {
+        ++result.wrong;
+        continue;
+      }
+      quad largest = 0;
+      for (int i = 0; i < n; ++i) largest = std::max<quad>(largest, qabs(expected[i]));
+      for (int i = 0; i < n; ++i)
+        result.max_relative_t =
+            std::max(result.max_relative_t, to_double(qabs(roots[i] - expected[i]) / largest));
+    }
+    return result;
+  };
+}
+
 // ---- shapes, built around a centre at a scale with a random orientation
 
 struct Placement {
@@ -672,6 +801,21 @@ const BoundsException kExceptions[] = {
     // sits within 3e-8 of the other sheet) and the spindle torus's cusps on the axis (apple
     // and lemon roots within the ray's distance from the axis, below double resolution).
     {"torus horn r=R", "origin on surface", {2, 1e-3, 2}},
+    // The quartic solvers alone (t here is the root error relative to the largest root).
+    // Close pairs: a root pair 1e-6 apart is conditioned like sqrt(eps); when both pairs
+    // also fall close together the count can flip. Near-double pairs (1e-9..1e-7 apart)
+    // are below what double coefficients resolve: the rounded polynomial's real/complex
+    // split is decided by its last bits, shown for information with measured bounds.
+    {"quartic: isolation", "4 real, separated", {0, 1e-9, 0}},
+    {"quartic: isolation", "2 real + complex pair", {0, 1e-5, 0}},
+    {"quartic: Alg. 1010", "2 real + complex pair", {0, 1e-5, 0}},
+    {"quartic: Alg. 1010", "4 real, separated", {0, 1e-9, 0}},
+    {"quartic: isolation", "2 close pairs 1e-6..1e-3", {12, 1e-4, 12}},
+    {"quartic: Alg. 1010", "2 close pairs 1e-6..1e-3", {12, 2e-4, 12}},
+    {"quartic: isolation", "near-double 1e-9..1e-7", {1800, 100.0, 1800}},
+    {"quartic: Alg. 1010", "near-double 1e-9..1e-7", {1800, 100.0, 1800}},
+    {"quartic: isolation", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
+    {"quartic: Alg. 1010", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
     {"torus spindle r=1.5R", "along axis", {17, 1e-7, 24}},
 };
 
@@ -790,6 +934,25 @@ std::vector<Row> all_rows() {
                 [](const Placement& p, Rng& r) { return make_cone(p, r, 0.0, true); });
   add_instanced("instance(torus)",
                 [](const Placement& p, Rng& r) { return make_torus(p, r, 0.25); });
+
+  for (const bool use_1010 : {false, true}) {
+    const std::string solver = use_1010 ? "quartic: Alg. 1010" : "quartic: isolation";
+    add(solver, "4 real, separated", quartic_row(QuarticCase::kSeparated, use_1010), 4000);
+    add(solver, "2 real + complex pair", quartic_row(QuarticCase::kPairsComplex, use_1010), 4000);
+    add(solver, "2 close pairs 1e-6..1e-3", quartic_row(QuarticCase::kClosePairs, use_1010), 4000);
+    add(solver, "near-double 1e-9..1e-7", quartic_row(QuarticCase::kNearDouble, use_1010), 4000);
+    add(solver, "magnitudes 1e-4..1e4", quartic_row(QuarticCase::kSpread1e4, use_1010), 4000);
+  }
+  for (double ratio : {0.25, 1e-3, 1e-5}) {
+    char name[64];
+    std::snprintf(name, sizeof name, "torus/1010 r/R=%g", ratio);
+    const auto make = [ratio](const Placement& p, Rng& r) {
+      return Torus1010{make_torus(p, r, ratio)};
+    };
+    for (Family f : {Family::kRandom, Family::kFarExtreme, Family::kGrazing, Family::kTangent,
+                     Family::kNearTangent, Family::kAlongAxis, Family::kOnSurface})
+      add(name, family_name(f), ray_row(make, f, Where::kOrigin));
+  }
 
   add("mesh: fan 4-1024", "shared edges/vertex", watertight_row(0, 0.0), 20000);
   add("mesh: bipyramid", "shared edges/vertices", watertight_row(1, 0.0), 20000);

@@ -6,6 +6,7 @@
 #include "tessera/geometry/surface.hpp"
 #include "tessera/math/polynomial.hpp"
 #include "tessera/math/solver_bracketed.hpp"
+#include "tessera/math/solver_quartic.hpp"
 
 namespace tessera {
 
@@ -57,8 +58,14 @@ TESSERA_HD TESSERA_INLINE double torus_distance(const dvec3& q, double R, double
 }
 
 // Roots t of ray/torus, ascending, found inside [max(t_min, 0), t_max].
-TESSERA_HD TESSERA_INLINE HitCandidates<4> torus_candidates(const Torus& torus,
-                                                            const PreciseRay& ray, float t_max) {
+// How the quartic is solved: root isolation on the ray's interval (the default, see
+// solver_bracketed.hpp) or Algorithm 1010 on the whole real line (solver_quartic.hpp), kept
+// selectable so the stress suite can compare the two on the same rays.
+enum class QuarticMethod { kIsolation, kAlgorithm1010 };
+
+template <QuarticMethod kMethod = QuarticMethod::kIsolation>
+TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRay& ray,
+                                             float t_max) {
   HitCandidates<4> out;
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
@@ -104,7 +111,16 @@ TESSERA_HD TESSERA_INLINE HitCandidates<4> torus_candidates(const Torus& torus,
       {at_origin.near * at_origin.far, 4.0 * e * fc - 8.0 * R2 * (oc.x * d.x + oc.y * d.y),
        4.0 * fc * fc + 2.0 * dd * e - 4.0 * R2 * (d.x * d.x + d.y * d.y), 4.0 * dd * fc, dd * dd}};
   double sigma[4];
-  const int n = roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, sigma);
+  int n = 0;
+  if constexpr (kMethod == QuarticMethod::kIsolation) {
+    n = roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, sigma);
+  } else {
+    double all[4];
+    const int found =
+        solve_quartic(quartic.c[4], quartic.c[3], quartic.c[2], quartic.c[1], quartic.c[0], all);
+    for (int i = 0; i < found; ++i)
+      if (all[i] >= s0 - s_mid && all[i] <= s1 - s_mid) sigma[n++] = all[i];
+  }
   const bool spindle = r > R;
   const double band = ray.origin_error + 1e-14 * bound;
   const auto signed_distance = [R, r](const dvec3& q) { return torus_distance(q, R, r); };
