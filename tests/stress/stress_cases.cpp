@@ -365,7 +365,7 @@ struct Torus1010 {
 bool intersect(const Torus1010& t, const Ray& ray, float t_max, HitRecord& hit,
                std::uint32_t primitive) {
   return detail::torus_candidates<detail::QuarticMethod::kAlgorithm1010>(
-             t.torus, make_precise_ray(ray), t_max)
+             t.torus, make_precise_ray(ray), t_max, true)
       .closest(ray.t_min, t_max, hit, primitive);
 }
 int intersect_all(const Torus1010& t, const Ray& ray, float t_max, HitRecord* hits, int max_hits,

@@ -74,6 +74,7 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
   const auto distance = [r0, slope, normalisation](const dvec3& p) {
     return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
   };
+  const double origin_distance = n > 0 ? distance(ray.origin) : 0.0;
   for (int i = 0; i < n; ++i) {
     const double z = o.z + s[i] * d.z;
     const double t = t_shift + s[i];
@@ -85,7 +86,7 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
       const double other_z = o.z + s[1 - i] * d.z;
       if (slope * (z - other_z) < 0.0) continue;
     }
-    if ((in_range || at_apex) && !is_start_surface_root(distance, ray, t, band))
+    if ((in_range || at_apex) && !is_start_surface_root(distance, origin_distance, ray, t, band))
       out.add(t, kPartSide);
   }
 }

@@ -77,11 +77,13 @@ TESSERA_HD TESSERA_INLINE LocalRay to_local_ray(const PreciseRay& ray, const vec
 // so is the midpoint between origin and root, i.e. the ray never left the band before
 // "returning". A genuine second hit (the far side of a sphere, another part of a torus)
 // has its midpoint well away from the surface. `distance` is the part's signed distance
-// (or a function with the same zero set and unit slope there) in the local frame.
+// (or a function with the same zero set and unit slope there) in the local frame, and
+// origin_distance its value at the origin (computed once per part, not per root).
 template <typename Distance>
-TESSERA_HD TESSERA_INLINE bool is_start_surface_root(const Distance& distance, const LocalRay& ray,
+TESSERA_HD TESSERA_INLINE bool is_start_surface_root(const Distance& distance,
+                                                     double origin_distance, const LocalRay& ray,
                                                      double t, double band) {
-  return std::fabs(distance(ray.origin)) <= band &&
+  return std::fabs(origin_distance) <= band &&
          std::fabs(distance(ray.origin + (0.5 * t) * ray.direction)) <= band;
 }
 

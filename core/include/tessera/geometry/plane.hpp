@@ -43,7 +43,7 @@ TESSERA_HD TESSERA_INLINE bool local_plane_root(const LocalRay& local, double z_
   t = (z_plane - local.origin.z) / local.direction.z;
   if (!std::isfinite(t)) return false;
   const auto height = [z_plane](const dvec3& p) { return p.z - z_plane; };
-  return !is_start_surface_root(height, local, t, band);
+  return !is_start_surface_root(height, local.origin.z - z_plane, local, t, band);
 }
 
 TESSERA_HD TESSERA_INLINE HitCandidates<1> plane_candidates(const Plane& p, const PreciseRay& ray) {

@@ -53,7 +53,8 @@ TESSERA_HD TESSERA_INLINE HitCandidates<2> sphere_candidates(const Sphere& s,
   const auto signed_distance = [r](const dvec3& p) { return glm::length(p) - r; };
   const double roots[2] = {glm::min(t_near, t_far), glm::max(t_near, t_far)};
   for (int i = 0; i < 2; ++i)
-    if (!is_start_surface_root(signed_distance, local, roots[i], band)) out.add(roots[i], 0);
+    if (!is_start_surface_root(signed_distance, f_length - r, local, roots[i], band))
+      out.add(roots[i], 0);
   return out;
 }
 

@@ -64,8 +64,8 @@ TESSERA_HD TESSERA_INLINE double torus_distance(const dvec3& q, double R, double
 enum class QuarticMethod { kIsolation, kAlgorithm1010 };
 
 template <QuarticMethod kMethod = QuarticMethod::kIsolation>
-TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRay& ray,
-                                             float t_max) {
+TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRay& ray, float t_max,
+                                             bool first_only = false) {
   HitCandidates<4> out;
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
@@ -110,27 +110,32 @@ TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRa
   const Polynomial<4, double> quartic{
       {at_origin.near * at_origin.far, 4.0 * e * fc - 8.0 * R2 * (oc.x * d.x + oc.y * d.y),
        4.0 * fc * fc + 2.0 * dd * e - 4.0 * R2 * (d.x * d.x + d.y * d.y), 4.0 * dd * fc, dd * dd}};
-  double sigma[4];
-  int n = 0;
+  const bool spindle = r > R;
+  const double band = ray.origin_error + 1e-14 * bound;
+  const auto signed_distance = [R, r](const dvec3& q) { return torus_distance(q, R, r); };
+  double origin_distance = -1.0;  // computed when the first root needs it
+  // Keeps a root unless it is on the inner lemon of a spindle torus or is the surface the
+  // ray starts on; returns true (stop) once a hit is kept and only the first is wanted.
+  const auto consider = [&](double sigma) {
+    if (spindle) {
+      const TorusFactors at_root = torus_factors(oc + sigma * d, R, r);
+      if (std::fabs(at_root.near) > std::fabs(at_root.far)) return false;  // inner lemon
+    }
+    const double t = (s_mid + sigma) / length;
+    if (origin_distance < 0.0) origin_distance = std::fabs(signed_distance(local.origin));
+    if (is_start_surface_root(signed_distance, origin_distance, local, t, band)) return false;
+    out.add(t, 0);
+    float tf;
+    return first_only && accept_root(t, ray.t_min, t_max, tf);
+  };
   if constexpr (kMethod == QuarticMethod::kIsolation) {
-    n = roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, sigma);
+    visit_roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, consider);
   } else {
     double all[4];
     const int found =
         solve_quartic(quartic.c[4], quartic.c[3], quartic.c[2], quartic.c[1], quartic.c[0], all);
     for (int i = 0; i < found; ++i)
-      if (all[i] >= s0 - s_mid && all[i] <= s1 - s_mid) sigma[n++] = all[i];
-  }
-  const bool spindle = r > R;
-  const double band = ray.origin_error + 1e-14 * bound;
-  const auto signed_distance = [R, r](const dvec3& q) { return torus_distance(q, R, r); };
-  for (int i = 0; i < n; ++i) {
-    if (spindle) {
-      const TorusFactors at_root = torus_factors(oc + sigma[i] * d, R, r);
-      if (std::fabs(at_root.near) > std::fabs(at_root.far)) continue;  // inner lemon
-    }
-    const double t = (s_mid + sigma[i]) / length;
-    if (!is_start_surface_root(signed_distance, local, t, band)) out.add(t, 0);
+      if (all[i] >= s0 - s_mid && all[i] <= s1 - s_mid && consider(all[i])) break;
   }
   return out;
 }
@@ -139,7 +144,8 @@ TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRa
 
 TESSERA_HD TESSERA_INLINE bool intersect(const Torus& torus, const PreciseRay& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
-  return detail::torus_candidates(torus, ray, t_max).closest(ray.t_min, t_max, hit, primitive);
+  return detail::torus_candidates(torus, ray, t_max, true)
+      .closest(ray.t_min, t_max, hit, primitive);
 }
 TESSERA_HD TESSERA_INLINE bool intersect(const Torus& torus, const Ray& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
