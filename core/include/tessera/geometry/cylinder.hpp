@@ -84,7 +84,7 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
     // Both roots at the apex: one is on the mirrored nappe (radius < 0), keep the other.
     if (at_apex && n == 2) {
       const double other_z = o.z + s[1 - i] * d.z;
-      if (slope * (z - other_z) < 0.0) continue;
+      if (slope * (z - other_z) < 0.0 || (z == other_z && i == 1)) continue;
     }
     if ((in_range || at_apex) && !is_start_surface_root(distance, origin_distance, ray, t, band))
       out.add(t, kPartSide);

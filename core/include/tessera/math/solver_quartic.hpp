@@ -294,9 +294,30 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
   if (!real_factors) return 0;
 
   detail::refine_quadratic_factors(a, b, c, d, alpha1, beta1, alpha2, beta2);
-  int count = solve_quadratic(T(1), alpha1, beta1, roots);
-  count += solve_quadratic(T(1), alpha2, beta2, roots + count);
-  for (int i = 0; i < count; ++i) roots[i] = polish_root(original, roots[i] * scale, 4);
+  T candidates[4];
+  int found = solve_quadratic(T(1), alpha1, beta1, candidates);
+  found += solve_quadratic(T(1), alpha2, beta2, candidates + found);
+  // Polish on the original quartic, and keep only values that are roots to within its
+  // evaluation error: when the roots' magnitudes differ by many orders the small factor
+  // can come out with the wrong discriminant sign, and this residual test is what stops
+  // such an invented pair (a genuine root polishes down to the rounding noise).
+  // Both are done on the scaled quartic (y = x / scale), which cannot overflow, and the
+  // residual is checked on the original too wherever that is finite (the scaled one may
+  // have lost tiny roots to underflow).
+  const Polynomial<4, T> scaled{{d, c, b, a, T(1)}};
+  int count = 0;
+  for (int i = 0; i < found; ++i) {
+    const T y = polish_root(scaled, candidates[i], 4);
+    T error_bound;
+    const T value = scaled.evaluate_with_error(y, error_bound);
+    if (!(std::fabs(value) <= T(64) * error_bound)) continue;
+    const T x = y * scale;
+    const T original_value = original.evaluate_with_error(x, error_bound);
+    if (std::isfinite(original_value) && std::isfinite(error_bound) &&
+        !(std::fabs(original_value) <= T(64) * error_bound))
+      continue;
+    roots[count++] = x;
+  }
   sort_ascending(roots, count);
   return count;
 }

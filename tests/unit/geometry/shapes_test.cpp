@@ -1,0 +1,354 @@
+// Every shape against analytic hits, normals and uvs; NaN-freedom on degenerate rays.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tessera/geometry/cone.hpp"
+#include "tessera/geometry/cylinder.hpp"
+#include "tessera/geometry/disk.hpp"
+#include "tessera/geometry/instance.hpp"
+#include "tessera/geometry/plane.hpp"
+#include "tessera/geometry/quad.hpp"
+#include "tessera/geometry/ray_check.hpp"
+#include "tessera/geometry/sphere.hpp"
+#include "tessera/geometry/torus.hpp"
+#include "tessera/geometry/triangle.hpp"
+#include "tessera/geometry/triangle_attributes.hpp"
+#include "tessera/geometry/triangle_precise.hpp"
+
+namespace tessera {
+namespace {
+
+Ray ray(vec3 o, vec3 d) {
+  return Ray{o, d, 0.0f, kInfinity};
+}
+
+void expect_vec_near(const vec3& a, const vec3& b, float tolerance) {
+  EXPECT_NEAR(a.x, b.x, tolerance);
+  EXPECT_NEAR(a.y, b.y, tolerance);
+  EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+TEST(Sphere, HitFromOutsideAndInsideWithNormalAndAllHits) {
+  const Sphere s{vec3(0.0f, 0.0f, 5.0f), 2.0f, 3};
+  HitRecord hit;
+  const Ray r = ray(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f));
+  ASSERT_TRUE(intersect(s, r, kInfinity, hit, 9u));
+  EXPECT_FLOAT_EQ(hit.t, 3.0f);
+  EXPECT_EQ(hit.primitive, 9u);
+  const SurfaceInteraction si = surface_at(s, r, hit);
+  expect_vec_near(si.position, vec3(0.0f, 0.0f, 3.0f), 1e-6f);
+  expect_vec_near(si.geometric_normal, vec3(0.0f, 0.0f, -1.0f), 1e-6f);
+  EXPECT_TRUE(si.front_face);
+  EXPECT_EQ(si.material, 3u);
+  HitRecord hits[4];
+  ASSERT_EQ(intersect_all(s, r, kInfinity, hits, 4, 0u), 2);
+  EXPECT_FLOAT_EQ(hits[0].t, 3.0f);
+  EXPECT_FLOAT_EQ(hits[1].t, 7.0f);
+  const Ray inside = ray(vec3(0.0f, 0.0f, 5.0f), vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_TRUE(intersect(s, inside, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 2.0f);
+  EXPECT_FALSE(surface_at(s, inside, hit).front_face);
+}
+
+TEST(Sphere, FarAwayRaysDecideHitAndMissCorrectly) {
+  // A unit sphere 1e6 away: rays passing 0.999 and 1.001 radii from the centre.
+  const Sphere s{vec3(0.0f), 1.0f, 0};
+  HitRecord hit;
+  EXPECT_TRUE(
+      intersect(s, ray(vec3(-1e6f, 0.999f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 1e6f - std::sqrt(1.0f - 0.999f * 0.999f), 0.07f);  // one float ulp at 1e6
+  EXPECT_FALSE(
+      intersect(s, ray(vec3(-1e6f, 1.001f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+}
+
+TEST(Sphere, RayStartingOnTheSurfaceDoesNotFindItAgain) {
+  const Sphere s{vec3(0.0f), 1.0f, 0};
+  HitRecord hit;
+  // Leaving outward: nothing. Going inward: the far side at t = 2.
+  EXPECT_FALSE(
+      intersect(s, ray(vec3(1.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  ASSERT_TRUE(
+      intersect(s, ray(vec3(1.0f, 0.0f, 0.0f), vec3(-1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 2.0f);
+}
+
+TEST(Plane, HitUvAndParallelMiss) {
+  const Plane p = Plane::make(vec3(0.0f, 1.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 2);
+  HitRecord hit;
+  const Ray r = ray(vec3(0.0f, 5.0f, 0.0f), vec3(0.0f, -2.0f, 0.0f));
+  ASSERT_TRUE(intersect(p, r, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 2.0f);
+  const SurfaceInteraction si = surface_at(p, r, hit);
+  expect_vec_near(si.position, vec3(0.0f, 1.0f, 0.0f), 1e-6f);
+  expect_vec_near(si.geometric_normal, vec3(0.0f, 1.0f, 0.0f), 1e-6f);
+  EXPECT_FALSE(
+      intersect(p, ray(vec3(0.0f, 5.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_FALSE(
+      intersect(p, ray(vec3(0.0f, 5.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f)), kInfinity, hit, 0u));
+}
+
+TEST(Disk, RadiusAnnulusAndUv) {
+  const Disk d = Disk::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 2.0f, 0, 1.0f);
+  HitRecord hit;
+  const Ray r = ray(vec3(1.5f, 0.0f, 3.0f), vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_TRUE(intersect(d, r, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 3.0f);
+  const SurfaceInteraction si = surface_at(d, r, hit);
+  EXPECT_NEAR(si.uv.y, 0.5f, 1e-6f);  // halfway from the inner edge to the rim
+  EXPECT_FALSE(intersect(d, ray(vec3(0.5f, 0.0f, 3.0f), vec3(0.0f, 0.0f, -1.0f)), kInfinity, hit,
+                         0u));  // hole
+  EXPECT_FALSE(
+      intersect(d, ray(vec3(2.5f, 0.0f, 3.0f), vec3(0.0f, 0.0f, -1.0f)), kInfinity, hit, 0u));
+}
+
+TEST(Cylinder, SideAndCapHitsWithParts) {
+  const Cylinder c = Cylinder::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 2.0f, true, 0);
+  HitRecord hits[4];
+  const Ray side = ray(vec3(-5.0f, 0.0f, 1.0f), vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_EQ(intersect_all(c, side, kInfinity, hits, 4, 0u), 2);
+  EXPECT_FLOAT_EQ(hits[0].t, 4.0f);
+  EXPECT_FLOAT_EQ(hits[1].t, 6.0f);
+  EXPECT_EQ(hits[0].v, static_cast<float>(kPartSide));
+  SurfaceInteraction si = surface_at(c, side, hits[0]);
+  expect_vec_near(si.geometric_normal, vec3(-1.0f, 0.0f, 0.0f), 1e-6f);
+  EXPECT_NEAR(si.uv.y, 0.5f, 1e-6f);
+  const Ray down = ray(vec3(0.5f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_EQ(intersect_all(c, down, kInfinity, hits, 4, 0u), 2);
+  EXPECT_FLOAT_EQ(hits[0].t, 3.0f);
+  EXPECT_EQ(hits[0].v, static_cast<float>(kPartTopCap));
+  EXPECT_EQ(hits[1].v, static_cast<float>(kPartBottomCap));
+  si = surface_at(c, down, hits[0]);
+  expect_vec_near(si.geometric_normal, vec3(0.0f, 0.0f, 1.0f), 1e-6f);
+  // Open: along the axis there is nothing to hit.
+  const Cylinder open = Cylinder::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 2.0f, false, 0);
+  EXPECT_EQ(intersect_all(open, down, kInfinity, hits, 4, 0u), 0);
+}
+
+TEST(Cone, SideNormalApexAndFrustum) {
+  // Radius 1 at z = 0 to a point at z = 1: the side normal is (1, 0, 1)/sqrt(2) at +x.
+  const Cone cone = Cone::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.0f, 1.0f, true, 0);
+  HitRecord hit;
+  const Ray r = ray(vec3(-5.0f, 0.0f, 0.5f), vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_TRUE(intersect(cone, r, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 4.5f);
+  const SurfaceInteraction si = surface_at(cone, r, hit);
+  const float s = 1.0f / std::sqrt(2.0f);
+  expect_vec_near(si.geometric_normal, vec3(-s, 0.0f, s), 1e-6f);
+  // Straight down the axis through the apex: the apex, then the base.
+  HitRecord hits[4];
+  ASSERT_EQ(intersect_all(cone, ray(vec3(0.0f, 0.0f, 3.0f), vec3(0.0f, 0.0f, -1.0f)), kInfinity,
+                          hits, 4, 0u),
+            2);
+  EXPECT_NEAR(hits[0].t, 2.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(hits[1].t, 3.0f);
+  // The mirrored nappe above the apex is not part of the cone.
+  EXPECT_FALSE(
+      intersect(cone, ray(vec3(-5.0f, 0.0f, 1.5f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  const Cone frustum = Cone::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.5f, 1.0f, false, 0);
+  ASSERT_TRUE(
+      intersect(frustum, ray(vec3(-5.0f, 0.0f, 1.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 4.5f);
+}
+
+TEST(Torus, FourHitsThroughTheCentreAndNoneThroughTheHole) {
+  const Torus t = Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 2.0f, 0.5f, 0);
+  HitRecord hits[4];
+  const Ray r = ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_EQ(intersect_all(t, r, kInfinity, hits, 4, 0u), 4);
+  const float expected[4] = {2.5f, 3.5f, 6.5f, 7.5f};
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(hits[i].t, expected[i], 1e-6f);
+  const SurfaceInteraction si = surface_at(t, r, hits[0]);
+  expect_vec_near(si.geometric_normal, vec3(-1.0f, 0.0f, 0.0f), 1e-6f);
+  EXPECT_NEAR(si.uv.y, 0.0f, 1e-6f);  // outer equator
+  HitRecord hit;
+  EXPECT_FALSE(
+      intersect(t, ray(vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f)), kInfinity, hit, 0u));
+  ASSERT_TRUE(
+      intersect(t, ray(vec3(2.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f)), kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 4.5f, 1e-6f);
+}
+
+TEST(Torus, ThinTubeAndFarOrigin) {
+  // r/R = 1e-5, seen from 1e5 away along the equatorial line.
+  const Torus t = Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 1e-5f, 0);
+  HitRecord hits[4];
+  ASSERT_EQ(intersect_all(t, ray(vec3(-1e5f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hits,
+                          4, 0u),
+            4);
+  EXPECT_NEAR(hits[0].t, 1e5f - 1.0f - 1e-5f, 0.008f);  // one float ulp at 1e5
+  EXPECT_NEAR(hits[3].t, 1e5f + 1.0f + 1e-5f, 0.008f);
+}
+
+TEST(Torus, SpindleHitsOnlyTheOuterSurface) {
+  // R = 1, r = 1.5: along the equator the apple is at +-2.5; the inner lemon (at +-0.5)
+  // lies inside the solid and is not hit.
+  const Torus t = Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 1.5f, 0);
+  HitRecord hits[4];
+  ASSERT_EQ(intersect_all(t, ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hits,
+                          4, 0u),
+            2);
+  EXPECT_NEAR(hits[0].t, 2.5f, 1e-6f);
+  EXPECT_NEAR(hits[1].t, 7.5f, 1e-6f);
+  EXPECT_GT(surface_area(t), 0.0f);
+}
+
+TEST(Instance, ScaledSphereIsAnEllipsoidWithInverseTransposeNormals) {
+  // x^2/4 + y^2 + z^2/9 = 1 centred at (10, 0, 0).
+  const Sphere unit{vec3(0.0f), 1.0f, 0};
+  Instance<Sphere> ellipsoid;
+  ASSERT_TRUE(Instance<Sphere>::make(
+      unit,
+      AffineTransform::from_trs(dvec3(10.0, 0.0, 0.0), dvec3(0, 0, 1), 0.0, dvec3(2.0, 1.0, 3.0)),
+      ellipsoid));
+  HitRecord hit;
+  const Ray r = ray(vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_TRUE(intersect(ellipsoid, r, kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 8.0f, 1e-5f);
+  // A point with x = 1: y^2 + z^2/9 = 3/4; take y = 0.5, z = sqrt(4.5).
+  const vec3 target(11.0f, 0.5f, std::sqrt(4.5f));
+  const Ray oblique = ray(vec3(11.0f, 0.5f, 10.0f), vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_TRUE(intersect(ellipsoid, oblique, kInfinity, hit, 0u));
+  const SurfaceInteraction si = surface_at(ellipsoid, oblique, hit);
+  expect_vec_near(si.position, target, 1e-5f);
+  const vec3 gradient = glm::normalize(vec3(1.0f / 4.0f, 0.5f, std::sqrt(4.5f) / 9.0f));
+  expect_vec_near(si.geometric_normal, gradient, 1e-5f);
+  // Rotation: a torus turned so its axis is x, hit along x through the hole: nothing.
+  Instance<Torus> turned;
+  ASSERT_TRUE(Instance<Torus>::make(
+      Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 2.0f, 0.5f, 0),
+      AffineTransform::from_trs(dvec3(0.0), dvec3(0, 1, 0), 1.5707963267948966, dvec3(1.0)),
+      turned));
+  EXPECT_FALSE(
+      intersect(turned, ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  ASSERT_TRUE(
+      intersect(turned, ray(vec3(-5.0f, 0.0f, 2.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 4.5f, 1e-5f);
+  Instance<Sphere> singular;
+  EXPECT_FALSE(Instance<Sphere>::make(
+      unit, AffineTransform::from_trs(dvec3(0.0), dvec3(0, 0, 1), 0.0, dvec3(1.0, 0.0, 1.0)),
+      singular));
+}
+
+TEST(TriangleAttributes, ShadingNormalIsInterpolatedAndFacesTheViewer) {
+  const Triangle tri{vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 0};
+  const TriangleAttributes attributes{vec3(0.0f, 0.0f, 1.0f), vec3(1.0f, 0.0f, 1.0f),
+                                      vec3(0.0f, 1.0f, 1.0f), vec2(0.0f),
+                                      vec2(1.0f, 0.0f),       vec2(0.0f, 1.0f)};
+  const Ray r = ray(vec3(0.25f, 0.25f, 1.0f), vec3(0.0f, 0.0f, -1.0f));
+  HitRecord hit;
+  ASSERT_TRUE(intersect(tri, r, kInfinity, hit, 0u));
+  const SurfaceInteraction si = surface_at(tri, attributes, r, hit);
+  EXPECT_NEAR(si.uv.x, 0.25f, 1e-6f);
+  EXPECT_NEAR(si.uv.y, 0.25f, 1e-6f);
+  expect_vec_near(si.shading_normal, glm::normalize(vec3(0.25f, 0.25f, 1.0f)), 1e-6f);
+  // From below the geometric normal flips, and the shading normal follows it.
+  const Ray below = ray(vec3(0.25f, 0.25f, -1.0f), vec3(0.0f, 0.0f, 1.0f));
+  ASSERT_TRUE(intersect(tri, below, kInfinity, hit, 0u));
+  const SurfaceInteraction under = surface_at(tri, attributes, below, hit);
+  EXPECT_LT(under.geometric_normal.z, 0.0f);
+  EXPECT_GT(glm::dot(under.shading_normal, under.geometric_normal), 0.0f);
+}
+
+TEST(TrianglePrecise, MatchesTheFloatPathAndRejectsItsOwnPlane) {
+  const Triangle tri{vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 0};
+  HitRecord a, b;
+  const Ray r = ray(vec3(0.2f, 0.3f, 2.0f), vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_TRUE(intersect(tri, r, kInfinity, a, 0u));
+  ASSERT_TRUE(intersect_precise(tri, r, kInfinity, b, 0u));
+  EXPECT_FLOAT_EQ(a.t, b.t);
+  EXPECT_FLOAT_EQ(a.u, b.u);
+  EXPECT_FLOAT_EQ(a.v, b.v);
+  EXPECT_FALSE(intersect_precise(tri, ray(vec3(0.2f, 0.3f, 0.0f), vec3(0.0f, 0.0f, -1.0f)),
+                                 kInfinity, b, 0u));
+}
+
+TEST(RayCheck, ZeroAndNonFiniteDirectionsAreRejected) {
+  EXPECT_TRUE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f))));
+  EXPECT_FALSE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f))));
+  EXPECT_FALSE(is_valid_ray(ray(vec3(0.0f), vec3(NAN, 0.0f, 1.0f))));
+  EXPECT_FALSE(is_valid_ray(ray(vec3(kInfinity, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f))));
+  EXPECT_FALSE(is_valid_ray(Ray{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), 2.0f, 1.0f}));
+}
+
+// Every shape on rays that break naive code: zero direction, axis-parallel directions with
+// the origin on a slab or symmetry plane, denormal components, rays through centres and
+// along axes. No hit may carry a non-finite t, and every surface_at must be finite.
+template <typename Shape>
+void expect_no_nan(const Shape& shape) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pick(0, 6);
+  const float values[7] = {0.0f, -0.0f, 1.0f, -1.0f, 1e-38f, 0.5f, 2.0f};
+  for (int i = 0; i < 3000; ++i) {
+    const vec3 o(values[pick(rng)], values[pick(rng)], values[pick(rng)] + 3.0f * (i % 3 == 0));
+    const vec3 d(values[pick(rng)], values[pick(rng)], values[pick(rng)]);
+    const Ray r = ray(o, d);
+    HitRecord hit;
+    if (intersect(shape, r, kInfinity, hit, 0u)) {
+      ASSERT_TRUE(std::isfinite(hit.t) && std::isfinite(hit.u) && std::isfinite(hit.v));
+      const SurfaceInteraction si = surface_at(shape, r, hit);
+      ASSERT_TRUE(std::isfinite(si.position.x) && std::isfinite(si.position.y) &&
+                  std::isfinite(si.position.z));
+      ASSERT_TRUE(std::isfinite(si.geometric_normal.x) && std::isfinite(si.geometric_normal.y) &&
+                  std::isfinite(si.geometric_normal.z));
+      ASSERT_TRUE(std::isfinite(si.uv.x) && std::isfinite(si.uv.y));
+    }
+    HitRecord hits[8];
+    const int n = intersect_all(shape, r, kInfinity, hits, 8, 0u);
+    for (int k = 0; k < n; ++k) ASSERT_TRUE(std::isfinite(hits[k].t));
+    if (d == vec3(0.0f)) {
+      EXPECT_EQ(n, 0);
+    }
+  }
+}
+
+TEST(NoNaN, EveryShapeOnDegenerateRays) {
+  expect_no_nan(Sphere{vec3(0.0f), 1.0f, 0});
+  expect_no_nan(Plane::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 0));
+  expect_no_nan(Disk::make(vec3(0.0f), vec3(0.0f, 1.0f, 0.0f), 1.0f, 0, 0.5f));
+  expect_no_nan(
+      Quad::make(vec3(-1.0f, -1.0f, 0.0f), vec3(2.0f, 0.0f, 0.0f), vec3(0.0f, 2.0f, 0.0f), 0));
+  expect_no_nan(Triangle{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 0});
+  expect_no_nan(
+      Triangle{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(2.0f, 0.0f, 0.0f), 0});  // zero area
+  expect_no_nan(
+      Cylinder::make(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 2.0f, true, 0));
+  expect_no_nan(
+      Cone::make(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.0f, 2.0f, true, 0));
+  expect_no_nan(Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.25f, 0));
+  expect_no_nan(Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 1.0f, 0));  // horn
+  expect_no_nan(Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 1.0f, 0));  // spindle
+  Instance<Torus> instance;
+  ASSERT_TRUE(Instance<Torus>::make(
+      Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.25f, 0),
+      AffineTransform::from_trs(dvec3(0.5), dvec3(1, 0, 0), 0.3, dvec3(1.0, 2.0, 0.5)), instance));
+  expect_no_nan(instance);
+}
+
+TEST(Bounds, ContainEverySurfacePoint) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Torus t = Torus::make(vec3(1.0f, 2.0f, 3.0f), vec3(0.3f, 0.4f, 0.5f), 1.0f, 0.3f, 0);
+  const Cone c =
+      Cone::make(vec3(-1.0f, 0.0f, 2.0f), vec3(1.0f, 1.0f, 0.0f), 0.7f, 0.2f, 1.5f, true, 0);
+  const Aabb tb = bounds(t), cb = bounds(c);
+  const AxisFrame tf = AxisFrame::from_axis(t.axis), cf = AxisFrame::from_axis(c.axis);
+  for (int i = 0; i < 2000; ++i) {
+    const double phi = 3.14159265 * u(rng), theta = 3.14159265 * u(rng), z = 0.5 * (u(rng) + 1.0);
+    const dvec3 radial = tf.u * std::cos(phi) + tf.v * std::sin(phi);
+    const vec3 on_torus(dvec3(t.center) + radial * (1.0 + 0.3 * std::cos(theta)) +
+                        tf.w * (0.3 * std::sin(theta)));
+    const dvec3 cradial = cf.u * std::cos(phi) + cf.v * std::sin(phi);
+    const vec3 on_cone(dvec3(c.base) + cf.w * (1.5 * z) + cradial * (0.7 + (0.2 - 0.7) * z));
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(tb.lower[a], on_torus[a]);
+      EXPECT_GE(tb.upper[a], on_torus[a]);
+      EXPECT_LE(cb.lower[a], on_cone[a]);
+      EXPECT_GE(cb.upper[a], on_cone[a]);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera

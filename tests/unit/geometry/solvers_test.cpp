@@ -1,0 +1,161 @@
+// Polynomial solvers against analytic roots.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tessera/math/solver_bracketed.hpp"
+#include "tessera/math/solver_cubic.hpp"
+#include "tessera/math/solver_quadratic.hpp"
+#include "tessera/math/solver_quartic.hpp"
+
+namespace tessera {
+namespace {
+
+TEST(SolveQuadratic, SmallRootKeepsItsDigitsWhenBIsHuge) {
+  // x^2 - 1e8 x + 1: the textbook formula loses every digit of the root 1e-8.
+  double roots[2];
+  ASSERT_EQ(solve_quadratic(1.0, -1e8, 1.0, roots), 2);
+  EXPECT_NEAR(roots[0], 1e-8, 1e-8 * 1e-15);
+  EXPECT_NEAR(roots[1], 1e8, 1e8 * 1e-15);
+}
+
+TEST(SolveQuadratic, FloatCoefficientsUseAnExactDiscriminant) {
+  // (x - 1)(x - (1 + 2^-12)): the discriminant 2^-24 is exact in double, not in float.
+  const float r2 = 1.0f + 1.0f / 4096.0f;
+  float roots[2];
+  ASSERT_EQ(solve_quadratic(1.0f, -(1.0f + r2), r2, roots), 2);
+  EXPECT_FLOAT_EQ(roots[0], 1.0f);
+  EXPECT_FLOAT_EQ(roots[1], r2);
+}
+
+TEST(SolveQuadratic, NoRealRootsDoubleRootAndLinear) {
+  double roots[2];
+  EXPECT_EQ(solve_quadratic(1.0, 0.0, 1.0, roots), 0);
+  ASSERT_EQ(solve_quadratic(1.0, -2.0, 1.0, roots), 2);
+  EXPECT_DOUBLE_EQ(roots[0], 1.0);
+  EXPECT_DOUBLE_EQ(roots[1], 1.0);
+  ASSERT_EQ(solve_quadratic(0.0, 2.0, -4.0, roots), 1);
+  EXPECT_DOUBLE_EQ(roots[0], 2.0);
+  EXPECT_EQ(solve_quadratic(0.0, 0.0, 1.0, roots), 0);
+}
+
+TEST(SolveCubic, ThreeRealRootsOneRealRootAndTripleRoot) {
+  double roots[3];
+  ASSERT_EQ(solve_cubic(1.0, -6.0, 11.0, -6.0, roots), 3);  // (x-1)(x-2)(x-3)
+  EXPECT_NEAR(roots[0], 1.0, 1e-14);
+  EXPECT_NEAR(roots[1], 2.0, 1e-14);
+  EXPECT_NEAR(roots[2], 3.0, 1e-14);
+  ASSERT_EQ(solve_cubic(1.0, 0.0, 1.0, -2.0, roots), 1);  // (x-1)(x^2+x+2)
+  EXPECT_NEAR(roots[0], 1.0, 1e-14);
+  const int n = solve_cubic(1.0, -3.0, 3.0, -1.0, roots);  // (x-1)^3
+  ASSERT_GE(n, 1);
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(roots[i], 1.0, 1e-5);  // cube-root conditioning
+}
+
+struct QuarticCase {
+  double c[5];  // c[i] multiplies x^i
+  std::vector<double> roots;
+};
+
+std::vector<QuarticCase> quartic_cases() {
+  return {
+      {{24.0, -50.0, 35.0, -10.0, 1.0}, {1.0, 2.0, 3.0, 4.0}},           // (x-1)(x-2)(x-3)(x-4)
+      {{1.0, 0.0, 0.0, 0.0, 1.0}, {}},                                   // x^4 + 1
+      {{4.0, 0.0, -5.0, 0.0, 1.0}, {-2.0, -1.0, 1.0, 2.0}},              // biquadratic
+      {{-2.0, 0.0, -1.0, 0.0, 1.0}, {-std::sqrt(2.0), std::sqrt(2.0)}},  // (x^2-2)(x^2+1)
+  };
+}
+
+TEST(SolveQuartic, Algorithm1010AndIsolationAgreeWithAnalyticRoots) {
+  for (const QuarticCase& q : quartic_cases()) {
+    double roots[4];
+    const int n = solve_quartic(q.c[4], q.c[3], q.c[2], q.c[1], q.c[0], roots);
+    ASSERT_EQ(n, static_cast<int>(q.roots.size()));
+    for (int i = 0; i < n; ++i) EXPECT_NEAR(roots[i], q.roots[i], 1e-12);
+    const Polynomial<4, double> p{{q.c[0], q.c[1], q.c[2], q.c[3], q.c[4]}};
+    const int m = roots_in_interval(p, -10.0, 10.0, roots);
+    ASSERT_EQ(m, static_cast<int>(q.roots.size()));
+    for (int i = 0; i < m; ++i) EXPECT_NEAR(roots[i], q.roots[i], 1e-12);
+  }
+}
+
+TEST(SolveQuartic, RootsSpanningEightOrdersOfMagnitude) {
+  // (x - 1e-4)(x - 1)(x - 1e2)(x - 1e4), expanded exactly in long double then rounded.
+  const long double r[4] = {1e-4L, 1.0L, 1e2L, 1e4L};
+  long double c[5] = {1, 0, 0, 0, 0};
+  for (long double root : r) {
+    for (int i = 4; i > 0; --i) c[i] = c[i - 1] - root * c[i];
+    c[0] = -root * c[0];
+  }
+  double roots[4];
+  ASSERT_EQ(solve_quartic<double>(c[4], c[3], c[2], c[1], c[0], roots), 4);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(roots[i], static_cast<double>(r[i]), 1e-9 * static_cast<double>(r[i]));
+  const Polynomial<4, double> p{{static_cast<double>(c[0]), static_cast<double>(c[1]),
+                                 static_cast<double>(c[2]), static_cast<double>(c[3]),
+                                 static_cast<double>(c[4])}};
+  ASSERT_EQ(roots_in_interval(p, 0.0, 2e4, roots), 4);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(roots[i], static_cast<double>(r[i]), 1e-9 * static_cast<double>(r[i]));
+}
+
+TEST(SolveQuartic, HugeRootsDoNotOverflow) {
+  // (x - 1e150)(x + 1e150)(x^2 + 1): coefficients near 1e300.
+  double roots[4];
+  ASSERT_EQ(solve_quartic(1.0, 0.0, 1.0 - 1e300, 0.0, -1e300, roots), 2);
+  EXPECT_NEAR(roots[0], -1e150, 1e138);
+  EXPECT_NEAR(roots[1], 1e150, 1e138);
+}
+
+TEST(RootsInInterval, OnlyTheIntervalIsSearchedAndTheVisitorCanStop) {
+  const Polynomial<4, double> p{{24.0, -50.0, 35.0, -10.0, 1.0}};  // roots 1, 2, 3, 4
+  double roots[4];
+  ASSERT_EQ(roots_in_interval(p, 1.5, 3.5, roots), 2);
+  EXPECT_NEAR(roots[0], 2.0, 1e-14);
+  EXPECT_NEAR(roots[1], 3.0, 1e-14);
+  int visited = 0;
+  double first = 0.0;
+  const bool stopped = visit_roots_in_interval(p, 0.0, 10.0, [&](double x) {
+    ++visited;
+    first = x;
+    return true;
+  });
+  EXPECT_TRUE(stopped);
+  EXPECT_EQ(visited, 1);
+  EXPECT_NEAR(first, 1.0, 1e-14);
+}
+
+TEST(RootsInInterval, ClosePairsAreSeparatedAndNearMissesInventNothing) {
+  // (x - 1)(x - 1 - 1e-6)(x - 2)(x - 2 - 1e-6): two pairs 1e-6 apart, all four found.
+  long double c[5] = {1, 0, 0, 0, 0};
+  for (long double root : {1.0L, 1.0L + 1e-6L, 2.0L, 2.0L + 1e-6L}) {
+    for (int i = 4; i > 0; --i) c[i] = c[i - 1] - root * c[i];
+    c[0] = -root * c[0];
+  }
+  const Polynomial<4, double> pairs{{static_cast<double>(c[0]), static_cast<double>(c[1]),
+                                     static_cast<double>(c[2]), static_cast<double>(c[3]),
+                                     static_cast<double>(c[4])}};
+  double roots[4];
+  ASSERT_EQ(roots_in_interval(pairs, 0.0, 3.0, roots), 4);
+  // Conditioning: coefficient rounding (1e-16) over the slope at the root (1e-6) ~ 1e-9.
+  EXPECT_NEAR(roots[0], 1.0, 1e-8);
+  EXPECT_NEAR(roots[1], 1.0 + 1e-6, 1e-8);
+  EXPECT_NEAR(roots[2], 2.0, 1e-8);
+  EXPECT_NEAR(roots[3], 2.0 + 1e-6, 1e-8);
+  // (x - 1)^2 (x - 2)^2 + 1e-10 has no real root (a ray missing a tangent point by a
+  // hair): none may be reported.
+  const Polynomial<4, double> near_miss{{4.0 + 1e-10, -12.0, 13.0, -6.0, 1.0}};
+  EXPECT_EQ(roots_in_interval(near_miss, 0.0, 3.0, roots), 0);
+}
+
+TEST(PolishRoot, NewtonNeverMakesARootWorse) {
+  const Polynomial<3, double> p{{-6.0, 11.0, -6.0, 1.0}};
+  EXPECT_NEAR(polish_root(p, 2.001), 2.0, 1e-12);
+  EXPECT_DOUBLE_EQ(polish_root(p, 2.0), 2.0);
+  const Polynomial<2, double> flat{{1.0, 0.0, 1.0}};  // no real root, p'(0) = 0
+  EXPECT_TRUE(std::isfinite(polish_root(flat, 0.0)));
+}
+
+}  // namespace
+}  // namespace tessera
