@@ -69,15 +69,29 @@ int run_rays(const std::string& mesh_path, const std::string& kind, std::uint32_
   return 0;
 }
 
+struct TuneOptions {
+  std::uint32_t leaf_size = 0;  // 0: the library's defaults
+  std::uint32_t bins = 0;
+  float traversal_cost = 0.0f;
+  int merge_limit = -1;  // -1: the library's default
+};
+
 int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
                       const std::string& accel_name, const std::string& query, unsigned repeat,
-                      const std::string& isa) {
+                      const std::string& isa, const TuneOptions& tune) {
   const std::vector<Triangle> triangles = load_triangles(mesh_path);
   const std::vector<Ray> rays = read_ray_file(rays_path);
   std::printf("rays: %zu from %s\n", rays.size(), rays_path.c_str());
   AccelBuildOptions options;
   options.kind = *parse_accel_kind(accel_name);
   options.allow_avx2 = isa != "sse2";
+  for (BvhBuildOptions* bvh : {&options.bvh, &options.wide}) {
+    if (tune.leaf_size != 0) bvh->max_leaf_size = tune.leaf_size;
+    if (tune.bins != 0) bvh->bin_count = tune.bins;
+    if (tune.traversal_cost != 0.0f) bvh->traversal_cost = tune.traversal_cost;
+  }
+  if (tune.leaf_size != 0) options.octree.leaf_size = tune.leaf_size;
+  if (tune.merge_limit >= 0) options.wide_merge_limit = static_cast<std::uint32_t>(tune.merge_limit);
   const TriangleAccel accel = TriangleAccel::build(triangles, options);
   print_accel(accel);
 
@@ -96,8 +110,9 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
     };
   }
   const TraceTiming timing = run_trace(rays.size(), threads, repeat, chunk);
-  std::printf("trace: %s, %u threads, best of %u: %.3f s\n", query.c_str(), threads, repeat,
-              timing.best_seconds);
+  std::printf("trace: %s, %u threads, best of %u: %.3f s wall, %.3f s CPU (%.3f Mrays per CPU-second)\n",
+              query.c_str(), threads, repeat, timing.best_seconds, timing.best_cpu_seconds,
+              static_cast<double>(rays.size()) / timing.best_cpu_seconds * 1e-6);
   print_result_line(timing);
   return 0;
 }
@@ -164,6 +179,15 @@ int main(int argc, char** argv) {
   trace->add_option("--query", query, "closest or any")->check(CLI::IsMember({"closest", "any"}));
   trace->add_option("--repeat", repeat, "runs over all rays; the fastest counts")
       ->check(CLI::Range(1u, 1000u));
+  TuneOptions tune;
+  trace->add_option("--leaf-size", tune.leaf_size, "tuning: most triangles per BVH leaf / octree cell")
+      ->check(CLI::Range(1u, 124u));
+  trace->add_option("--merge", tune.merge_limit,
+                    "tuning: the wide BVH makes binary subtrees of at most this many triangles one leaf")
+      ->check(CLI::Range(0, 124));
+  trace->add_option("--bins", tune.bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
+  trace->add_option("--traversal-cost", tune.traversal_cost, "tuning: SAH node cost per triangle-block cost")
+      ->check(CLI::Range(0.01f, 100.0f));
   trace->add_option("--isa", isa, "auto (AVX2 where present) or sse2")
       ->check(CLI::IsMember({"auto", "sse2"}));
 
@@ -186,7 +210,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     if (*rays) return run_rays(mesh, kind, width, height, out);
-    if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa);
+    if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
     if (*mesh_cmd) return run_mesh(shape, triangles, out);
     if (*load) return run_load(mesh, repeat);
   } catch (const std::exception& e) {

@@ -118,7 +118,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
             triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
             accel.blocks_);
         return make_wide_leaf(first, (count + 3) / 4);
-      });
+      }, std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
       break;
     }
     case AccelKind::kOctree: {

@@ -6,7 +6,7 @@ namespace tessera {
 
 std::uint32_t append_triangle_blocks(std::span<const Triangle> triangles,
                                      std::span<const std::uint32_t> ids,
-                                     std::vector<TriangleBlock4>& blocks) {
+                                     HugePageVector<TriangleBlock4>& blocks) {
   const auto first = static_cast<std::uint32_t>(blocks.size());
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t start = 0; start < ids.size(); start += 4) {

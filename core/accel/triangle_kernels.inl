@@ -323,16 +323,35 @@ struct AllQuery {
 
 // ---- Walks -----------------------------------------------------------------------------
 
-struct StackEntry {
-  std::uint32_t child;
-  float t;  // entry distance, to skip entries beyond a closer hit found meanwhile
-};
+// Stack entries pack the child's entry distance (high half, as float bits) and the child
+// word (low half) into one integer. Entry distances are clamped to >= 0 for the key, where
+// float bits order like the values, so sorting entries is sorting integers and compiles to
+// conditional moves instead of unpredictable branches.
+using StackKey = std::uint64_t;
+
+inline StackKey stack_key(float t, std::uint32_t child) {
+  const float clamped = t > 0.0f ? t : 0.0f;
+  std::uint32_t bits;
+  std::memcpy(&bits, &clamped, sizeof bits);
+  return (static_cast<StackKey>(bits) << 32) | child;
+}
+inline float key_distance(StackKey key) {
+  const auto bits = static_cast<std::uint32_t>(key >> 32);
+  float t;
+  std::memcpy(&t, &bits, sizeof t);
+  return t;
+}
+inline void order(StackKey& a, StackKey& b) {  // a <= b afterwards
+  const StackKey lo = a < b ? a : b, hi = a < b ? b : a;
+  a = lo;
+  b = hi;
+}
 
 template <typename Query>
 inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
   const BoxRay box_ray(ray);
   const TriangleRay triangle_ray(ray);
-  StackEntry stack[kWideStackSize];
+  StackKey stack[kWideStackSize];
   std::uint32_t size = 0;
   std::uint32_t child = 0;  // the root, always an interior node
   alignas(32) float entry[kWideBvhWidth];
@@ -348,47 +367,76 @@ inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, 
         continue;
       }
       if constexpr (Query::kOrdered) {
+        // Continue with the nearest child; the others wait on the stack, nearest on top.
         const auto second = static_cast<std::uint32_t>(__builtin_ctz(mask));
         mask &= mask - 1;
+        StackKey k0 = stack_key(entry[first], node.children[first]);
+        StackKey k1 = stack_key(entry[second], node.children[second]);
+        order(k0, k1);
         if (mask == 0) {
-          const bool first_nearer = entry[first] <= entry[second];
-          const std::uint32_t near = first_nearer ? first : second, far = first_nearer ? second : first;
-          stack[size++] = StackEntry{node.children[far], entry[far]};
-          child = node.children[near];
+          stack[size++] = k1;
+          child = static_cast<std::uint32_t>(k0);
           continue;
         }
-        // Three or more: push all, sort them so the nearest is on top, continue with it.
+        const auto third = static_cast<std::uint32_t>(__builtin_ctz(mask));
+        mask &= mask - 1;
+        StackKey k2 = stack_key(entry[third], node.children[third]);
+        if (mask == 0) {
+          order(k1, k2);
+          order(k0, k1);
+          stack[size] = k2;
+          stack[size + 1] = k1;
+          size += 2;
+          child = static_cast<std::uint32_t>(k0);
+          continue;
+        }
+        const auto fourth = static_cast<std::uint32_t>(__builtin_ctz(mask));
+        mask &= mask - 1;
+        StackKey k3 = stack_key(entry[fourth], node.children[fourth]);
+        if (mask == 0) {
+          order(k2, k3);
+          order(k0, k2);
+          order(k1, k3);
+          order(k1, k2);
+          stack[size] = k3;
+          stack[size + 1] = k2;
+          stack[size + 2] = k1;
+          size += 3;
+          child = static_cast<std::uint32_t>(k0);
+          continue;
+        }
+        // Five or more (rare): push all and insertion-sort them, farthest at the bottom.
         const std::uint32_t base = size;
-        stack[size++] = StackEntry{node.children[first], entry[first]};
-        stack[size++] = StackEntry{node.children[second], entry[second]};
+        for (StackKey k : {k0, k1, k2, k3}) stack[size++] = k;
         do {
           const auto slot = static_cast<std::uint32_t>(__builtin_ctz(mask));
           mask &= mask - 1;
-          stack[size++] = StackEntry{node.children[slot], entry[slot]};
+          stack[size++] = stack_key(entry[slot], node.children[slot]);
         } while (mask != 0);
         for (std::uint32_t i = base + 1; i < size; ++i) {
-          const StackEntry moving = stack[i];
+          const StackKey moving = stack[i];
           std::uint32_t j = i;
-          for (; j > base && stack[j - 1].t < moving.t; --j) stack[j] = stack[j - 1];
+          for (; j > base && stack[j - 1] < moving; --j) stack[j] = stack[j - 1];
           stack[j] = moving;
         }
-        child = stack[--size].child;
+        child = static_cast<std::uint32_t>(stack[--size]);
       } else {
         do {
           const auto slot = static_cast<std::uint32_t>(__builtin_ctz(mask));
           mask &= mask - 1;
-          stack[size++] = StackEntry{node.children[slot], entry[slot]};
+          stack[size++] = stack_key(entry[slot], node.children[slot]);
         } while (mask != 0);
         child = node.children[first];
       }
     }
     if (query.leaf(view.blocks, wide_leaf_first(child), wide_leaf_count(child), triangle_ray)) return;
   pop:
+    StackKey popped;
     do {
       if (size == 0) return;
-      --size;
-    } while (stack[size].t > query.t_max);
-    child = stack[size].child;
+      popped = stack[--size];
+    } while (key_distance(popped) > query.t_max);
+    child = static_cast<std::uint32_t>(popped);
   }
 }
 

@@ -29,11 +29,16 @@ namespace {
 
 class Collapser {
  public:
-  Collapser(const Bvh& binary, const WideLeafEncoder& encode_leaf, WideBvh& out)
-      : binary_(binary), encode_leaf_(encode_leaf), out_(out) {}
+  Collapser(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit, WideBvh& out)
+      : binary_(binary), encode_leaf_(encode_leaf), merge_limit_(merge_limit), out_(out) {}
 
   void run() {
     if (binary_.nodes.empty()) return;
+    if (merge_limit_ > 0) {
+      first_.resize(binary_.nodes.size());
+      count_.resize(binary_.nodes.size());
+      measure(0);
+    }
     out_.nodes.reserve(binary_.nodes.size() / 4 + 1);
     const BvhNode& root = binary_.nodes[0];
     if (root.is_leaf()) {
@@ -80,24 +85,46 @@ class Collapser {
 
     for (std::uint32_t m = 0; m < member_count; ++m) {
       const BvhNode& child = binary_.nodes[members[m]];
-      const std::uint32_t word =
-          child.is_leaf() ? encode_leaf_(child.offset, child.count) : emit(members[m], depth + 1);
+      std::uint32_t word;
+      if (child.is_leaf()) {
+        word = encode_leaf_(child.offset, child.count);
+      } else if (merge_limit_ > 0 && count_[members[m]] <= merge_limit_) {
+        word = encode_leaf_(first_[members[m]], count_[members[m]]);
+      } else {
+        word = emit(members[m], depth + 1);
+      }
       // emit() may have grown the vector: index again rather than holding a reference.
       out_.nodes[wide_index].set_child(m, child.lower, child.upper, word);
     }
     return wide_index;
   }
 
+  // Primitive range of each binary subtree (depth-first order keeps it contiguous).
+  void measure(std::uint32_t index) {
+    const BvhNode& node = binary_.nodes[index];
+    if (node.is_leaf()) {
+      first_[index] = node.offset;
+      count_[index] = node.count;
+      return;
+    }
+    measure(index + 1);
+    measure(node.offset);
+    first_[index] = first_[index + 1];
+    count_[index] = count_[index + 1] + count_[node.offset];
+  }
+
   const Bvh& binary_;
   const WideLeafEncoder& encode_leaf_;
+  std::uint32_t merge_limit_;
   WideBvh& out_;
+  std::vector<std::uint32_t> first_, count_;
 };
 
 }  // namespace
 
-WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf) {
+WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit) {
   WideBvh wide;
-  Collapser(binary, encode_leaf, wide).run();
+  Collapser(binary, encode_leaf, merge_limit, wide).run();
   return wide;
 }
 

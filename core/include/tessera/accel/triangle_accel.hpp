@@ -33,6 +33,7 @@ struct AccelBuildOptions {
   BvhBuildOptions bvh{};  // for kBvh
   // For kWide: the binary BVH that is collapsed, with the SAH counting 4-triangle blocks.
   BvhBuildOptions wide{8, 4, 1.0f, 1.0f, 16, true};
+  std::uint32_t wide_merge_limit = 8;  // see collapse_to_wide
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };
@@ -108,7 +109,7 @@ class TriangleAccel {
   std::vector<Triangle> triangles_;  // kBvh only: its scalar traversal reads them directly
   Bvh bvh_;                          // kBvh only
   WideBvh wide_;                     // kWide and kOctree
-  std::vector<TriangleBlock4> blocks_;
+  HugePageVector<TriangleBlock4> blocks_;
   const accel_detail::TriangleKernels* kernels_ = nullptr;  // null for kBvh
 };
 

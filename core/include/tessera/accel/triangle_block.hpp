@@ -3,6 +3,7 @@
 #include <span>
 #include <vector>
 
+#include "tessera/accel/huge_page_allocator.hpp"
 #include "tessera/geometry/triangle.hpp"
 
 namespace tessera {
@@ -20,6 +21,6 @@ static_assert(sizeof(TriangleBlock4) == 160);
 // Appends ceil(ids.size() / 4) blocks holding triangles[ids[i]]; returns the first block's index.
 std::uint32_t append_triangle_blocks(std::span<const Triangle> triangles,
                                      std::span<const std::uint32_t> ids,
-                                     std::vector<TriangleBlock4>& blocks);
+                                     HugePageVector<TriangleBlock4>& blocks);
 
 }  // namespace tessera

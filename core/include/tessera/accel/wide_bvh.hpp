@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "tessera/accel/bvh.hpp"
+#include "tessera/accel/huge_page_allocator.hpp"
 
 namespace tessera {
 
@@ -49,7 +50,7 @@ struct alignas(64) WideBvhNode {
 static_assert(sizeof(WideBvhNode) == 256);
 
 struct WideBvh {
-  std::vector<WideBvhNode> nodes;  // node 0 is the root; empty when there is nothing to trace
+  HugePageVector<WideBvhNode> nodes;  // node 0 is the root; empty when there is nothing to trace
   std::uint32_t depth = 0;         // nodes on the longest root-to-leaf path
 
   std::size_t bytes() const { return nodes.size() * sizeof(WideBvhNode); }
@@ -66,6 +67,11 @@ using WideLeafEncoder = std::function<std::uint32_t(std::uint32_t offset, std::u
 // Collapses a binary BVH: each wide node takes the children of a binary node and keeps
 // opening its largest (by surface area) interior child until it has eight children or
 // only leaves. The wide tree is never deeper than the binary one.
-WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf);
+//
+// A binary subtree of at most `merge_limit` primitives that is left over once a node is
+// full becomes one leaf with all its primitives (they are contiguous in Bvh::primitives)
+// rather than a wide node of its own: visiting a sparsely filled node costs more than
+// testing a few more triangles. 0 keeps every binary leaf as it is.
+WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit = 0);
 
 }  // namespace tessera
