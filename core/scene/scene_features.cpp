@@ -8,30 +8,23 @@ namespace tessera {
 
 SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
   SceneFeatures f;
-  const auto use_material = [&](std::uint32_t index) {
-    if (index < scene.materials.size())
-      f.material_kinds |= 1u << static_cast<unsigned>(make_material(scene.materials[index]).kind);
+  const auto use = [&](unsigned shape, std::uint32_t material) {
+    f.shapes |= shape;
+    if (material >= scene.materials.size()) return;
+    const MaterialDesc& m = scene.materials[material];
+    f.material_kinds |= 1u << static_cast<unsigned>(make_material(m).kind);
+    if (m.emission.x > 0 || m.emission.y > 0 || m.emission.z > 0) f.light_shapes |= shape;
   };
-  for (const auto& s : scene.spheres) {
-    f.shapes |= kShapeSphere;
-    use_material(s.material);
-  }
-  for (const auto& q : scene.quads) {
-    f.shapes |= kShapeQuad;
-    use_material(q.material);
-  }
-  for (const auto& m : scene.meshes) {
-    if (m.indices.empty()) continue;
-    f.shapes |= kShapeTriangle;
-    use_material(m.material);
-  }
+  for (const auto& s : scene.spheres) use(kShapeSphere, s.material);
+  for (const auto& q : scene.quads) use(kShapeQuad, q.material);
+  for (const auto& m : scene.meshes)
+    if (!m.indices.empty()) use(kShapeTriangle, m.material);
   f.primitive_count = scene.spheres.size() + scene.quads.size() + scene.triangle_count();
   const auto used = [&](BsdfKind kind) {
     return (f.material_kinds & (1u << static_cast<unsigned>(kind))) != 0;
   };
   f.transmissive = used(BsdfKind::kDielectric) || used(BsdfKind::kThinDielectric);
-  for (const auto& m : scene.materials)
-    if (m.emission.x > 0 || m.emission.y > 0 || m.emission.z > 0) f.emissive = true;
+  f.emissive = f.light_shapes != 0;
   f.aovs = scene.render.aovs;
   return f;
 }

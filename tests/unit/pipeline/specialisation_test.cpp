@@ -127,3 +127,35 @@ TEST(Specialisation, AovsAreComputedOnlyWhenAsked) {
 
 }  // namespace
 }  // namespace tessera
+
+namespace tessera {
+namespace {
+
+TEST(SceneFeatures, DescribesWhatTheCornellBoxContains) {
+  SceneDescription scene =
+      load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml").scene;
+  SceneFeatures f = SceneFeatures::of(scene);
+  EXPECT_EQ(f.shapes, kShapeSphere | kShapeQuad);
+  EXPECT_EQ(f.light_shapes, kShapeQuad);
+  EXPECT_TRUE(f.emissive);
+  EXPECT_TRUE(f.transmissive);  // the glass sphere
+  EXPECT_TRUE(f.specular());
+  EXPECT_FALSE(f.depth_of_field);
+  EXPECT_EQ(f.aovs, 0u);
+  EXPECT_EQ(f.primitive_count, 8u);
+
+  // Without the glass and the mirror, and with the lamp made a plain wall, nothing
+  // specular or emissive remains.
+  for (auto& m : scene.materials) {
+    m.type = MaterialType::kLambertian;
+    m.emission = glm::dvec3(0.0);
+  }
+  f = SceneFeatures::of(scene);
+  EXPECT_FALSE(f.emissive);
+  EXPECT_FALSE(f.transmissive);
+  EXPECT_FALSE(f.specular());
+  EXPECT_EQ(f.light_shapes, 0u);
+}
+
+}  // namespace
+}  // namespace tessera

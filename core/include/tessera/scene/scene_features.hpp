@@ -20,7 +20,8 @@ struct SceneFeatures {
   std::uint32_t material_kinds = 0;  // bit per BsdfKind used by some shape
   std::uint32_t light_count = 0;     // emissive primitives sampled for direct light
   std::size_t primitive_count = 0;
-  bool emissive = false;        // some material emits light
+  unsigned light_shapes = 0;    // ShapeBit mask of shape types that emit (the light types)
+  bool emissive = false;        // some shape uses an emitting material
   bool transmissive = false;    // glass or thin film present
   bool depth_of_field = false;  // the pinhole camera has none yet
   std::uint32_t aovs = 0;       // AovBit mask asked for
