@@ -138,10 +138,12 @@ int main(int argc, char** argv) {
                 query.c_str());
 
     const EmbreeScene embree(mesh, threads);
-    const double buffer_bytes = static_cast<double>(mesh.positions.size() * 12 + mesh.indices.size() * 4);
+    const double buffer_bytes =
+        static_cast<double>(mesh.positions.size() * 12 + mesh.indices.size() * 4);
     std::printf("embree build: %.3f s, %.1f bytes/triangle besides the vertex and index buffers\n",
                 embree.build_seconds(),
-                (static_cast<double>(embree.bytes()) - buffer_bytes) / static_cast<double>(triangles.size()));
+                (static_cast<double>(embree.bytes()) - buffer_bytes) /
+                    static_cast<double>(triangles.size()));
     AccelBuildOptions options;
     options.kind = *parse_accel_kind(accel_name);
     options.allow_avx2 = isa != "sse2";
@@ -191,14 +193,17 @@ int main(int argc, char** argv) {
         ++t_mismatch;
       }
     }
-    embree_timing.mrays_per_s = static_cast<double>(rays.size()) / embree_timing.best_seconds * 1e-6;
+    embree_timing.mrays_per_s =
+        static_cast<double>(rays.size()) / embree_timing.best_seconds * 1e-6;
     our_timing.mrays_per_s = static_cast<double>(rays.size()) / our_timing.best_seconds * 1e-6;
     const auto per_cpu_second = [&](const TraceTiming& t) {
       return static_cast<double>(rays.size()) / t.best_cpu_seconds * 1e-6;
     };
-    std::printf("per CPU-second (steadier on a busy machine): embree %.3f, tessera %.3f Mrays, ratio %.3f\n",
-                per_cpu_second(embree_timing), per_cpu_second(our_timing),
-                per_cpu_second(our_timing) / per_cpu_second(embree_timing));
+    std::printf(
+        "per CPU-second (steadier on a busy machine): embree %.3f, tessera %.3f Mrays, ratio "
+        "%.3f\n",
+        per_cpu_second(embree_timing), per_cpu_second(our_timing),
+        per_cpu_second(our_timing) / per_cpu_second(embree_timing));
     std::printf("embree:  ");
     print_result_line(embree_timing);
     std::printf("tessera: ");

@@ -91,7 +91,8 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
     if (tune.traversal_cost != 0.0f) bvh->traversal_cost = tune.traversal_cost;
   }
   if (tune.leaf_size != 0) options.octree.leaf_size = tune.leaf_size;
-  if (tune.merge_limit >= 0) options.wide_merge_limit = static_cast<std::uint32_t>(tune.merge_limit);
+  if (tune.merge_limit >= 0)
+    options.wide_merge_limit = static_cast<std::uint32_t>(tune.merge_limit);
   const TriangleAccel accel = TriangleAccel::build(triangles, options);
   print_accel(accel);
 
@@ -110,9 +111,10 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
     };
   }
   const TraceTiming timing = run_trace(rays.size(), threads, repeat, chunk);
-  std::printf("trace: %s, %u threads, best of %u: %.3f s wall, %.3f s CPU (%.3f Mrays per CPU-second)\n",
-              query.c_str(), threads, repeat, timing.best_seconds, timing.best_cpu_seconds,
-              static_cast<double>(rays.size()) / timing.best_cpu_seconds * 1e-6);
+  std::printf(
+      "trace: %s, %u threads, best of %u: %.3f s wall, %.3f s CPU (%.3f Mrays per CPU-second)\n",
+      query.c_str(), threads, repeat, timing.best_seconds, timing.best_cpu_seconds,
+      static_cast<double>(rays.size()) / timing.best_cpu_seconds * 1e-6);
   print_result_line(timing);
   return 0;
 }
@@ -180,13 +182,19 @@ int main(int argc, char** argv) {
   trace->add_option("--repeat", repeat, "runs over all rays; the fastest counts")
       ->check(CLI::Range(1u, 1000u));
   TuneOptions tune;
-  trace->add_option("--leaf-size", tune.leaf_size, "tuning: most triangles per BVH leaf / octree cell")
+  trace
+      ->add_option("--leaf-size", tune.leaf_size,
+                   "tuning: most triangles per BVH leaf / octree cell")
       ->check(CLI::Range(1u, 124u));
-  trace->add_option("--merge", tune.merge_limit,
-                    "tuning: the wide BVH makes binary subtrees of at most this many triangles one leaf")
+  trace
+      ->add_option(
+          "--merge", tune.merge_limit,
+          "tuning: the wide BVH makes binary subtrees of at most this many triangles one leaf")
       ->check(CLI::Range(0, 124));
   trace->add_option("--bins", tune.bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
-  trace->add_option("--traversal-cost", tune.traversal_cost, "tuning: SAH node cost per triangle-block cost")
+  trace
+      ->add_option("--traversal-cost", tune.traversal_cost,
+                   "tuning: SAH node cost per triangle-block cost")
       ->check(CLI::Range(0.01f, 100.0f));
   trace->add_option("--isa", isa, "auto (AVX2 where present) or sse2")
       ->check(CLI::IsMember({"auto", "sse2"}));

@@ -6,8 +6,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <utility>
 #include <vector>
 
@@ -32,8 +32,8 @@ TraceTiming run_trace(std::size_t ray_count, unsigned threads, unsigned repeat,
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     timing.best_seconds = std::min(timing.best_seconds, seconds);
-    timing.best_cpu_seconds =
-        std::min(timing.best_cpu_seconds, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+    timing.best_cpu_seconds = std::min(
+        timing.best_cpu_seconds, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
   }
   for (float value : t) {
     if (std::isinf(value)) continue;

@@ -12,8 +12,9 @@ namespace tessera::bench {
 using TraceChunk = std::function<void(std::size_t begin, std::size_t end, float* t_out)>;
 
 struct TraceTiming {
-  double best_seconds = 0.0;      // fastest of the repeats, wall clock
-  double best_cpu_seconds = 0.0;  // least process CPU time of the repeats: steadier on a busy machine
+  double best_seconds = 0.0;  // fastest of the repeats, wall clock
+  double best_cpu_seconds =
+      0.0;  // least process CPU time of the repeats: steadier on a busy machine
   double mrays_per_s = 0.0;
   std::uint64_t hits = 0;
   double tsum =

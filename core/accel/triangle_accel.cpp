@@ -113,12 +113,15 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       wide.max_leaf_size = std::min(wide.max_leaf_size, kWideMaxLeafItems * 4);
       const Bvh binary = build_bvh(bounds, ids, wide);
       accel.blocks_.reserve(triangles.size() / 3 + 1);
-      accel.wide_ = collapse_to_wide(binary, [&](std::uint32_t offset, std::uint32_t count) {
-        const std::uint32_t first = append_triangle_blocks(
-            triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
-            accel.blocks_);
-        return make_wide_leaf(first, (count + 3) / 4);
-      }, std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
+      accel.wide_ = collapse_to_wide(
+          binary,
+          [&](std::uint32_t offset, std::uint32_t count) {
+            const std::uint32_t first = append_triangle_blocks(
+                triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
+                accel.blocks_);
+            return make_wide_leaf(first, (count + 3) / 4);
+          },
+          std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
       break;
     }
     case AccelKind::kOctree: {

@@ -62,19 +62,20 @@ inline bool prepare(const Ray& ray, PreparedRay& r) {
 // ---- Box tests -------------------------------------------------------------------------
 
 // The far end of the interval (the box's exit, or the closest hit so far if nearer) is
-// widened by two ulps, which with the subtract-then-multiply slab test keeps boxes from
-// being missed through rounding (Ize, "Robust BVH ray traversal", JCGT 2013): a flat box
-// holding an axis-aligned quad, or a box entered at the same distance, up to rounding, as
-// the hit found so far.
+// widened by two ulps (folded into the far planes' reciprocals and into t_max), which with the
+// subtract-then-multiply slab test keeps boxes from being missed through rounding (Ize, "Robust BVH
+// ray traversal", JCGT 2013): a flat box holding an axis-aligned quad, or a box entered at the same
+// distance, up to rounding, as the hit found so far.
 constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
 
 #if TESSERA_KERNEL_AVX2
 struct BoxRay {
-  __m256 origin[3], inv_direction[3], t_min;
+  __m256 origin[3], inv_direction[3], inv_direction_far[3], t_min;
   explicit BoxRay(const PreparedRay& r) {
     for (int axis = 0; axis < 3; ++axis) {
       origin[axis] = _mm256_set1_ps(r.origin[axis]);
       inv_direction[axis] = _mm256_set1_ps(r.inv_direction[axis]);
+      inv_direction_far[axis] = _mm256_set1_ps(r.inv_direction[axis] * kFarScale);
     }
     t_min = _mm256_set1_ps(r.t_min);
   }
@@ -82,49 +83,59 @@ struct BoxRay {
 
 // Returns the mask of children whose box the ray enters within [t_min, t_max] and their
 // entry distances.
-inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b, float t_max,
-                               float* entry) {
-  const auto slab = [&](std::uint32_t row, int axis) {
-    return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]), b.inv_direction[axis]);
+inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b,
+                               float t_max, float* entry) {
+  const auto slab = [&](std::uint32_t row, int axis, const __m256* inv) {
+    return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]),
+                         inv[axis]);
   };
-  const __m256 near_x = slab(r.near_row[0], 0), near_y = slab(r.near_row[1], 1), near_z = slab(r.near_row[2], 2);
-  const __m256 far_x = slab(r.far_row[0], 0), far_y = slab(r.far_row[1], 1), far_z = slab(r.far_row[2], 2);
+  const __m256 near_x = slab(r.near_row[0], 0, b.inv_direction),
+               near_y = slab(r.near_row[1], 1, b.inv_direction),
+               near_z = slab(r.near_row[2], 2, b.inv_direction);
+  const __m256 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
+               far_y = slab(r.far_row[1], 1, b.inv_direction_far),
+               far_z = slab(r.far_row[2], 2, b.inv_direction_far);
   // max/min return their second operand when either is NaN: the plane distances go first
   // and the accumulated interval second, so a NaN plane leaves the interval unchanged.
-  const __m256 t_near = _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
-  const __m256 box_far = _mm256_min_ps(far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(kInfinity))));
-  const __m256 t_far = _mm256_mul_ps(_mm256_min_ps(box_far, _mm256_set1_ps(t_max)), _mm256_set1_ps(kFarScale));
+  const __m256 t_near =
+      _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
+  const __m256 t_far = _mm256_min_ps(
+      far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max * kFarScale))));
   _mm256_store_ps(entry, t_near);
   return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ)));
 }
 #else
 struct BoxRay {
-  __m128 origin[3], inv_direction[3], t_min;
+  __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
   explicit BoxRay(const PreparedRay& r) {
     for (int axis = 0; axis < 3; ++axis) {
       origin[axis] = _mm_set1_ps(r.origin[axis]);
       inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
+      inv_direction_far[axis] = _mm_set1_ps(r.inv_direction[axis] * kFarScale);
     }
     t_min = _mm_set1_ps(r.t_min);
   }
 };
 
-inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b, float t_max,
-                               float* entry) {
+inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b,
+                               float t_max, float* entry) {
   std::uint32_t mask = 0;
-  const __m128 far_limit = _mm_set1_ps(t_max);
-  const __m128 far_scale = _mm_set1_ps(kFarScale);
+  const __m128 far_limit = _mm_set1_ps(t_max * kFarScale);
   for (int half = 0; half < 2; ++half) {
     const int lane = 4 * half;
-    const auto slab = [&](std::uint32_t row, int axis) {
-      return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]), b.inv_direction[axis]);
+    const auto slab = [&](std::uint32_t row, int axis, const __m128* inv) {
+      return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]),
+                        inv[axis]);
     };
-    const __m128 near_x = slab(r.near_row[0], 0), near_y = slab(r.near_row[1], 1), near_z = slab(r.near_row[2], 2);
-    const __m128 far_x = slab(r.far_row[0], 0), far_y = slab(r.far_row[1], 1), far_z = slab(r.far_row[2], 2);
+    const __m128 near_x = slab(r.near_row[0], 0, b.inv_direction),
+                 near_y = slab(r.near_row[1], 1, b.inv_direction),
+                 near_z = slab(r.near_row[2], 2, b.inv_direction);
+    const __m128 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
+                 far_y = slab(r.far_row[1], 1, b.inv_direction_far),
+                 far_z = slab(r.far_row[2], 2, b.inv_direction_far);
     // NaN plane distances go first: see the AVX2 version.
     const __m128 t_near = _mm_max_ps(near_x, _mm_max_ps(near_y, _mm_max_ps(near_z, b.t_min)));
-    const __m128 box_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, _mm_set1_ps(kInfinity))));
-    const __m128 t_far = _mm_mul_ps(_mm_min_ps(box_far, far_limit), far_scale);
+    const __m128 t_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit)));
     _mm_store_ps(entry + lane, t_near);
     mask |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmple_ps(t_near, t_far))) << lane;
   }
@@ -159,7 +170,8 @@ struct BlockHits {
 
 // The watertight test of tessera::intersect on four triangles at once, operation for
 // operation, so each lane's result is bit-identical to the scalar one.
-inline std::uint32_t intersect_block(const TriangleBlock4& block, const TriangleRay& r, float t_max, BlockHits& out) {
+inline std::uint32_t intersect_block(const TriangleBlock4& block, const TriangleRay& r, float t_max,
+                                     BlockHits& out) {
   const float* v = &block.vertices[0][0][0];
   // Vertex rows are 12 floats apart ([vertex][axis][lane]).
   const __m128 a_x = _mm_sub_ps(_mm_load_ps(v + r.row_x), r.origin_x);
@@ -199,9 +211,12 @@ inline std::uint32_t intersect_block(const TriangleBlock4& block, const Triangle
     _mm_store_ps(cy_, cy);
     for (int lane = 0; lane < 4; ++lane) {
       if (!(zero_lanes & (1 << lane))) continue;
-      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] - static_cast<double>(cy_[lane]) * bx_[lane]);
-      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] - static_cast<double>(ay_[lane]) * cx_[lane]);
-      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] - static_cast<double>(by_[lane]) * ax_[lane]);
+      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
+                                    static_cast<double>(cy_[lane]) * bx_[lane]);
+      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
+                                     static_cast<double>(ay_[lane]) * cx_[lane]);
+      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
+                                     static_cast<double>(by_[lane]) * ax_[lane]);
     }
     u = _mm_load_ps(u_);
     w1 = _mm_load_ps(w1_);
@@ -222,7 +237,8 @@ inline std::uint32_t intersect_block(const TriangleBlock4& block, const Triangle
       _mm_mul_ps(w2, _mm_mul_ps(r.sz, c_z)));
   const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
   const __m128 t = _mm_mul_ps(t_scaled, inv_det);
-  valid = _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, r.t_min), _mm_cmplt_ps(t, _mm_set1_ps(t_max))));
+  valid =
+      _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, r.t_min), _mm_cmplt_ps(t, _mm_set1_ps(t_max))));
   out.mask = static_cast<std::uint32_t>(_mm_movemask_ps(valid));
   out.valid = valid;
   out.t = t;
@@ -246,16 +262,18 @@ struct ClosestQuery {
   bool found = false;
 
   // Returns true to end the traversal.
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count, const TriangleRay& r) {
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
+            const TriangleRay& r) {
     for (std::uint32_t b = first; b < first + count; ++b) {
       BlockHits hits;
       if (intersect_block(blocks[b], r, t_max, hits) == 0) continue;
       // Nearest lane; on equal t the lowest lane, so the choice is deterministic.
-      const __m128 masked =
-          _mm_or_ps(_mm_and_ps(hits.valid, hits.t), _mm_andnot_ps(hits.valid, _mm_set1_ps(kInfinity)));
+      const __m128 masked = _mm_or_ps(_mm_and_ps(hits.valid, hits.t),
+                                      _mm_andnot_ps(hits.valid, _mm_set1_ps(kInfinity)));
       __m128 m = _mm_min_ps(masked, _mm_shuffle_ps(masked, masked, _MM_SHUFFLE(2, 3, 0, 1)));
       m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
-      const auto nearest = static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmpeq_ps(masked, m))) & hits.mask;
+      const auto nearest =
+          static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmpeq_ps(masked, m))) & hits.mask;
       const auto lane = static_cast<std::uint32_t>(__builtin_ctz(nearest));
       t_max = lane_of(hits.t, lane);
       best = HitRecord{t_max, lane_of(hits.b1, lane), lane_of(hits.b2, lane), blocks[b].ids[lane]};
@@ -270,7 +288,8 @@ struct AnyQuery {
   float t_max;
   bool found = false;
 
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count, const TriangleRay& r) {
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
+            const TriangleRay& r) {
     for (std::uint32_t b = first; b < first + count; ++b) {
       BlockHits hits;
       if (intersect_block(blocks[b], r, t_max, hits) != 0) {
@@ -293,7 +312,8 @@ struct AllQuery {
   std::uint32_t capacity;
   std::uint32_t count = 0;
 
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t n, const TriangleRay& r) {
+  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t n,
+            const TriangleRay& r) {
     for (std::uint32_t b = first; b < first + n; ++b) {
       BlockHits found;
       std::uint32_t mask = intersect_block(blocks[b], r, t_max, found);
@@ -429,7 +449,8 @@ inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, 
         child = node.children[first];
       }
     }
-    if (query.leaf(view.blocks, wide_leaf_first(child), wide_leaf_count(child), triangle_ray)) return;
+    if (query.leaf(view.blocks, wide_leaf_first(child), wide_leaf_count(child), triangle_ray))
+      return;
   pop:
     StackKey popped;
     do {
@@ -476,7 +497,8 @@ bool occluded(const WideTriangleView& view, const Ray& ray) {
 }
 
 template <bool kBrute>
-std::uint32_t all_hits(const WideTriangleView& view, const Ray& ray, HitRecord* hits, std::uint32_t capacity) {
+std::uint32_t all_hits(const WideTriangleView& view, const Ray& ray, HitRecord* hits,
+                       std::uint32_t capacity) {
   PreparedRay prepared;
   if (capacity == 0 || !prepare(ray, prepared)) return 0;
   AllQuery query{ray.t_max, ray.t_max, hits, capacity};
@@ -485,7 +507,8 @@ std::uint32_t all_hits(const WideTriangleView& view, const Ray& ray, HitRecord* 
 }
 
 template <bool kBrute>
-void closest_batch(const WideTriangleView& view, const Ray* rays, HitRecord* hits, std::size_t count) {
+void closest_batch(const WideTriangleView& view, const Ray* rays, HitRecord* hits,
+                   std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
     hits[i] = HitRecord{};
     closest<kBrute>(view, rays[i], hits[i]);
@@ -493,13 +516,18 @@ void closest_batch(const WideTriangleView& view, const Ray* rays, HitRecord* hit
 }
 
 template <bool kBrute>
-void occluded_batch(const WideTriangleView& view, const Ray* rays, std::uint8_t* result, std::size_t count) {
+void occluded_batch(const WideTriangleView& view, const Ray* rays, std::uint8_t* result,
+                    std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) result[i] = occluded<kBrute>(view, rays[i]) ? 1 : 0;
 }
 
 template <bool kBrute>
 constexpr TriangleKernels make_kernels(std::string_view isa) {
-  return TriangleKernels{isa, &closest<kBrute>, &occluded<kBrute>, &all_hits<kBrute>, &closest_batch<kBrute>,
+  return TriangleKernels{isa,
+                         &closest<kBrute>,
+                         &occluded<kBrute>,
+                         &all_hits<kBrute>,
+                         &closest_batch<kBrute>,
                          &occluded_batch<kBrute>};
 }
 

@@ -29,7 +29,8 @@ namespace {
 
 class Collapser {
  public:
-  Collapser(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit, WideBvh& out)
+  Collapser(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit,
+            WideBvh& out)
       : binary_(binary), encode_leaf_(encode_leaf), merge_limit_(merge_limit), out_(out) {}
 
   void run() {
@@ -122,7 +123,8 @@ class Collapser {
 
 }  // namespace
 
-WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit) {
+WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf,
+                         std::uint32_t merge_limit) {
   WideBvh wide;
   Collapser(binary, encode_leaf, merge_limit, wide).run();
   return wide;

@@ -31,9 +31,13 @@ AccelKind choose_accel_kind(std::size_t triangle_count);
 struct AccelBuildOptions {
   AccelKind kind = AccelKind::kAuto;
   BvhBuildOptions bvh{};  // for kBvh
-  // For kWide: the binary BVH that is collapsed, with the SAH counting 4-triangle blocks.
-  BvhBuildOptions wide{8, 4, 1.0f, 1.0f, 16, true};
-  std::uint32_t wide_merge_limit = 8;  // see collapse_to_wide
+  // For kWide: the binary BVH that is collapsed, with the SAH counting 4-triangle blocks,
+  // and the largest subtree the collapse turns into one leaf (see collapse_to_wide). Chosen
+  // by measurement on suzanne-sub5 (bench/accel/README.md): leaves of 4 or 8 and costs
+  // from 0.5 to 2 were within noise; merging subtrees of up to 16 was 5-10% faster than
+  // none and uses 15% less memory.
+  BvhBuildOptions wide{4, 4, 1.0f, 1.0f, 16, true};
+  std::uint32_t wide_merge_limit = 16;
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };

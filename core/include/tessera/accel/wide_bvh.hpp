@@ -51,7 +51,7 @@ static_assert(sizeof(WideBvhNode) == 256);
 
 struct WideBvh {
   HugePageVector<WideBvhNode> nodes;  // node 0 is the root; empty when there is nothing to trace
-  std::uint32_t depth = 0;         // nodes on the longest root-to-leaf path
+  std::uint32_t depth = 0;            // nodes on the longest root-to-leaf path
 
   std::size_t bytes() const { return nodes.size() * sizeof(WideBvhNode); }
 };
@@ -72,6 +72,7 @@ using WideLeafEncoder = std::function<std::uint32_t(std::uint32_t offset, std::u
 // full becomes one leaf with all its primitives (they are contiguous in Bvh::primitives)
 // rather than a wide node of its own: visiting a sparsely filled node costs more than
 // testing a few more triangles. 0 keeps every binary leaf as it is.
-WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf, std::uint32_t merge_limit = 0);
+WideBvh collapse_to_wide(const Bvh& binary, const WideLeafEncoder& encode_leaf,
+                         std::uint32_t merge_limit = 0);
 
 }  // namespace tessera
