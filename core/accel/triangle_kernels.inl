@@ -247,6 +247,116 @@ inline std::uint32_t intersect_block(const TriangleBlock4& block, const Triangle
   return out.mask;
 }
 
+#if TESSERA_KERNEL_AVX2
+// Two blocks at once on eight AVX2 lanes (lanes 0-3 the first block, 4-7 the second):
+// the same operations as intersect_block, so each lane's result is the same bit for bit.
+struct PairRay {
+  __m256 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
+  std::uint32_t row_x, row_y, row_z;
+  explicit PairRay(const TriangleRay& r)
+      : origin_x(_mm256_broadcastss_ps(r.origin_x)),
+        origin_y(_mm256_broadcastss_ps(r.origin_y)),
+        origin_z(_mm256_broadcastss_ps(r.origin_z)),
+        sx(_mm256_broadcastss_ps(r.sx)),
+        sy(_mm256_broadcastss_ps(r.sy)),
+        sz(_mm256_broadcastss_ps(r.sz)),
+        t_min(_mm256_broadcastss_ps(r.t_min)),
+        row_x(r.row_x),
+        row_y(r.row_y),
+        row_z(r.row_z) {}
+};
+
+struct PairHits {
+  std::uint32_t mask;
+  __m256 valid, t, b1, b2;
+};
+
+inline std::uint32_t intersect_pair(const TriangleBlock4& first, const TriangleBlock4& second,
+                                    const PairRay& r, float t_max, PairHits& out) {
+  const float* v0 = &first.vertices[0][0][0];
+  const float* v1 = &second.vertices[0][0][0];
+  const auto row = [&](std::uint32_t offset) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(v0 + offset)),
+                                _mm_load_ps(v1 + offset), 1);
+  };
+  const __m256 a_x = _mm256_sub_ps(row(r.row_x), r.origin_x);
+  const __m256 a_y = _mm256_sub_ps(row(r.row_y), r.origin_y);
+  const __m256 a_z = _mm256_sub_ps(row(r.row_z), r.origin_z);
+  const __m256 b_x = _mm256_sub_ps(row(12 + r.row_x), r.origin_x);
+  const __m256 b_y = _mm256_sub_ps(row(12 + r.row_y), r.origin_y);
+  const __m256 b_z = _mm256_sub_ps(row(12 + r.row_z), r.origin_z);
+  const __m256 c_x = _mm256_sub_ps(row(24 + r.row_x), r.origin_x);
+  const __m256 c_y = _mm256_sub_ps(row(24 + r.row_y), r.origin_y);
+  const __m256 c_z = _mm256_sub_ps(row(24 + r.row_z), r.origin_z);
+  const __m256 ax = _mm256_sub_ps(a_x, _mm256_mul_ps(r.sx, a_z));
+  const __m256 ay = _mm256_sub_ps(a_y, _mm256_mul_ps(r.sy, a_z));
+  const __m256 bx = _mm256_sub_ps(b_x, _mm256_mul_ps(r.sx, b_z));
+  const __m256 by = _mm256_sub_ps(b_y, _mm256_mul_ps(r.sy, b_z));
+  const __m256 cx = _mm256_sub_ps(c_x, _mm256_mul_ps(r.sx, c_z));
+  const __m256 cy = _mm256_sub_ps(c_y, _mm256_mul_ps(r.sy, c_z));
+  __m256 u = _mm256_sub_ps(_mm256_mul_ps(cx, by), _mm256_mul_ps(cy, bx));
+  __m256 w1 = _mm256_sub_ps(_mm256_mul_ps(ax, cy), _mm256_mul_ps(ay, cx));
+  __m256 w2 = _mm256_sub_ps(_mm256_mul_ps(bx, ay), _mm256_mul_ps(by, ax));
+  const __m256 zero = _mm256_setzero_ps();
+  const int zero_lanes = _mm256_movemask_ps(_mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_EQ_OQ), _mm256_cmp_ps(w1, zero, _CMP_EQ_OQ)),
+      _mm256_cmp_ps(w2, zero, _CMP_EQ_OQ)));
+  if (zero_lanes != 0) [[unlikely]] {
+    alignas(32) float u_[8], w1_[8], w2_[8], ax_[8], ay_[8], bx_[8], by_[8], cx_[8], cy_[8];
+    _mm256_store_ps(u_, u);
+    _mm256_store_ps(w1_, w1);
+    _mm256_store_ps(w2_, w2);
+    _mm256_store_ps(ax_, ax);
+    _mm256_store_ps(ay_, ay);
+    _mm256_store_ps(bx_, bx);
+    _mm256_store_ps(by_, by);
+    _mm256_store_ps(cx_, cx);
+    _mm256_store_ps(cy_, cy);
+    for (int lane = 0; lane < 8; ++lane) {
+      if (!(zero_lanes & (1 << lane))) continue;
+      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
+                                    static_cast<double>(cy_[lane]) * bx_[lane]);
+      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
+                                     static_cast<double>(ay_[lane]) * cx_[lane]);
+      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
+                                     static_cast<double>(by_[lane]) * ax_[lane]);
+    }
+    u = _mm256_load_ps(u_);
+    w1 = _mm256_load_ps(w1_);
+    w2 = _mm256_load_ps(w2_);
+  }
+  const __m256 negative = _mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_LT_OQ), _mm256_cmp_ps(w1, zero, _CMP_LT_OQ)),
+      _mm256_cmp_ps(w2, zero, _CMP_LT_OQ));
+  const __m256 positive = _mm256_or_ps(
+      _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_GT_OQ), _mm256_cmp_ps(w1, zero, _CMP_GT_OQ)),
+      _mm256_cmp_ps(w2, zero, _CMP_GT_OQ));
+  const __m256 det = _mm256_add_ps(_mm256_add_ps(u, w1), w2);
+  __m256 valid =
+      _mm256_andnot_ps(_mm256_and_ps(negative, positive), _mm256_cmp_ps(det, zero, _CMP_NEQ_UQ));
+  if (_mm256_movemask_ps(valid) == 0) return 0;
+  const __m256 t_scaled = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(u, _mm256_mul_ps(r.sz, a_z)),
+                                                      _mm256_mul_ps(w1, _mm256_mul_ps(r.sz, b_z))),
+                                        _mm256_mul_ps(w2, _mm256_mul_ps(r.sz, c_z)));
+  const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
+  const __m256 t = _mm256_mul_ps(t_scaled, inv_det);
+  valid = _mm256_and_ps(valid, _mm256_and_ps(_mm256_cmp_ps(t, r.t_min, _CMP_GT_OQ),
+                                             _mm256_cmp_ps(t, _mm256_set1_ps(t_max), _CMP_LT_OQ)));
+  out.mask = static_cast<std::uint32_t>(_mm256_movemask_ps(valid));
+  out.valid = valid;
+  out.t = t;
+  out.b1 = _mm256_mul_ps(w1, inv_det);
+  out.b2 = _mm256_mul_ps(w2, inv_det);
+  return out.mask;
+}
+
+inline float lane_of(__m256 v, std::uint32_t lane) {
+  alignas(32) float values[8];
+  _mm256_store_ps(values, v);
+  return values[lane];
+}
+#endif
+
 inline float lane_of(__m128 v, std::uint32_t lane) {
   alignas(16) float values[4];
   _mm_store_ps(values, v);
@@ -264,7 +374,29 @@ struct ClosestQuery {
   // Returns true to end the traversal.
   bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
             const TriangleRay& r) {
-    for (std::uint32_t b = first; b < first + count; ++b) {
+    std::uint32_t b = first;
+#if TESSERA_KERNEL_AVX2
+    if (count >= 2) {
+      const PairRay pair_ray(r);
+      for (; b + 1 < first + count; b += 2) {
+        PairHits hits;
+        if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) == 0) continue;
+        const __m256 masked = _mm256_blendv_ps(_mm256_set1_ps(kInfinity), hits.t, hits.valid);
+        __m256 m = _mm256_min_ps(masked, _mm256_permute_ps(masked, 0xB1));
+        m = _mm256_min_ps(m, _mm256_permute_ps(m, 0x4E));
+        m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 0x01));
+        const auto nearest =
+            static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(masked, m, _CMP_EQ_OQ))) &
+            hits.mask;
+        const auto lane = static_cast<std::uint32_t>(__builtin_ctz(nearest));
+        t_max = lane_of(hits.t, lane);
+        best = HitRecord{t_max, lane_of(hits.b1, lane), lane_of(hits.b2, lane),
+                         blocks[b + lane / 4].ids[lane % 4]};
+        found = true;
+      }
+    }
+#endif
+    for (; b < first + count; ++b) {
       BlockHits hits;
       if (intersect_block(blocks[b], r, t_max, hits) == 0) continue;
       // Nearest lane; on equal t the lowest lane, so the choice is deterministic.
@@ -290,7 +422,20 @@ struct AnyQuery {
 
   bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
             const TriangleRay& r) {
-    for (std::uint32_t b = first; b < first + count; ++b) {
+    std::uint32_t b = first;
+#if TESSERA_KERNEL_AVX2
+    if (count >= 2) {
+      const PairRay pair_ray(r);
+      for (; b + 1 < first + count; b += 2) {
+        PairHits hits;
+        if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) != 0) {
+          found = true;
+          return true;
+        }
+      }
+    }
+#endif
+    for (; b < first + count; ++b) {
       BlockHits hits;
       if (intersect_block(blocks[b], r, t_max, hits) != 0) {
         found = true;
