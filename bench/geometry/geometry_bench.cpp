@@ -19,6 +19,7 @@
 #include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/quad.hpp"
 #include "tessera/geometry/sphere.hpp"
+#include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 #include "tessera/geometry/triangle_precise.hpp"
@@ -145,6 +146,14 @@ void register_intersectors() {
       torus, AffineTransform::from_trs(dvec3(5.0, 0.0, 0.0), dvec3(1, 1, 0), 0.7, dvec3(1, 2, 0.5)),
       instanced_torus);
   register_shape("instance(torus)", dvec3(5.0, 0.0, 0.0), 2.0, closest_hit(instanced_torus));
+  register_shape("sdf box (sphere traced)", dvec3(0.0), 1.0,
+                 closest_hit(SdfBox{vec3(0.0f), vec3(0.6f, 0.5f, 0.4f), 0.0f, 0}));
+  register_shape("sdf rounded box (sphere traced)", dvec3(0.0), 1.0,
+                 closest_hit(SdfBox{vec3(0.0f), vec3(0.6f, 0.5f, 0.4f), 0.1f, 0}));
+  register_shape("sdf torus (sphere traced)", dvec3(0.0), 1.0,
+                 closest_hit(SdfTorus{vec3(0.0f), vec3(0.2f, 1.0f, 0.1f), 0.8f, 0.2f, 0}));
+  register_shape("sdf capsule (sphere traced)", dvec3(0.0), 1.0,
+                 closest_hit(SdfCapsule{vec3(0.0f, -0.5f, 0.0f), vec3(0.0f, 0.5f, 0.0f), 0.3f, 0}));
   // intersect_all on the torus (up to 4 sorted hits)
   register_shape("torus intersect_all", dvec3(0.0), 1.0, [torus](const Ray& ray, HitRecord& hit) {
     HitRecord hits[4];

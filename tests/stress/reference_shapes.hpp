@@ -12,6 +12,7 @@
 #include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/quad.hpp"
 #include "tessera/geometry/sphere.hpp"
+#include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 
@@ -245,6 +246,115 @@ inline ReferenceHits reference_hits(const Torus& t, const QRay& ray) {
       if (qabs(near) > qabs(far)) continue;
     }
     hits.add(roots[i]);
+  }
+  hits.sort();
+  return hits;
+}
+
+// ---- signed-distance primitives, from their surfaces' pieces (the SDF's zero set)
+
+// Real roots of a t^2 + b t + c in quad, each polished by two Newton steps.
+inline int quad_quadratic(quad a, quad b, quad c, quad* roots) {
+  if (a == 0) {
+    if (b == 0) return 0;
+    roots[0] = -c / b;
+    return 1;
+  }
+  const quad disc = b * b - 4 * a * c;
+  if (disc < 0) return 0;
+  const quad q = -(b + (b >= 0 ? qsqrt(disc) : -qsqrt(disc))) / 2;
+  int n = 0;
+  roots[n++] = q / a;
+  if (q != 0) roots[n++] = c / q;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 2; ++k) {
+      const quad f = (a * roots[i] + b) * roots[i] + c, df = 2 * a * roots[i] + b;
+      if (df != 0) roots[i] -= f / df;
+    }
+  return n;
+}
+
+// Rounded box (rounding 0: a box): 6 face rectangles, 12 quarter cylinders along the
+// edges, 8 eighth spheres at the corners, each kept where it is the surface.
+inline ReferenceHits reference_hits(const SdfBox& box, const QRay& ray) {
+  ReferenceHits hits;
+  const QVec o = ray.origin - QVec(box.center);
+  const QVec& d = ray.direction;
+  const quad r = box.rounding;
+  const quad h[3] = {quad(box.half_extent.x), quad(box.half_extent.y), quad(box.half_extent.z)};
+  const quad inner[3] = {h[0] - r, h[1] - r, h[2] - r};
+  const auto at = [&](quad t, int axis) { return o[axis] + t * d[axis]; };
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0) continue;
+    for (int side = -1; side <= 1; side += 2) {
+      const quad t = (side * h[k] - o[k]) / d[k];
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      if (qabs(at(t, i)) <= inner[i] && qabs(at(t, j)) <= inner[j]) hits.add(t);
+    }
+  }
+  if (r > 0) {
+    for (int k = 0; k < 3; ++k) {  // edges along axis k
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      for (int si = -1; si <= 1; si += 2)
+        for (int sj = -1; sj <= 1; sj += 2) {
+          const quad ci = si * inner[i], cj = sj * inner[j];
+          const quad oi = o[i] - ci, oj = o[j] - cj;
+          quad roots[2];
+          const int n = quad_quadratic(d[i] * d[i] + d[j] * d[j], 2 * (oi * d[i] + oj * d[j]),
+                                       oi * oi + oj * oj - r * r, roots);
+          for (int m = 0; m < n; ++m) {
+            const quad t = roots[m];
+            if (qabs(at(t, k)) <= inner[k] && si * at(t, i) >= inner[i] &&
+                sj * at(t, j) >= inner[j])
+              hits.add(t);
+          }
+        }
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+      const quad sx = (corner & 1) ? 1 : -1, sy = (corner & 2) ? 1 : -1, sz = (corner & 4) ? 1 : -1;
+      const QVec c(sx * inner[0], sy * inner[1], sz * inner[2]);
+      const QVec f = o - c;
+      quad roots[2];
+      const int n = quad_quadratic(dot(d, d), 2 * dot(f, d), dot(f, f) - r * r, roots);
+      for (int m = 0; m < n; ++m) {
+        const quad t = roots[m];
+        if (sx * at(t, 0) >= inner[0] && sy * at(t, 1) >= inner[1] && sz * at(t, 2) >= inner[2])
+          hits.add(t);
+      }
+    }
+  }
+  hits.sort();
+  // A crossing exactly on the seam of two pieces is found by both: keep one.
+  int kept = 0;
+  for (int i = 0; i < hits.count; ++i)
+    if (kept == 0 || hits.t[i] - hits.t[kept - 1] > quad(1e-25) * qabs(hits.t[i]))
+      hits.t[kept++] = hits.t[i];
+  hits.count = kept;
+  return hits;
+}
+
+inline ReferenceHits reference_hits(const SdfTorus& t, const QRay& ray) {
+  return reference_hits(Torus{t.center, t.axis, t.major_radius, t.minor_radius, 0}, ray);
+}
+
+// Capsule: the cylinder between the endpoints and the two hemispheres beyond them.
+inline ReferenceHits reference_hits(const SdfCapsule& c, const QRay& ray) {
+  ReferenceHits hits;
+  const QVec a(c.a), b(c.b);
+  const quad length = qsqrt(dot(b - a, b - a));
+  const QVec w = (b - a) * (quad(1) / length);
+  const quad r = c.radius;
+  lateral_reference(ray, a, w, r, r, length, hits);
+  for (int end = 0; end < 2; ++end) {
+    const QVec center = end == 0 ? a : b;
+    const QVec f = ray.origin - center;
+    quad roots[2];
+    const int n = quad_quadratic(dot(ray.direction, ray.direction), 2 * dot(f, ray.direction),
+                                 dot(f, f) - r * r, roots);
+    for (int m = 0; m < n; ++m) {
+      const quad side = dot(f + roots[m] * ray.direction, w);
+      if ((end == 0 && side <= 0) || (end == 1 && side >= 0)) hits.add(roots[m]);
+    }
   }
   hits.sort();
   return hits;

@@ -12,6 +12,7 @@
 #include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/quad.hpp"
 #include "tessera/geometry/sphere.hpp"
+#include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 
@@ -257,6 +258,84 @@ inline double surface_distance_bound(const Torus& s, const dvec3& p) {
   const double rho = glm::length(q - z * w);
   const double R = s.major_radius, r = s.minor_radius;
   return std::min(std::fabs(std::hypot(rho - R, z) - r), std::fabs(std::hypot(rho + R, z) - r));
+}
+
+// ---- signed-distance primitives: points found by projecting random points along the
+// gradient of the exact distance (one step lands on the surface)
+template <typename Sdf>
+dvec3 sdf_gradient_unit(const Sdf& shape, const dvec3& local) {
+  const double h = 1e-7 * (1.0 + glm::length(local));
+  const dvec3 g(signed_distance(shape, local + dvec3(h, 0, 0)) -
+                    signed_distance(shape, local - dvec3(h, 0, 0)),
+                signed_distance(shape, local + dvec3(0, h, 0)) -
+                    signed_distance(shape, local - dvec3(0, h, 0)),
+                signed_distance(shape, local + dvec3(0, 0, h)) -
+                    signed_distance(shape, local - dvec3(0, 0, h)));
+  return glm::normalize(g);
+}
+template <typename Sdf>
+BoundingSphere sdf_bounding_sphere(const Sdf& shape) {
+  dvec3 lower, upper;
+  sdf_local_bounds(shape, lower, upper);
+  return {sdf_reference_point(shape) + 0.5 * (lower + upper), 0.5 * glm::length(upper - lower)};
+}
+template <typename Sdf>
+SurfacePoint sdf_sample_surface(const Sdf& shape, Rng& rng) {
+  const BoundingSphere b = sdf_bounding_sphere(shape);
+  const dvec3 origin = sdf_reference_point(shape);
+  for (;;) {
+    dvec3 p = b.center + rng.in_ball(b.radius) - origin;
+    for (int i = 0; i < 4; ++i) p -= signed_distance(shape, p) * sdf_gradient_unit(shape, p);
+    if (std::fabs(signed_distance(shape, p)) < 1e-12 * b.radius)
+      return {p + origin, sdf_gradient_unit(shape, p)};
+  }
+}
+inline BoundingSphere bounding_sphere(const SdfBox& s) {
+  return sdf_bounding_sphere(s);
+}
+inline BoundingSphere bounding_sphere(const SdfTorus& s) {
+  return sdf_bounding_sphere(s);
+}
+inline BoundingSphere bounding_sphere(const SdfCapsule& s) {
+  return sdf_bounding_sphere(s);
+}
+inline SurfacePoint sample_surface(const SdfBox& s, Rng& rng) {
+  return sdf_sample_surface(s, rng);
+}
+inline SurfacePoint sample_surface(const SdfTorus& s, Rng& rng) {
+  return sdf_sample_surface(s, rng);
+}
+inline SurfacePoint sample_surface(const SdfCapsule& s, Rng& rng) {
+  return sdf_sample_surface(s, rng);
+}
+inline dvec3 shape_axis(const SdfBox&, Rng& rng) {
+  dvec3 e(0.0);
+  e[static_cast<int>(rng.uniform(0.0, 3.0)) % 3] = 1.0;
+  return e;
+}
+inline dvec3 shape_axis(const SdfTorus& s, Rng&) {
+  return glm::normalize(dvec3(s.axis));
+}
+inline dvec3 shape_axis(const SdfCapsule& s, Rng&) {
+  return glm::normalize(dvec3(s.b) - dvec3(s.a));
+}
+inline double surface_distance_bound(const SdfBox& s, const dvec3& p) {
+  return std::fabs(signed_distance(s, p - dvec3(s.center)));
+}
+inline double surface_distance_bound(const SdfTorus& s, const dvec3& p) {
+  return std::fabs(signed_distance(s, p - dvec3(s.center)));
+}
+inline double surface_distance_bound(const SdfCapsule& s, const dvec3& p) {
+  return std::fabs(signed_distance(s, p - dvec3(s.a)));
+}
+// Flat faces of a box have no tangent line outside their own plane (the tangent families
+// are run on the rounded box only, whose edges and corners are curved).
+inline bool on_flat_part(const SdfBox&, const SurfacePoint& p) {
+  const dvec3 n = glm::abs(p.normal);
+  return glm::max(n.x, glm::max(n.y, n.z)) > 0.999;
+}
+inline double feature_size(const SdfTorus& t) {
+  return t.minor_radius;
 }
 
 // Whether an origin is so close to the surface that the intersector would treat the ray as

@@ -547,6 +547,22 @@ Instance<Shape> make_instance(const Shape& object, const Placement& p, Rng& rng)
   return instance;
 }
 
+SdfBox make_sdf_box(const Placement& p, Rng& rng, double rounding) {
+  const dvec3 h =
+      dvec3(rng.uniform(0.5, 1.0), rng.uniform(0.5, 1.0), rng.uniform(0.5, 1.0)) * (0.6 * p.scale);
+  const double r = rounding * glm::min(h.x, glm::min(h.y, h.z));
+  return SdfBox{vec3(p.center), vec3(h), static_cast<float>(r), 0};
+}
+SdfTorus make_sdf_torus(const Placement& p, Rng& rng) {
+  return SdfTorus{vec3(p.center), vec3(rng.unit_vector()), static_cast<float>(0.8 * p.scale),
+                  static_cast<float>(0.2 * p.scale), 0};
+}
+SdfCapsule make_sdf_capsule(const Placement& p, Rng& rng) {
+  const dvec3 half = rng.unit_vector() * (0.5 * p.scale);
+  return SdfCapsule{vec3(p.center - half), vec3(p.center + half), static_cast<float>(0.3 * p.scale),
+                    0};
+}
+
 // ---- rows
 
 enum class Where { kOrigin, kOffset, kTiny, kHuge };
@@ -801,6 +817,29 @@ const BoundsException kExceptions[] = {
     // sits within 3e-8 of the other sheet) and the spindle torus's cusps on the axis (apple
     // and lemon roots within the ray's distance from the axis, below double resolution).
     {"torus horn r=R", "origin on surface", {2, 1e-3, 2}},
+    // Sphere tracing (bounded: 512 steps, a step floor growing from 1e-6 of the size):
+    // crossings with a chord shorter than the floor are stepped over. The plain box's
+    // "grazing" and "axis-aligned" rays are mostly such: surface samples land on edges and
+    // corners (the nearest point of the box to much of space), so a tangent there clips a
+    // chord of ~1e-7, and axis-aligned rays through face points run inside the face's own
+    // plane, touching the surface without crossing it.
+    {"sdf box", "random near", {36, 1e-7, 36}},
+    {"sdf box", "far 1e2-1e4", {2, 1e-7, 2}},
+    {"sdf box", "grazing", {1350, 1e-7, 1350}},
+    {"sdf box", "axis-aligned", {1080, 1e-7, 1080}},
+    {"sdf box", "origin on surface", {8, 1e-7, 8}},
+    {"sdf rounded box", "grazing", {44, 1e-7, 44}},
+    {"sdf rounded box", "tangent", {147, 1e-7, 147}},
+    {"sdf rounded box", "axis-aligned", {708, 1e-7, 708}},
+    {"sdf rounded box", "origin on surface", {11, 1e-7, 11}},
+    {"sdf torus", "grazing", {36, 1e-7, 83}},
+    {"sdf torus", "tangent", {98, 1e-7, 200}},
+    {"sdf torus", "tangent +-1e-6", {2, 1e-7, 3}},
+    {"sdf torus", "origin on surface", {14, 1e-7, 14}},
+    {"sdf capsule", "grazing", {50, 1e-7, 50}},
+    {"sdf capsule", "tangent", {152, 1e-7, 152}},
+    {"sdf capsule", "tangent +-1e-6", {2, 1e-7, 2}},
+    {"sdf capsule", "origin on surface", {8, 1e-7, 8}},
     // The quartic solvers alone (t here is the root error relative to the largest root).
     // Close pairs: a root pair 1e-6 apart is conditioned like sqrt(eps); when both pairs
     // also fall close together the count can flip. Near-double pairs (1e-9..1e-7 apart)
@@ -934,6 +973,24 @@ std::vector<Row> all_rows() {
                 [](const Placement& p, Rng& r) { return make_cone(p, r, 0.0, true); });
   add_instanced("instance(torus)",
                 [](const Placement& p, Rng& r) { return make_torus(p, r, 0.25); });
+
+  const std::vector<Family> sdf_families = {
+      Family::kRandom,      Family::kFarMid,      Family::kGrazing,   Family::kTangent,
+      Family::kNearTangent, Family::kAxisAligned, Family::kAlongAxis, Family::kOnSurface};
+  const auto add_sdf = [&](const std::string& surface, auto make, bool curved_everywhere) {
+    for (Family f : sdf_families) {
+      if (!curved_everywhere && (f == Family::kTangent || f == Family::kNearTangent)) continue;
+      add(surface, family_name(f), ray_row(make, f, Where::kOrigin), 2000);
+    }
+    add(surface, "offset 1e2-1e6", ray_row(make, Family::kRandom, Where::kOffset), 2000);
+    add(surface, "spawn @1e+03", spawn_row(make, 1e3), 1000);
+  };
+  add_sdf(
+      "sdf box", [](const Placement& p, Rng& r) { return make_sdf_box(p, r, 0.0); }, false);
+  add_sdf(
+      "sdf rounded box", [](const Placement& p, Rng& r) { return make_sdf_box(p, r, 0.3); }, true);
+  add_sdf("sdf torus", make_sdf_torus, true);
+  add_sdf("sdf capsule", make_sdf_capsule, true);
 
   for (const bool use_1010 : {false, true}) {
     const std::string solver = use_1010 ? "quartic: Alg. 1010" : "quartic: isolation";

@@ -12,6 +12,7 @@
 #include "tessera/geometry/quad.hpp"
 #include "tessera/geometry/ray_check.hpp"
 #include "tessera/geometry/sphere.hpp"
+#include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 #include "tessera/geometry/triangle_attributes.hpp"
@@ -264,6 +265,42 @@ TEST(TrianglePrecise, MatchesTheFloatPathAndRejectsItsOwnPlane) {
                                  kInfinity, b, 0u));
 }
 
+TEST(SphereTracing, BoxRoundedBoxTorusAndCapsuleMatchTheirAnalyticHits) {
+  HitRecord hits[4];
+  const Ray along_x = ray(vec3(-5.0f, 0.25f, 0.25f), vec3(1.0f, 0.0f, 0.0f));
+  const SdfBox box{vec3(0.0f), vec3(1.0f, 2.0f, 3.0f), 0.0f, 0};
+  ASSERT_EQ(intersect_all(box, along_x, kInfinity, hits, 4, 0u), 2);
+  EXPECT_FLOAT_EQ(hits[0].t, 4.0f);
+  EXPECT_FLOAT_EQ(hits[1].t, 6.0f);
+  // Rounded box (half size 1, rounding 0.5) along the diagonal: the corner sphere of
+  // radius 0.5 around (0.5, 0.5, 0.5), reached at 4.5 sqrt(3) - 0.5.
+  const SdfBox rounded{vec3(0.0f), vec3(1.0f), 0.5f, 0};
+  const Ray diagonal = ray(vec3(-5.0f), glm::normalize(vec3(1.0f)));
+  HitRecord hit;
+  ASSERT_TRUE(intersect(rounded, diagonal, kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 4.5f * std::sqrt(3.0f) - 0.5f, 1e-5f);
+  const SurfaceInteraction si = surface_at(rounded, diagonal, hit);
+  expect_vec_near(si.geometric_normal, -glm::normalize(vec3(1.0f)), 1e-4f);
+  const SdfTorus torus{vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 2.0f, 0.5f, 0};
+  ASSERT_EQ(intersect_all(torus, ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity,
+                          hits, 4, 0u),
+            4);
+  const float expected[4] = {2.5f, 3.5f, 6.5f, 7.5f};
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(hits[i].t, expected[i], 1e-6f);
+  const SdfCapsule capsule{vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 0};
+  const Ray down = ray(vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  ASSERT_EQ(intersect_all(capsule, down, kInfinity, hits, 4, 0u), 2);
+  EXPECT_NEAR(hits[0].t, 3.5f, 1e-6f);
+  EXPECT_NEAR(hits[1].t, 6.5f, 1e-6f);
+  expect_vec_near(surface_at(capsule, down, hits[0]).geometric_normal, vec3(0.0f, 0.0f, 1.0f),
+                  1e-5f);
+  // From inside, the exit; a miss beside it.
+  ASSERT_TRUE(intersect(capsule, ray(vec3(0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 0.5f, 1e-6f);
+  EXPECT_FALSE(
+      intersect(capsule, ray(vec3(-5.0f, 0.6f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
+}
+
 TEST(RayCheck, ZeroAndNonFiniteDirectionsAreRejected) {
   EXPECT_TRUE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f))));
   EXPECT_FALSE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f))));
@@ -324,6 +361,10 @@ TEST(NoNaN, EveryShapeOnDegenerateRays) {
       Torus::make(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.25f, 0),
       AffineTransform::from_trs(dvec3(0.5), dvec3(1, 0, 0), 0.3, dvec3(1.0, 2.0, 0.5)), instance));
   expect_no_nan(instance);
+  expect_no_nan(SdfBox{vec3(0.0f), vec3(1.0f, 0.5f, 0.25f), 0.1f, 0});
+  expect_no_nan(SdfTorus{vec3(0.0f), vec3(0.0f, 0.0f, 1.0f), 1.0f, 0.25f, 0});
+  expect_no_nan(SdfCapsule{vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 1.0f), 0.5f, 0});
+  expect_no_nan(SdfCapsule{vec3(0.0f), vec3(0.0f), 0.5f, 0});  // collapsed to a sphere
 }
 
 TEST(Bounds, ContainEverySurfacePoint) {
