@@ -49,7 +49,8 @@ class Collapser {
       out_.depth = 1;
       return;
     }
-    emit(0, 1);
+    out_.nodes.emplace_back().clear();
+    emit(0, 0, 1);
   }
 
  private:
@@ -58,11 +59,12 @@ class Collapser {
     return Aabb{n.lower, n.upper}.surface_area();
   }
 
-  std::uint32_t emit(std::uint32_t binary_index, std::uint32_t depth) {
+  // Fills the already allocated wide node `wide_index` from binary node `binary_index`.
+  // Memory order: a node's leaf children get their triangle blocks together, and its
+  // interior children are allocated side by side before any of them is filled, so the
+  // siblings a ray visits one after the other lie next to each other.
+  void emit(std::uint32_t binary_index, std::uint32_t wide_index, std::uint32_t depth) {
     out_.depth = std::max(out_.depth, depth);
-    const auto wide_index = static_cast<std::uint32_t>(out_.nodes.size());
-    out_.nodes.emplace_back().clear();
-
     std::array<std::uint32_t, kWideBvhWidth> members{};
     std::uint32_t member_count = 0;
     members[member_count++] = binary_index + 1;
@@ -84,6 +86,7 @@ class Collapser {
       members[member_count++] = binary_.nodes[opened].offset;
     }
 
+    std::array<bool, kWideBvhWidth> interior{};
     for (std::uint32_t m = 0; m < member_count; ++m) {
       const BvhNode& child = binary_.nodes[members[m]];
       std::uint32_t word;
@@ -92,12 +95,14 @@ class Collapser {
       } else if (merge_limit_ > 0 && count_[members[m]] <= merge_limit_) {
         word = encode_leaf_(first_[members[m]], count_[members[m]]);
       } else {
-        word = emit(members[m], depth + 1);
+        interior[m] = true;
+        word = static_cast<std::uint32_t>(out_.nodes.size());
+        out_.nodes.emplace_back().clear();
       }
-      // emit() may have grown the vector: index again rather than holding a reference.
       out_.nodes[wide_index].set_child(m, child.lower, child.upper, word);
     }
-    return wide_index;
+    for (std::uint32_t m = 0; m < member_count; ++m)
+      if (interior[m]) emit(members[m], out_.nodes[wide_index].children[m], depth + 1);
   }
 
   // Primitive range of each binary subtree (depth-first order keeps it contiguous).
