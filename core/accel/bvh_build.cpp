@@ -7,6 +7,8 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -20,7 +22,7 @@ namespace tessera {
 namespace {
 
 // Box and reference of one primitive: 32 bytes, so two per cache line while binning.
-struct PrimRef {
+struct alignas(16) PrimRef {
   vec3 lower;
   std::uint32_t reference;
   vec3 upper;
@@ -45,11 +47,38 @@ struct Range {
   std::uint32_t count() const { return end - begin; }
 };
 
-struct Bins {
-  std::array<std::array<Aabb, kMaxBvhBins>, 3> bounds;
-  std::array<std::array<std::uint32_t, kMaxBvhBins>, 3> counts{};
+// Box of one bin in SSE registers (lanes 0-2; lane 3 carries whatever followed the
+// coordinates and is ignored), so growing it is one min and one max.
+struct BinBox {
+  __m128 lower = _mm_set1_ps(kInfinity);
+  __m128 upper = _mm_set1_ps(-kInfinity);
 
-  void merge(const Bins& other, std::uint32_t bin_count) {
+  void extend(const BinBox& b) {
+    lower = _mm_min_ps(lower, b.lower);
+    upper = _mm_max_ps(upper, b.upper);
+  }
+  float surface_area() const {
+    alignas(16) float e[4];
+    _mm_store_ps(e, _mm_sub_ps(upper, lower));
+    if (!(e[0] >= 0.0f)) return 0.0f;  // empty
+    return 2.0f * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+  }
+};
+
+struct Bins {
+  std::uint32_t bin_count;
+  BinBox bounds[3][kMaxBvhBins];
+  std::uint32_t counts[3][kMaxBvhBins];
+
+  // Only the bins in use are initialised: most nodes are small and use few.
+  explicit Bins(std::uint32_t n) : bin_count(n) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (std::uint32_t b = 0; b < n; ++b) {
+        bounds[axis][b] = BinBox{};
+        counts[axis][b] = 0;
+      }
+  }
+  void merge(const Bins& other) {
     for (int axis = 0; axis < 3; ++axis)
       for (std::uint32_t b = 0; b < bin_count; ++b) {
         bounds[axis][b].extend(other.bounds[axis][b]);
@@ -133,7 +162,9 @@ class Builder {
     Range left, right;
     bool split_found = false;
     if (!force_median && !range.centroids.empty() && range.centroids.extent() != vec3(0.0f)) {
-      const BinMapping mapping(range.centroids, options_.bin_count);
+      // Few bins for small nodes (as Embree does): the SAH barely changes and most nodes
+      // are small.
+      const BinMapping mapping(range.centroids, std::min(options_.bin_count, 4 + count / 20));
       const Split split = find_split(range, mapping);
       if (split.axis >= 0) {
         const float leaf_cost = options_.intersection_cost * static_cast<float>(blocks(count));
@@ -162,52 +193,51 @@ class Builder {
     }
   }
 
-  Bins bin_range(std::uint32_t begin, std::uint32_t end, const BinMapping& mapping) const {
-    Bins bins;
+  void bin_range(std::uint32_t begin, std::uint32_t end, const BinMapping& mapping,
+                 Bins& bins) const {
     for (std::uint32_t i = begin; i < end; ++i) {
       const PrimRef& p = prims_[i];
       const vec3 c2 = p.centroid2();
-      const Aabb box{p.lower, p.upper};
+      const BinBox box{_mm_load_ps(&p.lower.x), _mm_load_ps(&p.upper.x)};
       for (int axis = 0; axis < 3; ++axis) {
         const std::uint32_t b = mapping.bin(c2, axis);
         bins.bounds[axis][b].extend(box);
         ++bins.counts[axis][b];
       }
     }
-    return bins;
   }
 
   Split find_split(const Range& range, const BinMapping& mapping) const {
-    Bins bins;
+    const std::uint32_t n = mapping.bin_count;
+    Bins bins(n);
     if (options_.parallel && range.count() >= kParallelBinningSize) {
       bins = tbb::parallel_reduce(
           tbb::blocked_range<std::uint32_t>(range.begin, range.end, kParallelBinningSize / 4),
-          Bins{},
+          Bins(n),
           [&](const tbb::blocked_range<std::uint32_t>& r, Bins acc) {
-            acc.merge(bin_range(r.begin(), r.end(), mapping), mapping.bin_count);
+            bin_range(r.begin(), r.end(), mapping, acc);
             return acc;
           },
           [&](Bins a, const Bins& b) {
-            a.merge(b, mapping.bin_count);
+            a.merge(b);
             return a;
           });
     } else {
-      bins = bin_range(range.begin, range.end, mapping);
+      bin_range(range.begin, range.end, mapping, bins);
     }
 
     Split best;
-    const std::uint32_t n = mapping.bin_count;
     for (int axis = 0; axis < 3; ++axis) {
       if (mapping.scale[axis] == 0.0f) continue;
-      std::array<float, kMaxBvhBins> right_cost{};
-      Aabb accumulated;
+      float right_cost[kMaxBvhBins];
+      BinBox accumulated;
       std::uint32_t accumulated_count = 0;
       for (std::uint32_t b = n - 1; b > 0; --b) {
         accumulated.extend(bins.bounds[axis][b]);
         accumulated_count += bins.counts[axis][b];
         right_cost[b] = accumulated.surface_area() * static_cast<float>(blocks(accumulated_count));
       }
-      accumulated = Aabb{};
+      accumulated = BinBox{};
       accumulated_count = 0;
       for (std::uint32_t b = 1; b < n; ++b) {
         accumulated.extend(bins.bounds[axis][b - 1]);
@@ -222,29 +252,43 @@ class Builder {
     return best;
   }
 
-  // In-place partition that gathers both sides' bounds on the way.
+  // In-place partition that gathers both sides' bounds on the way (in SSE registers).
   void partition(const Range& range, const BinMapping& mapping, const Split& split, Range& left,
                  Range& right) const {
-    left = Range{range.begin, range.begin, {}, {}};
-    right = Range{range.end, range.end, {}, {}};
-    const auto goes_left = [&](const PrimRef& p) {
-      return mapping.bin(p.centroid2(), split.axis) < split.bin;
+    struct Side {
+      BinBox bounds, centroids;
+      void add(const PrimRef& p) {
+        const __m128 lower = _mm_load_ps(&p.lower.x), upper = _mm_load_ps(&p.upper.x);
+        bounds.extend(BinBox{lower, upper});
+        const __m128 c2 = _mm_add_ps(lower, upper);
+        centroids.extend(BinBox{c2, c2});
+      }
+      static Aabb to_aabb(const BinBox& box) {
+        alignas(16) float lo[4], hi[4];
+        _mm_store_ps(lo, box.lower);
+        _mm_store_ps(hi, box.upper);
+        return Aabb{vec3(lo[0], lo[1], lo[2]), vec3(hi[0], hi[1], hi[2])};
+      }
     };
-    const auto add = [](Range& side, const PrimRef& p) {
-      side.bounds.extend(Aabb{p.lower, p.upper});
-      side.centroids.extend(p.centroid2());
+    Side l, r;
+    const float scale = mapping.scale[split.axis], origin = mapping.origin[split.axis];
+    const auto goes_left = [&](const PrimRef& p) {
+      const float c2 = p.lower[split.axis] + p.upper[split.axis];
+      const auto b = static_cast<std::int32_t>((c2 - origin) * scale);
+      return std::clamp<std::int32_t>(b, 0, static_cast<std::int32_t>(mapping.bin_count) - 1) <
+             static_cast<std::int32_t>(split.bin);
     };
     std::uint32_t i = range.begin, j = range.end;
     for (;;) {
-      while (i < j && goes_left(prims_[i])) add(left, prims_[i++]);
-      while (i < j && !goes_left(prims_[j - 1])) add(right, prims_[--j]);
+      while (i < j && goes_left(prims_[i])) l.add(prims_[i++]);
+      while (i < j && !goes_left(prims_[j - 1])) r.add(prims_[--j]);
       if (i >= j) break;
       std::swap(prims_[i], prims_[j - 1]);
-      add(left, prims_[i++]);
-      add(right, prims_[--j]);
+      l.add(prims_[i++]);
+      r.add(prims_[--j]);
     }
-    left.end = i;
-    right.begin = i;
+    left = Range{range.begin, i, Side::to_aabb(l.bounds), Side::to_aabb(l.centroids)};
+    right = Range{i, range.end, Side::to_aabb(r.bounds), Side::to_aabb(r.centroids)};
   }
 
   // Object median along the widest centroid axis: always halves the range.
