@@ -254,6 +254,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
       wrong = true;  // another root than the closest one
     } else {
       result.max_relative_t = std::max(result.max_relative_t, e);
+      if (e > 1e-6) report_wrong_ray(ray, hit.t, expected, expected_count, ambiguous_count);
     }
   }
   if (wrong) {
@@ -280,6 +281,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
         mismatch = true;
       } else {
         result.max_relative_t = std::max(result.max_relative_t, e);
+        if (e > 1e-6) report_wrong_ray(ray, all[i].t, expected, expected_count, ambiguous_count);
       }
     }
   }

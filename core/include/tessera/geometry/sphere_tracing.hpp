@@ -12,7 +12,7 @@ namespace tessera {
 // count. The ray is first clipped to the primitive's box; the march steps by |distance|
 // (which never crosses the surface) but by no less than a floor that grows with the step
 // count, and watches the sign of the distance: a sign change brackets a crossing, which is
-// bisected to double precision, so t is exact to the distance function's rounding. What
+// refined to double precision, so t is exact to the distance function's rounding. What
 // this gives up, measured by the stress suite: a crossing whose chord is shorter than the
 // floor at that point (a ray clipping an edge or corner after a long grazing crawl) can be
 // stepped over, and a ray still crawling when the budget runs out is reported as a miss.
@@ -85,15 +85,32 @@ TESSERA_HD HitCandidates<4> sphere_trace(const Sdf& shape, const PreciseRay& ray
       f = f_next;
       continue;
     }
-    // Crossed between s and next: bisect to the last bits.
-    double a = s, b = next;
-    for (int i = 0; i < 80 && b - a > 4e-16 * glm::max(glm::max(std::fabs(a), std::fabs(b)), scale);
-         ++i) {
-      const double m = 0.5 * (a + b);
-      if ((distance_at(m) < 0.0) != inside) {
+    // Crossed between s and next. The distance is nearly linear there, so the Illinois
+    // variant of regula falsi usually converges in a few steps (bisection takes ~50); the
+    // bracket is kept throughout, so it cannot fail.
+    double a = s, b = next, fa = f, fb = f_next;
+    int side = 0;
+    for (int i = 0;
+         i < 100 && b - a > 4e-16 * glm::max(glm::max(std::fabs(a), std::fabs(b)), scale); ++i) {
+      // After 12 regula falsi steps (a grazing crossing, where the distance is far from
+      // linear) fall back to bisection, which always finishes within the cap.
+      double m = i < 12 ? (a * fb - b * fa) / (fb - fa) : 0.5 * (a + b);
+      if (!(m > a && m < b)) m = 0.5 * (a + b);
+      const double fm = distance_at(m);
+      if (fm == 0.0) {
+        a = b = m;
+        break;
+      }
+      if ((fm < 0.0) != inside) {
         b = m;
+        fb = fm;
+        if (side == 1) fa *= 0.5;
+        side = 1;
       } else {
         a = m;
+        fa = fm;
+        if (side == -1) fb *= 0.5;
+        side = -1;
       }
     }
     const double root = 0.5 * (a + b);
@@ -102,7 +119,9 @@ TESSERA_HD HitCandidates<4> sphere_trace(const Sdf& shape, const PreciseRay& ray
     if (first_only && accept_root(root / length, ray.t_min, t_max, tf)) return out;
     if (out.count == 4) return out;
     inside = !inside;
-    s = b;
+    // Resume a hair past the crossing: starting exactly on it (distance 0) would let the
+    // next bracket find this same root again.
+    s = glm::max(b, root + 1e-9 * scale);
     f = distance_at(s);
   }
   return out;
