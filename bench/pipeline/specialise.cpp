@@ -57,6 +57,26 @@ double max_difference(const std::vector<float>& a, const std::vector<float>& b) 
 }  // namespace
 
 int run_specialise(const SpecialiseOptions& options) {
+  if (!options.only_renderer.empty()) {
+    for (const NamedScene& named :
+         specialisation_scenes(options.width, options.height, options.spp)) {
+      if (named.name != options.only_scene) continue;
+      if (options.only_renderer == "virtual") {
+        const VirtualPathTracer conventional(named.scene);
+        render_all(named.scene.render, [&](const TileRect& t, std::span<float> out) {
+          conventional.render_tile(t, out);
+        });
+        return 0;
+      }
+      const auto scene = PreparedScene::build(
+          named.scene, PrepareOptions{.all_features = options.only_renderer == "all"});
+      render_all(named.scene.render,
+                 [&](const TileRect& t, std::span<float> out) { scene->render_tile(t, out); });
+      return 0;
+    }
+    std::fprintf(stderr, "no scene called '%s'\n", options.only_scene.c_str());
+    return 2;
+  }
   double log_all = 0.0, log_virtual = 0.0;
   int count = 0;
   bool images_agree = true;

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <string>
 
 namespace tessera::bench {
 
@@ -8,6 +9,10 @@ struct SpecialiseOptions {
   std::uint32_t height = 72;
   std::uint32_t spp = 4;
   int repeats = 3;
+  // When set: render only this scene with only this renderer (specialised, all or
+  // virtual), once and untimed, so a profiler such as callgrind counts just that work.
+  std::string only_scene;
+  std::string only_renderer;
 };
 
 // Prints one line per scene and ends with

@@ -12,6 +12,11 @@ int main(int argc, char** argv) {
   app.add_option("--spp", options.spp, "samples per pixel")->check(CLI::Range(1u, 4096u));
   app.add_option("--repeats", options.repeats, "timed runs per renderer; the best counts")
       ->check(CLI::Range(1, 100));
+  app.add_option("--only", options.only_renderer,
+                 "render once with just this renderer (for profilers)")
+      ->check(CLI::IsMember({"specialised", "all", "virtual"}));
+  app.add_option("--scene", options.only_scene,
+                 "with --only: the scene (triangles, analytic, mixed, triangles_sky)");
   CLI11_PARSE(app, argc, argv);
   return tessera::bench::run_specialise(options);
 }
