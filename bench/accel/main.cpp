@@ -5,6 +5,7 @@
 //                       [--query closest|any] [--repeat R] [--isa auto|sse2]
 //   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
 //   tessera-bench load  --mesh FILE [--repeat R]
+//   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -15,6 +16,7 @@
 #include "mesh_files.hpp"
 #include "ray_file.hpp"
 #include "ray_generation.hpp"
+#include "size_sweep.hpp"
 #include "synthetic_meshes.hpp"
 #include "tessera/accel/triangle_accel.hpp"
 #include "trace_runner.hpp"
@@ -208,6 +210,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1000, 50'000'000));
   mesh_cmd->add_option("--out", out, "PLY file to write")->required();
 
+  auto* sizes_cmd =
+      app.add_subcommand("sizes", "throughput of every structure on random soups of growing size");
+  std::vector<std::uint32_t> sizes{1, 2, 4, 8, 16, 32, 64, 128, 256, 1024, 4096, 65536};
+  std::uint32_t sweep_rays = 200000;
+  sizes_cmd->add_option("--sizes", sizes, "triangle counts");
+  sizes_cmd->add_option("--rays", sweep_rays, "rays per measurement")
+      ->check(CLI::Range(1000u, 100000000u));
+  sizes_cmd->add_option("--repeat", repeat, "runs; the fastest counts")
+      ->check(CLI::Range(1u, 100u));
+
   auto* load = app.add_subcommand("load", "time assimp against a direct binary PLY read");
   load->add_option("--mesh", mesh, "binary little-endian PLY file")
       ->required()
@@ -221,6 +233,10 @@ int main(int argc, char** argv) {
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
     if (*mesh_cmd) return run_mesh(shape, triangles, out);
     if (*load) return run_load(mesh, repeat);
+    if (*sizes_cmd) {
+      run_size_sweep(sizes, sweep_rays, repeat);
+      return 0;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tessera-bench: %s\n", e.what());
     return 1;

@@ -25,7 +25,7 @@ std::optional<AccelKind> parse_accel_kind(std::string_view name);
 
 // Up to this many triangles brute force is as fast as any tree (measured, see the note in
 // bench/accel/README.md); above it the wide BVH is fastest for every scene measured.
-inline constexpr std::size_t kBruteForceMaxTriangles = 16;
+inline constexpr std::size_t kBruteForceMaxTriangles = 48;
 AccelKind choose_accel_kind(std::size_t triangle_count);
 
 struct AccelBuildOptions {

@@ -74,6 +74,9 @@ struct QuadDesc {
 struct TriangleMeshDesc {
   std::vector<glm::dvec3> positions;
   std::vector<std::uint32_t> indices;  // three per triangle
+  // Optional per-vertex data from mesh files: empty, or one entry per position.
+  std::vector<glm::dvec3> normals;
+  std::vector<glm::dvec2> uvs;
   std::uint32_t material = 0;
   bool visible = true;
   std::uint32_t source_index = 0;
