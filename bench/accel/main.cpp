@@ -9,6 +9,8 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "specialise.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -227,8 +229,25 @@ int main(int argc, char** argv) {
   load->add_option("--repeat", repeat, "loads of each kind; the fastest counts")
       ->check(CLI::Range(1u, 100u));
 
+  // The pipeline-specialisation benchmark (bench/pipeline) shares this front end.
+  tessera::bench::SpecialiseOptions specialise_options;
+  auto* specialise = app.add_subcommand(
+      "specialise",
+      "specialised pipeline vs all features vs virtual dispatch, on procedural scenes");
+  specialise->add_option("--width", specialise_options.width, "image width")
+      ->check(CLI::Range(8u, 4096u));
+  specialise->add_option("--height", specialise_options.height, "image height")
+      ->check(CLI::Range(8u, 4096u));
+  specialise->add_option("--spp", specialise_options.spp, "samples per pixel")
+      ->check(CLI::Range(1u, 4096u));
+  specialise
+      ->add_option("--repeats", specialise_options.repeats,
+                   "timed runs per renderer; the best counts")
+      ->check(CLI::Range(1, 100));
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (*specialise) return tessera::bench::run_specialise(specialise_options);
     if (*rays) return run_rays(mesh, kind, width, height, out);
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
     if (*mesh_cmd) return run_mesh(shape, triangles, out);
