@@ -57,10 +57,13 @@ bool is_traceable(const Ray& ray) {
 // not once per triangle.
 struct ScalarTriangles {
   const Triangle* triangles;
+  const std::uint32_t* references;  // null: hits name the triangle's index
   WatertightRay shear;
 
   bool operator()(std::uint32_t index, const Ray& ray, float t_max, HitRecord& hit) const {
-    return intersect(triangles[index], ray, shear, t_max, hit, index);
+    if (!intersect(triangles[index], ray, shear, t_max, hit, index)) return false;
+    if (references != nullptr) hit.primitive = references[index];
+    return true;
   }
 };
 
@@ -80,11 +83,16 @@ const accel_detail::TriangleKernels* select_kernels(AccelKind kind, bool allow_a
 }  // namespace
 
 TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
-                                   const AccelBuildOptions& options) {
+                                   const AccelBuildOptions& options,
+                                   std::span<const std::uint32_t> references) {
   const auto start = std::chrono::steady_clock::now();
   if (triangles.size() > (std::size_t{kWideMaxLeafFirst} + 1) * 4)
     throw std::invalid_argument("TriangleAccel: too many triangles (" +
                                 std::to_string(triangles.size()) + ")");
+  if (!references.empty() && references.size() != triangles.size())
+    throw std::invalid_argument("TriangleAccel: " + std::to_string(references.size()) +
+                                " references for " + std::to_string(triangles.size()) +
+                                " triangles");
   TriangleAccel accel;
   AccelKind kind =
       options.kind == AccelKind::kAuto ? choose_accel_kind(triangles.size()) : options.kind;
@@ -101,6 +109,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       kind = AccelKind::kBvh;
       accel.bvh_ = build_bvh(bounds, ids, options.bvh);
       accel.triangles_.assign(triangles.begin(), triangles.end());
+      accel.references_.assign(references.begin(), references.end());
       accel.stats_.bytes = accel.bvh_.nodes.size() * sizeof(BvhNode) +
                            accel.bvh_.primitives.size() * 4 +
                            accel.triangles_.size() * sizeof(Triangle);
@@ -118,7 +127,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
           [&](std::uint32_t offset, std::uint32_t count) {
             const std::uint32_t first = append_triangle_blocks(
                 triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
-                accel.blocks_);
+                accel.blocks_, references);
             return make_wide_leaf(first, (count + 3) / 4);
           },
           std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
@@ -128,7 +137,8 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       OctreeLimits limits = options.octree;
       limits.max_leaf_items = kWideMaxLeafItems * 4;
       accel.wide_ = build_octree(bounds, limits, [&](std::span<const std::uint32_t> cell) {
-        const std::uint32_t first = append_triangle_blocks(triangles, cell, accel.blocks_);
+        const std::uint32_t first =
+            append_triangle_blocks(triangles, cell, accel.blocks_, references);
         if (first > kWideMaxLeafFirst)
           throw std::length_error("octree: too many triangle references");
         return make_wide_leaf(first, static_cast<std::uint32_t>((cell.size() + 3) / 4));
@@ -136,7 +146,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       break;
     }
     case AccelKind::kBrute:
-      append_triangle_blocks(triangles, ids, accel.blocks_);
+      append_triangle_blocks(triangles, ids, accel.blocks_, references);
       break;
   }
   if (kind != AccelKind::kBvh) {
@@ -171,8 +181,10 @@ bool TriangleAccel::closest(const Ray& ray, HitRecord& hit) const {
   if (!is_traceable(ray)) return false;
   HitRecord found;
   found.t = ray.t_max;
-  if (!traverse_bvh<false>(bvh_.view(), ray, found,
-                           ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)}))
+  if (!traverse_bvh<false>(
+          bvh_.view(), ray, found,
+          ScalarTriangles{triangles_.data(), references_.empty() ? nullptr : references_.data(),
+                          WatertightRay(ray.direction)}))
     return false;
   hit = found;
   return true;
@@ -183,16 +195,20 @@ bool TriangleAccel::occluded(const Ray& ray) const {
   if (!is_traceable(ray)) return false;
   HitRecord found;
   found.t = ray.t_max;
-  return traverse_bvh<true>(bvh_.view(), ray, found,
-                            ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)});
+  return traverse_bvh<true>(
+      bvh_.view(), ray, found,
+      ScalarTriangles{triangles_.data(), references_.empty() ? nullptr : references_.data(),
+                      WatertightRay(ray.direction)});
 }
 
 std::uint32_t TriangleAccel::all_hits(const Ray& ray, HitRecord* hits,
                                       std::uint32_t capacity) const {
   if (kernels_ != nullptr) return kernels_->all_hits(view(), ray, hits, capacity);
   if (!is_traceable(ray)) return 0;
-  return traverse_bvh_all(bvh_.view(), ray, hits, capacity,
-                          ScalarTriangles{triangles_.data(), WatertightRay(ray.direction)});
+  return traverse_bvh_all(
+      bvh_.view(), ray, hits, capacity,
+      ScalarTriangles{triangles_.data(), references_.empty() ? nullptr : references_.data(),
+                      WatertightRay(ray.direction)});
 }
 
 void TriangleAccel::closest(std::span<const Ray> rays, std::span<HitRecord> hits) const {

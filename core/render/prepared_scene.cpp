@@ -115,6 +115,25 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
     }
   }
 
+  // Visible triangles are traced on the CPU by the SIMD structure (accel/triangle_accel.hpp),
+  // every other shape by the BVH; BvhView::triangles joins the two for BvhTracer.
+  std::vector<Triangle> visible_triangles;
+  std::vector<std::uint32_t> triangle_references;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < references.size(); ++i) {
+    if (primitive_type(references[i]) == PrimitiveType::kTriangle) {
+      visible_triangles.push_back(scene->triangles_[primitive_index(references[i])]);
+      triangle_references.push_back(references[i]);
+    } else {
+      boxes[kept] = boxes[i];
+      references[kept++] = references[i];
+    }
+  }
+  boxes.resize(kept);
+  references.resize(kept);
+  if (!visible_triangles.empty())
+    scene->triangle_accel_ =
+        TriangleAccel::build(visible_triangles, AccelBuildOptions{}, triangle_references);
   scene->bvh_ = build_bvh(boxes, references);
   scene->camera_ = Camera::from_description(description.camera, description.render.width,
                                             description.render.height);
@@ -149,6 +168,7 @@ SceneView PreparedScene::view() const {
   v.lights = lights_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());
   v.bvh = bvh_.view();
+  if (triangle_accel_.stats().triangles > 0) v.bvh.triangles = &triangle_accel_;
   v.camera = camera_;
   v.background = background_;
   return v;

@@ -192,6 +192,33 @@ TEST_P(TriangleAccelTest, BatchesMatchSingleRays) {
   }
 }
 
+TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
+  const auto tris = accel_test::triangle_soup(200, 17);
+  std::vector<std::uint32_t> references(tris.size());
+  for (std::uint32_t i = 0; i < references.size(); ++i) references[i] = 0x80000000U | (7 * i + 3);
+  AccelBuildOptions options;
+  options.kind = GetParam().kind;
+  options.allow_avx2 = GetParam().avx2;
+  const TriangleAccel accel = TriangleAccel::build(tris, options, references);
+  std::size_t hits = 0;
+  for (const Ray& ray : accel_test::test_rays(300, 18, 1.5f)) {
+    const accel_test::ReferenceHit expected = accel_test::reference_closest(tris, ray);
+    HitRecord got;
+    ASSERT_EQ(accel.closest(ray, got), expected.hit);
+    if (!expected.hit) continue;
+    ++hits;
+    ASSERT_EQ(got.t, expected.record.t);
+    const std::uint32_t index = ((got.primitive & 0x7fffffffU) - 3) / 7;
+    ASSERT_LT(index, tris.size());
+    ASSERT_EQ(got.primitive, references[index]);
+    HitRecord all[4];
+    ASSERT_GE(accel.all_hits(ray, all, 4), 1u);
+    ASSERT_EQ(all[0].t, got.t);
+    ASSERT_NE(all[0].primitive & 0x80000000U, 0u);
+  }
+  EXPECT_GT(hits, 30u);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     AllStructures, TriangleAccelTest,
     testing::Values(Variant{AccelKind::kBvh, false}, Variant{AccelKind::kWide, false},

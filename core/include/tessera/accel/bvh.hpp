@@ -24,10 +24,16 @@ static_assert(sizeof(BvhNode) == 32);
 // this so a fixed-size stack can never drop a node.
 inline constexpr std::uint32_t kMaxBvhDepth = 64;
 
+class TriangleAccel;
+
 struct BvhView {
   const BvhNode* nodes = nullptr;
   const std::uint32_t* primitives = nullptr;  // primitive references, leaf ranges index here
   std::uint32_t node_count = 0;
+  // Host only: triangles kept out of this BVH in the CPU's SIMD structure; CPU tracers
+  // (BvhTracer) trace them as well. Device code never reads it, so a GPU upload must put
+  // those triangles into the BVH it uploads.
+  const TriangleAccel* triangles = nullptr;
 };
 
 struct Bvh {

@@ -78,14 +78,18 @@ struct TriangleKernels {
 }  // namespace accel_detail
 
 // Traces rays against a triangle set. Hits name the triangle by its index in the array
-// given to build(); u and v are the barycentric weights of p1 and p2 (as tessera::intersect).
-// Rays with a non-finite origin or direction, a zero direction or t_min > t_max never hit.
+// given to build() (or by the reference given for it); u and v are the barycentric weights of p1
+// and p2 (as tessera::intersect). Rays with a non-finite origin or direction, a zero direction or
+// t_min > t_max never hit.
 class TriangleAccel {
  public:
   TriangleAccel() = default;  // traces nothing
 
+  // Hits name triangles[i] by references[i] when references are given (e.g. the renderer's
+  // tagged primitive references), else by i.
   static TriangleAccel build(std::span<const Triangle> triangles,
-                             const AccelBuildOptions& options = {});
+                             const AccelBuildOptions& options = {},
+                             std::span<const std::uint32_t> references = {});
 
   // Closest hit in (ray.t_min, ray.t_max); `hit` is written only on a hit.
   bool closest(const Ray& ray, HitRecord& hit) const;
@@ -110,9 +114,10 @@ class TriangleAccel {
   }
 
   AccelStats stats_;
-  std::vector<Triangle> triangles_;  // kBvh only: its scalar traversal reads them directly
-  Bvh bvh_;                          // kBvh only
-  WideBvh wide_;                     // kWide and kOctree
+  std::vector<Triangle> triangles_;        // kBvh only: its scalar traversal reads them directly
+  std::vector<std::uint32_t> references_;  // kBvh only: hit names, when given
+  Bvh bvh_;                                // kBvh only
+  WideBvh wide_;                           // kWide and kOctree
   HugePageVector<TriangleBlock4> blocks_;
   const accel_detail::TriangleKernels* kernels_ = nullptr;  // null for kBvh
 };

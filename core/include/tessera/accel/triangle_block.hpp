@@ -18,9 +18,11 @@ struct alignas(16) TriangleBlock4 {
 };
 static_assert(sizeof(TriangleBlock4) == 160);
 
-// Appends ceil(ids.size() / 4) blocks holding triangles[ids[i]]; returns the first block's index.
+// Appends ceil(ids.size() / 4) blocks holding triangles[ids[i]], labelled ids[i], or
+// references[ids[i]] when references are given; returns the first block's index.
 std::uint32_t append_triangle_blocks(std::span<const Triangle> triangles,
                                      std::span<const std::uint32_t> ids,
-                                     HugePageVector<TriangleBlock4>& blocks);
+                                     HugePageVector<TriangleBlock4>& blocks,
+                                     std::span<const std::uint32_t> references = {});
 
 }  // namespace tessera

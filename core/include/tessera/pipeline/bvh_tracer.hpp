@@ -3,12 +3,18 @@
 
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/pipeline/concepts.hpp"
+#if !defined(__CUDACC__)
+#include "tessera/accel/triangle_accel.hpp"
+#endif
 
 namespace tessera {
 
 // The traversal stage: a BVH walked with the configuration's intersection program.
 // Closest-hit, any-hit and all-hits are separate instantiations of the traversal, so a
-// shadow ray's early exit is compiled in, not tested per node.
+// shadow ray's early exit is compiled in, not tested per node. On the CPU, triangles may
+// live in the SIMD structure BvhView::triangles instead of the BVH; each query then asks
+// it first (one call per ray) and walks the BVH for the other shapes. nvcc never sees
+// that structure (its kernels are x86 code): device code walks the BVH alone.
 template <IntersectionProgram Intersection>
 class BvhTracer {
  public:
@@ -17,15 +23,23 @@ class BvhTracer {
 
   TESSERA_HD bool trace_closest(const Ray& ray, HitRecord& hit) const {
     hit.t = ray.t_max;
+    bool found = false;
+#if !defined(__CUDACC__)
+    if (bvh_.triangles != nullptr) found = bvh_.triangles->closest(ray, hit);
+#endif
     return traverse_bvh<false>(
         bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
           return intersection_.intersect(primitive, r, t_max, h);
-        });
+        }) ||
+           found;
   }
 
   // Any hit, with its record: the first one traversal finds, not necessarily the nearest.
   TESSERA_HD bool trace_any(const Ray& ray, HitRecord& hit) const {
     hit.t = ray.t_max;
+#if !defined(__CUDACC__)
+    if (bvh_.triangles != nullptr && bvh_.triangles->closest(ray, hit)) return true;
+#endif
     return traverse_bvh<true>(
         bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
           return intersection_.intersect(primitive, r, t_max, h);
@@ -33,6 +47,9 @@ class BvhTracer {
   }
 
   TESSERA_HD bool occluded(const Ray& ray) const {
+#if !defined(__CUDACC__)
+    if (bvh_.triangles != nullptr && bvh_.triangles->occluded(ray)) return true;
+#endif
     HitRecord hit;
     hit.t = ray.t_max;
     return traverse_bvh<true>(
@@ -48,6 +65,14 @@ class BvhTracer {
     int count = 0;
     HitRecord bound;
     bound.t = ray.t_max;
+#if !defined(__CUDACC__)
+    if (bvh_.triangles != nullptr) {
+      HitRecord found[kMaxHits];
+      const std::uint32_t n = bvh_.triangles->all_hits(ray, found, kMaxHits);
+      for (std::uint32_t i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
+      if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
+    }
+#endif
     traverse_bvh<false>(bvh_, ray, bound,
                         [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& b) {
                           HitRecord found[2];

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tessera/accel/bvh.hpp"
+#include "tessera/accel/triangle_accel.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
@@ -60,7 +61,8 @@ class PreparedScene {
   std::vector<Triangle> triangles_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
-  Bvh bvh_;
+  Bvh bvh_;                       // every visible shape but triangles
+  TriangleAccel triangle_accel_;  // visible triangles, named by their tagged references
   Camera camera_{};
   vec3 background_{0.0f};
   RenderSettings settings_;
