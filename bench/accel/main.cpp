@@ -1,8 +1,8 @@
 // tessera-bench: ray files and tracing throughput of the acceleration structures.
 //   tessera-bench rays  --mesh FILE --kind primary|diffuse --width W --height H --out FILE.rays
-//   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N] [--accel
-//   bvh|wide|octree|brute|auto]
-//                       [--query closest|any] [--repeat R] [--isa auto|sse2]
+//   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N]
+//                       [--accel bvh|wide|octree|brute|auto] [--query closest|any]
+//                       [--repeat R] [--isa auto|sse2]
 //   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]

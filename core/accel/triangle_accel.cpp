@@ -99,7 +99,10 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
   if (!TESSERA_HAVE_SIMD_KERNELS) kind = AccelKind::kBvh;
 
   std::vector<Aabb> bounds(triangles.size());
-  for (std::size_t i = 0; i < triangles.size(); ++i) bounds[i] = tessera::bounds(triangles[i]);
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    bounds[i] = tessera::bounds(triangles[i]);
+    accel.bounds_.extend(bounds[i]);
+  }
   std::vector<std::uint32_t> ids(triangles.size());
   std::iota(ids.begin(), ids.end(), 0u);
 

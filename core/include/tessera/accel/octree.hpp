@@ -14,7 +14,9 @@ using OctreeLeafEncoder = std::function<std::uint32_t(std::span<const std::uint3
 
 struct OctreeLimits {
   std::uint32_t max_depth = 14;  // subdivisions below the root cube, at most 48
-  std::uint32_t leaf_size = 8;   // cells with more primitives are subdivided
+  // Cells with more primitives are subdivided. 32 measured best on suzanne-sub5 diffuse
+  // rays (8: 1.5, 16: 1.9, 32: 2.2 Mrays/s; 7.6, 4.6, 2.8 references per triangle).
+  std::uint32_t leaf_size = 32;
   std::uint32_t max_leaf_items = kWideMaxLeafItems * 4;  // primitives one encoded leaf can take
 };
 

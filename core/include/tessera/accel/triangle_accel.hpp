@@ -104,6 +104,7 @@ class TriangleAccel {
   void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
 
   const AccelStats& stats() const { return stats_; }
+  const Aabb& bounds() const { return bounds_; }  // of all triangles; empty when none
   const Bvh& binary_bvh() const { return bvh_; }
   const WideBvh& wide_bvh() const { return wide_; }
 
@@ -114,6 +115,7 @@ class TriangleAccel {
   }
 
   AccelStats stats_;
+  Aabb bounds_;
   std::vector<Triangle> triangles_;        // kBvh only: its scalar traversal reads them directly
   std::vector<std::uint32_t> references_;  // kBvh only: hit names, when given
   Bvh bvh_;                                // kBvh only
