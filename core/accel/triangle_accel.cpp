@@ -153,6 +153,10 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       break;
   }
   if (kind != AccelKind::kBvh) {
+    // The traversal stack holds kWideStackSize entries, enough for trees of kMaxBvhDepth
+    // levels; the builders guarantee that depth, and this keeps it so.
+    if (accel.wide_.depth > kMaxBvhDepth)
+      throw std::logic_error("TriangleAccel: tree deeper than the traversal stack allows");
     accel.kernels_ = select_kernels(kind, options.allow_avx2);
     accel.stats_.bytes = accel.wide_.bytes() + accel.blocks_.size() * sizeof(TriangleBlock4);
     accel.stats_.nodes = accel.wide_.nodes.size();
