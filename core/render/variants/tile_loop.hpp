@@ -22,60 +22,52 @@ BvhTracer<SceneIntersection<kShapes>> make_tracer(const SceneView& scene) {
       scene.bvh, SceneIntersection<kShapes>{scene.spheres, scene.quads, scene.triangles});
 }
 
-template <bool kAovs>
-PathRayGeneration<kAovs> make_camera_rays(const SceneView& scene, const RenderSettings& settings,
-                                          const TileRect& tile, const FilmPlanes& film,
-                                          TileStats& stats) {
-  return PathRayGeneration<kAovs>{
+// Runs Config's pipeline over one tile. Every integrator's ray generation is a camera-ray
+// program with the same fields, so one function builds them all; only the hit and miss
+// programs differ.
+template <typename Config>
+TileStats render_camera_pipeline(const SceneView& scene, const RenderSettings& settings,
+                                 const TileRect& tile, const FilmPlanes& film,
+                                 typename Config::Hit hit, typename Config::Miss miss) {
+  TileStats stats;
+  const typename Config::RayGeneration rays{
       scene.camera, settings.seed, tile, 1.0f / static_cast<float>(settings.samples_per_pixel),
       film,         &stats.rays};
+  const Pipeline<Config> pipeline(rays, make_tracer<Config::Intersection::kShapeMask>(scene), hit,
+                                  miss);
+  run_tile(pipeline, tile, settings.samples_per_pixel);
+  return stats;
 }
 
 template <PipelineFeatures kFeatures>
 TileStats render_path(const SceneView& scene, const RenderSettings& settings, const TileRect& tile,
                       const FilmPlanes& film) {
-  TileStats stats;
-  const Pipeline<PathTracerConfig<kFeatures>> pipeline(
-      make_camera_rays<kFeatures.aovs>(scene, settings, tile, film, stats),
-      make_tracer<kFeatures.shapes>(scene), PathHit<kFeatures>{scene, settings.max_depth},
+  return render_camera_pipeline<PathTracerConfig<kFeatures>>(
+      scene, settings, tile, film, PathHit<kFeatures>{scene, settings.max_depth},
       BackgroundMiss{scene.background});
-  run_tile(pipeline, tile, settings.samples_per_pixel);
-  return stats;
 }
 
 template <unsigned kShapes>
 TileStats render_shadow(const SceneView& scene, const RenderSettings& settings,
                         const TileRect& tile, const FilmPlanes& film) {
-  TileStats stats;
-  const Pipeline<ShadowConfig<kShapes>> pipeline(
-      make_camera_rays<false>(scene, settings, tile, film, stats), make_tracer<kShapes>(scene),
-      ShadowHit<kShapes>{scene}, BackgroundMiss{scene.background});
-  run_tile(pipeline, tile, settings.samples_per_pixel);
-  return stats;
+  return render_camera_pipeline<ShadowConfig<kShapes>>(scene, settings, tile, film,
+                                                       ShadowHit<kShapes>{scene},
+                                                       BackgroundMiss{scene.background});
 }
 
 template <unsigned kShapes>
 TileStats render_transparency(const SceneView& scene, const RenderSettings& settings,
                               const TileRect& tile, const FilmPlanes& film) {
-  TileStats stats;
-  const Pipeline<TransparencyConfig<kShapes>> pipeline(
-      make_camera_rays<false>(scene, settings, tile, film, stats), make_tracer<kShapes>(scene),
-      TransparencyHit<kShapes>{scene}, BackgroundMiss{scene.background});
-  run_tile(pipeline, tile, settings.samples_per_pixel);
-  return stats;
+  return render_camera_pipeline<TransparencyConfig<kShapes>>(scene, settings, tile, film,
+                                                             TransparencyHit<kShapes>{scene},
+                                                             BackgroundMiss{scene.background});
 }
 
 template <unsigned kShapes, FirstHitOutput kOutput>
 TileStats render_first_hit(const SceneView& scene, const RenderSettings& settings,
                            const TileRect& tile, const FilmPlanes& film) {
-  TileStats stats;
-  const FirstHitRayGeneration rays{
-      scene.camera, settings.seed, tile, 1.0f / static_cast<float>(settings.samples_per_pixel),
-      film,         &stats.rays};
-  const Pipeline<FirstHitConfig<kShapes, kOutput>> pipeline(
-      rays, make_tracer<kShapes>(scene), FirstHitShade<kShapes, kOutput>{scene}, BlackMiss{});
-  run_tile(pipeline, tile, settings.samples_per_pixel);
-  return stats;
+  return render_camera_pipeline<FirstHitConfig<kShapes, kOutput>>(
+      scene, settings, tile, film, FirstHitShade<kShapes, kOutput>{scene}, BlackMiss{});
 }
 
 // The 8 path-tracer variants of one shape class: lights x specular x AOVs, false first.

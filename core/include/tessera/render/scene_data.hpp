@@ -49,6 +49,7 @@ struct SceneView {
 // Intersection program for the shape types in kShapes; the others compile to nothing.
 template <unsigned kShapes>
 struct SceneIntersection {
+  static constexpr unsigned kShapeMask = kShapes;
   const Sphere* spheres;
   const Quad* quads;
   const Triangle* triangles;
