@@ -282,9 +282,7 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
                std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
                Clock::time_point start, const CommandOutput& io) {
   const v1::RenderSettings& s = job.settings();
-  std::uint32_t aovs = 0;
-  for (int aov : s.aovs())
-    if (aov >= v1::AOV_ALBEDO && aov <= v1::AOV_PRIMITIVE_ID) aovs |= 1u << (aov - v1::AOV_ALBEDO);
+  const std::uint32_t aovs = aov_mask_from_proto(s);
   // The output was opened from the scene's settings; the server's are the ones that count.
   if (!assembler || assembler->tile_size() != s.tile_size() ||
       assembler->image().width != s.width() || assembler->image().height != s.height() ||

@@ -158,6 +158,13 @@ v1::RenderSettings render_settings_to_proto(const RenderSettings& settings) {
   return out;
 }
 
+std::uint32_t aov_mask_from_proto(const v1::RenderSettings& settings) {
+  std::uint32_t mask = 0;
+  for (int aov : settings.aovs())
+    if (aov >= v1::AOV_ALBEDO && aov <= v1::AOV_PRIMITIVE_ID) mask |= 1u << (aov - v1::AOV_ALBEDO);
+  return mask;
+}
+
 v1::SubmitJobRequest make_submit_request(const SceneDescription& scene, const std::string& name,
                                          std::int32_t priority) {
   v1::SubmitJobRequest request;

@@ -23,6 +23,9 @@ v1::MaterialType material_type_to_proto(MaterialType type);
 // Width, height, spp, depth, tile size, seed, integrator and AOVs, all written explicitly.
 v1::RenderSettings render_settings_to_proto(const RenderSettings& settings);
 
+// The AovBit mask of settings the server sent back (the inverse of the AOV part above).
+std::uint32_t aov_mask_from_proto(const v1::RenderSettings& settings);
+
 v1::SubmitJobRequest make_submit_request(const SceneDescription& scene, const std::string& name,
                                          std::int32_t priority);
 

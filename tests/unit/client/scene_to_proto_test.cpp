@@ -275,6 +275,7 @@ TEST(SceneToProto, IntegratorAndAovsTravel) {
   ASSERT_EQ(settings.aovs_size(), 2);
   EXPECT_EQ(settings.aovs(0), v1::AOV_NORMAL);
   EXPECT_EQ(settings.aovs(1), v1::AOV_DEPTH);
+  EXPECT_EQ(aov_mask_from_proto(settings), kAovDepth | kAovNormal);
   for (IntegratorKind kind :
        {IntegratorKind::kNormals, IntegratorKind::kShadow, IntegratorKind::kTransparency,
         IntegratorKind::kAlbedo, IntegratorKind::kDepth}) {
