@@ -13,6 +13,11 @@
 namespace tessera::accel_detail::TESSERA_KERNEL_NS {
 namespace {
 
+// The walk, the box and triangle tests and the leaf loops are inlined into each query's
+// entry point, so the query state (t_max, the best hit) and the ray's constants live in
+// registers instead of being reloaded through references after every store.
+#define TESSERA_KERNEL_INLINE inline __attribute__((always_inline))
+
 // Per-ray constants, computed once before the walk.
 struct PreparedRay {
   // Slab tests: reciprocal direction (never infinite, see prepare) and, per axis, which
@@ -62,81 +67,90 @@ inline bool prepare(const Ray& ray, PreparedRay& r) {
 // ---- Box tests -------------------------------------------------------------------------
 
 // The far end of the interval (the box's exit, or the closest hit so far if nearer) is
-// widened by two ulps (folded into the far planes' reciprocals and into t_max), which with the
-// subtract-then-multiply slab test keeps boxes from being missed through rounding (Ize, "Robust BVH
-// ray traversal", JCGT 2013): a flat box holding an axis-aligned quad, or a box entered at the same
-// distance, up to rounding, as the hit found so far.
-constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
+// widened by four ulps after the slab distances are taken, which with the subtract-then-multiply
+// slab test keeps boxes from being missed through rounding (Ize, "Robust BVH ray traversal",
+// JCGT 2013, needs 1 + 2 gamma(3), about 1 + 6 * 2^-24; this is 1 + 16 * 2^-24): a flat box
+// holding an axis-aligned quad, or a box entered at the same distance, up to rounding, as the
+// hit found so far. Scaling the minimum once equals scaling each far distance (rounding is
+// monotone) and keeps three registers free for the walk.
+constexpr float kFarScale = 1.0f + 4.0f * 1.1920929e-07f;
 
 #if TESSERA_KERNEL_AVX2
+using BoxVector = __m256;
+#else
+using BoxVector = __m128;
+#endif
+
+// The ray as the box tests read it: broadcast origin and reciprocal direction, and which
+// bounds row is the near plane on each axis (the far row is the other one of the pair).
 struct BoxRay {
-  __m256 origin[3], inv_direction[3], inv_direction_far[3], t_min;
+  BoxVector origin[3], inv_direction[3], t_min;
+  std::uint32_t near_row[3], far_row[3];
   explicit BoxRay(const PreparedRay& r) {
     for (int axis = 0; axis < 3; ++axis) {
+#if TESSERA_KERNEL_AVX2
       origin[axis] = _mm256_set1_ps(r.origin[axis]);
       inv_direction[axis] = _mm256_set1_ps(r.inv_direction[axis]);
-      inv_direction_far[axis] = _mm256_set1_ps(r.inv_direction[axis] * kFarScale);
+#else
+      origin[axis] = _mm_set1_ps(r.origin[axis]);
+      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
+#endif
+      near_row[axis] = r.near_row[axis];
+      far_row[axis] = r.far_row[axis];
     }
+#if TESSERA_KERNEL_AVX2
     t_min = _mm256_set1_ps(r.t_min);
+#else
+    t_min = _mm_set1_ps(r.t_min);
+#endif
   }
 };
 
-// Returns the mask of children whose box the ray enters within [t_min, t_max] and their
-// entry distances.
-inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b,
-                               float t_max, float* entry) {
-  const auto slab = [&](std::uint32_t row, int axis, const __m256* inv) {
+#if TESSERA_KERNEL_AVX2
+// Returns the mask of children whose box the ray enters within [t_min, t_max]; `entry`
+// receives the bits of their entry distances, clamped to >= +0.
+TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const BoxRay& b, float t_max,
+                                              std::uint32_t* entry) {
+  const auto slab = [&](std::uint32_t row, int axis) {
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]),
-                         inv[axis]);
+                         b.inv_direction[axis]);
   };
-  const __m256 near_x = slab(r.near_row[0], 0, b.inv_direction),
-               near_y = slab(r.near_row[1], 1, b.inv_direction),
-               near_z = slab(r.near_row[2], 2, b.inv_direction);
-  const __m256 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
-               far_y = slab(r.far_row[1], 1, b.inv_direction_far),
-               far_z = slab(r.far_row[2], 2, b.inv_direction_far);
+  const __m256 near_x = slab(b.near_row[0], 0), near_y = slab(b.near_row[1], 1),
+               near_z = slab(b.near_row[2], 2);
+  const __m256 far_x = slab(b.far_row[0], 0), far_y = slab(b.far_row[1], 1),
+               far_z = slab(b.far_row[2], 2);
   // max/min return their second operand when either is NaN: the plane distances go first
   // and the accumulated interval second, so a NaN plane leaves the interval unchanged.
   const __m256 t_near =
       _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
-  const __m256 t_far = _mm256_min_ps(
-      far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max * kFarScale))));
-  _mm256_store_ps(entry, t_near);
+  const __m256 t_far = _mm256_mul_ps(
+      _mm256_min_ps(far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max)))),
+      _mm256_set1_ps(kFarScale));
+  // Entry distances clamped to +0 (max returns its second operand for -0 and NaN), so their
+  // bits order like their values: the stack keys need no branch (see stack_key).
+  _mm256_store_ps(reinterpret_cast<float*>(entry), _mm256_max_ps(t_near, _mm256_setzero_ps()));
   return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ)));
 }
 #else
-struct BoxRay {
-  __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
-  explicit BoxRay(const PreparedRay& r) {
-    for (int axis = 0; axis < 3; ++axis) {
-      origin[axis] = _mm_set1_ps(r.origin[axis]);
-      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
-      inv_direction_far[axis] = _mm_set1_ps(r.inv_direction[axis] * kFarScale);
-    }
-    t_min = _mm_set1_ps(r.t_min);
-  }
-};
-
-inline std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r, const BoxRay& b,
-                               float t_max, float* entry) {
+TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const BoxRay& b, float t_max,
+                                              std::uint32_t* entry) {
   std::uint32_t mask = 0;
-  const __m128 far_limit = _mm_set1_ps(t_max * kFarScale);
+  const __m128 far_limit = _mm_set1_ps(t_max);
   for (int half = 0; half < 2; ++half) {
     const int lane = 4 * half;
-    const auto slab = [&](std::uint32_t row, int axis, const __m128* inv) {
+    const auto slab = [&](std::uint32_t row, int axis) {
       return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]),
-                        inv[axis]);
+                        b.inv_direction[axis]);
     };
-    const __m128 near_x = slab(r.near_row[0], 0, b.inv_direction),
-                 near_y = slab(r.near_row[1], 1, b.inv_direction),
-                 near_z = slab(r.near_row[2], 2, b.inv_direction);
-    const __m128 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
-                 far_y = slab(r.far_row[1], 1, b.inv_direction_far),
-                 far_z = slab(r.far_row[2], 2, b.inv_direction_far);
+    const __m128 near_x = slab(b.near_row[0], 0), near_y = slab(b.near_row[1], 1),
+                 near_z = slab(b.near_row[2], 2);
+    const __m128 far_x = slab(b.far_row[0], 0), far_y = slab(b.far_row[1], 1),
+                 far_z = slab(b.far_row[2], 2);
     // NaN plane distances go first: see the AVX2 version.
     const __m128 t_near = _mm_max_ps(near_x, _mm_max_ps(near_y, _mm_max_ps(near_z, b.t_min)));
-    const __m128 t_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit)));
-    _mm_store_ps(entry + lane, t_near);
+    const __m128 t_far = _mm_mul_ps(
+        _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit))), _mm_set1_ps(kFarScale));
+    _mm_store_ps(reinterpret_cast<float*>(entry + lane), _mm_max_ps(t_near, _mm_setzero_ps()));
     mask |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmple_ps(t_near, t_far))) << lane;
   }
   return mask;
@@ -170,8 +184,9 @@ struct BlockHits {
 
 // The watertight test of tessera::intersect on four triangles at once, operation for
 // operation, so each lane's result is bit-identical to the scalar one.
-inline std::uint32_t intersect_block(const TriangleBlock4& block, const TriangleRay& r, float t_max,
-                                     BlockHits& out) {
+TESSERA_KERNEL_INLINE std::uint32_t intersect_block(const TriangleBlock4& block,
+                                                    const TriangleRay& r, float t_max,
+                                                    BlockHits& out) {
   const float* v = &block.vertices[0][0][0];
   // Vertex rows are 12 floats apart ([vertex][axis][lane]).
   const __m128 a_x = _mm_sub_ps(_mm_load_ps(v + r.row_x), r.origin_x);
@@ -271,8 +286,9 @@ struct PairHits {
   __m256 valid, t, b1, b2;
 };
 
-inline std::uint32_t intersect_pair(const TriangleBlock4& first, const TriangleBlock4& second,
-                                    const PairRay& r, float t_max, PairHits& out) {
+TESSERA_KERNEL_INLINE std::uint32_t intersect_pair(const TriangleBlock4& first,
+                                                   const TriangleBlock4& second, const PairRay& r,
+                                                   float t_max, PairHits& out) {
   const float* v0 = &first.vertices[0][0][0];
   const float* v1 = &second.vertices[0][0][0];
   const auto row = [&](std::uint32_t offset) {
@@ -372,8 +388,8 @@ struct ClosestQuery {
   bool found = false;
 
   // Returns true to end the traversal.
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
-            const TriangleRay& r) {
+  TESSERA_KERNEL_INLINE bool leaf(const TriangleBlock4* blocks, std::uint32_t first,
+                                  std::uint32_t count, const TriangleRay& r) {
     std::uint32_t b = first;
 #if TESSERA_KERNEL_AVX2
     if (count >= 2) {
@@ -420,8 +436,8 @@ struct AnyQuery {
   float t_max;
   bool found = false;
 
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t count,
-            const TriangleRay& r) {
+  TESSERA_KERNEL_INLINE bool leaf(const TriangleBlock4* blocks, std::uint32_t first,
+                                  std::uint32_t count, const TriangleRay& r) {
     std::uint32_t b = first;
 #if TESSERA_KERNEL_AVX2
     if (count >= 2) {
@@ -457,8 +473,8 @@ struct AllQuery {
   std::uint32_t capacity;
   std::uint32_t count = 0;
 
-  bool leaf(const TriangleBlock4* blocks, std::uint32_t first, std::uint32_t n,
-            const TriangleRay& r) {
+  TESSERA_KERNEL_INLINE bool leaf(const TriangleBlock4* blocks, std::uint32_t first,
+                                  std::uint32_t n, const TriangleRay& r) {
     for (std::uint32_t b = first; b < first + n; ++b) {
       BlockHits found;
       std::uint32_t mask = intersect_block(blocks[b], r, t_max, found);
@@ -494,11 +510,9 @@ struct AllQuery {
 // conditional moves instead of unpredictable branches.
 using StackKey = std::uint64_t;
 
-inline StackKey stack_key(float t, std::uint32_t child) {
-  const float clamped = t > 0.0f ? t : 0.0f;
-  std::uint32_t bits;
-  std::memcpy(&bits, &clamped, sizeof bits);
-  return (static_cast<StackKey>(bits) << 32) | child;
+// `distance_bits`: the bits of a distance >= +0 (test_node clamps them).
+TESSERA_KERNEL_INLINE StackKey stack_key(std::uint32_t distance_bits, std::uint32_t child) {
+  return (static_cast<StackKey>(distance_bits) << 32) | child;
 }
 inline float key_distance(StackKey key) {
   const auto bits = static_cast<std::uint32_t>(key >> 32);
@@ -513,17 +527,18 @@ inline void order(StackKey& a, StackKey& b) {  // a <= b afterwards
 }
 
 template <typename Query>
-inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const PreparedRay& ray,
+                                         Query& query) {
   const BoxRay box_ray(ray);
   const TriangleRay triangle_ray(ray);
   StackKey stack[kWideStackSize];
   std::uint32_t size = 0;
   std::uint32_t child = 0;  // the root, always an interior node
-  alignas(32) float entry[kWideBvhWidth];
+  alignas(32) std::uint32_t entry[kWideBvhWidth];
   for (;;) {
     while (!wide_is_leaf(child)) {
       const WideBvhNode& node = view.nodes[child];
-      std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, entry);
+      std::uint32_t mask = test_node(node, box_ray, query.t_max, entry);
       if (mask == 0) goto pop;
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
       mask &= mask - 1;
@@ -607,14 +622,16 @@ inline void traverse_wide(const WideTriangleView& view, const PreparedRay& ray, 
 }
 
 template <typename Query>
-inline void traverse_brute(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+TESSERA_KERNEL_INLINE void traverse_brute(const WideTriangleView& view, const PreparedRay& ray,
+                                          Query& query) {
   const TriangleRay triangle_ray(ray);
   for (std::uint32_t b = 0; b < view.block_count; ++b)
     if (query.leaf(view.blocks, b, 1, triangle_ray)) return;
 }
 
 template <bool kBrute, typename Query>
-inline void walk(const WideTriangleView& view, const PreparedRay& ray, Query& query) {
+TESSERA_KERNEL_INLINE void walk(const WideTriangleView& view, const PreparedRay& ray,
+                                Query& query) {
   if constexpr (kBrute) {
     traverse_brute(view, ray, query);
   } else {
