@@ -1,0 +1,378 @@
+// B-spline and NURBS patches against independent formulas: Cox-de Boor evaluation, planes,
+// quadrics from rational circles, every root of a wavy patch, collapsed edges, instances.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "tessera/geometry/instance.hpp"
+#include "tessera/geometry/spline_patch_build.hpp"
+#include "tessera/math/offset_ray.hpp"
+
+namespace tessera {
+namespace {
+
+Ray ray(vec3 o, vec3 d) {
+  return Ray{o, d, 0.0f, kInfinity};
+}
+
+std::vector<double> uniform_knots(int count) {
+  std::vector<double> k;
+  for (int i = 0; i < count + 4; ++i) k.push_back(i);
+  return k;
+}
+
+std::vector<double> clamped_knots(int count) {
+  std::vector<double> k = {0, 0, 0, 0};
+  for (int i = 1; i <= count - 4; ++i) k.push_back(i);
+  for (int i = 0; i < 4; ++i) k.push_back(count - 3);
+  return k;
+}
+
+// Cox-de Boor recursion for the cubic basis N_{i,3}(x) (the half-open convention; x at the
+// domain's right end is taken just inside it).
+double basis(const std::vector<double>& k, int i, int p, double x) {
+  if (p == 0) return (k[i] <= x && x < k[i + 1]) ? 1.0 : 0.0;
+  double left = 0.0, right = 0.0;
+  if (k[i + p] > k[i]) left = (x - k[i]) / (k[i + p] - k[i]) * basis(k, i, p - 1, x);
+  if (k[i + p + 1] > k[i + 1])
+    right = (k[i + p + 1] - x) / (k[i + p + 1] - k[i + 1]) * basis(k, i + 1, p - 1, x);
+  return left + right;
+}
+
+dvec3 de_boor_point(const SplinePatchDescription& d, double u, double v) {
+  dvec3 h(0.0);
+  double w = 0.0;
+  for (int i = 0; i < d.count_u; ++i) {
+    const double bu = basis(d.knots_u, i, 3, u);
+    if (bu == 0.0) continue;
+    for (int j = 0; j < d.count_v; ++j) {
+      const double b = bu * basis(d.knots_v, j, 3, v);
+      const double weight = d.weights.empty() ? 1.0 : d.weights[i * d.count_v + j];
+      h += b * weight * d.control_points[i * d.count_v + j];
+      w += b * weight;
+    }
+  }
+  return h / w;
+}
+
+dvec3 evaluate_patch(const SplinePatch& patch, double u, double v) {
+  const RationalBezierPatch& piece = patch.pieces[piece_at(patch, u, v)];
+  const double s = (u - piece.u0) / (piece.u1 - piece.u0);
+  const double t = (v - piece.v0) / (piece.v1 - piece.v0);
+  return evaluate(piece, s, t, dvec3(0.0)).position;
+}
+
+SplinePatch build(const SplinePatchDescription& d, SplinePatchPool& pool) {
+  SplinePatch patch{};
+  const std::string error = build_spline_patch(d, pool, patch);
+  EXPECT_EQ(error, "");
+  return patch;
+}
+
+TEST(SplinePatch, PiecesMatchCoxDeBoorForRationalUnclampedAndClampedKnots) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> r(-1.0, 1.0);
+  for (int variant = 0; variant < 3; ++variant) {
+    SplinePatchDescription d;
+    d.count_u = 6;
+    d.count_v = 5;
+    for (int i = 0; i < d.count_u; ++i)
+      for (int j = 0; j < d.count_v; ++j) {
+        d.control_points.push_back(dvec3(i + 0.3 * r(rng), j + 0.3 * r(rng), r(rng)));
+        if (variant > 0) d.weights.push_back(0.5 + std::fabs(r(rng)));
+      }
+    d.knots_u = variant == 2 ? clamped_knots(6) : uniform_knots(6);
+    d.knots_v = variant == 2 ? std::vector<double>{0, 0, 0, 0, 0.25, 1, 1, 1, 1}
+                             : std::vector<double>{0, 1, 2, 3, 3, 4, 5, 6, 7};  // a double knot
+    SplinePatchPool pool;
+    const SplinePatch patch = build(d, pool);
+    for (int k = 0; k < 200; ++k) {
+      const double u = patch.u0 + (patch.u1 - patch.u0) * (0.5 + 0.4999 * r(rng));
+      const double v = patch.v0 + (patch.v1 - patch.v0) * (0.5 + 0.4999 * r(rng));
+      const dvec3 a = evaluate_patch(patch, u, v), b = de_boor_point(d, u, v);
+      EXPECT_NEAR(glm::length(a - b), 0.0, 1e-12)
+          << "variant " << variant << " u " << u << " v " << v;
+    }
+  }
+}
+
+TEST(SplinePatch, PlanarControlGridIsThePlane) {
+  // Control points on z = 0.3 x - 0.2 y + 1, unevenly spaced: every point and every hit of
+  // the patch lies on that plane.
+  SplinePatchDescription d;
+  d.count_u = d.count_v = 5;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  const auto plane_z = [](double x, double y) { return 0.3 * x - 0.2 * y + 1.0; };
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const double x = i + jitter(rng), y = j + jitter(rng);
+      d.control_points.push_back(dvec3(x, y, plane_z(x, y)));
+    }
+  d.knots_u = d.knots_v = clamped_knots(5);
+  SplinePatchPool pool;
+  const SplinePatch patch = build(d, pool);
+  const dvec3 normal = glm::normalize(dvec3(-0.3, 0.2, 1.0));
+  for (int k = 0; k < 100; ++k) {
+    const double u = 2.0 * (k % 10) / 9.0, v = 2.0 * (k / 10) / 9.0;
+    const dvec3 p = evaluate_patch(patch, u, v);
+    EXPECT_NEAR(p.z, plane_z(p.x, p.y), 1e-13);
+    // A ray from above straight down through (p.x, p.y): hit at the plane's height.
+    const vec3 origin(static_cast<float>(p.x), static_cast<float>(p.y), 10.0f);
+    HitRecord hit;
+    ASSERT_TRUE(intersect(patch, ray(origin, vec3(0.0f, 0.0f, -1.0f)), kInfinity, hit, 1u));
+    EXPECT_NEAR(hit.t, 10.0 - plane_z(origin.x, origin.y), 2e-6);
+    const SurfaceInteraction si = surface_at(patch, ray(origin, vec3(0.0f, 0.0f, -1.0f)), hit);
+    EXPECT_NEAR(std::fabs(glm::dot(dvec3(si.geometric_normal), normal)), 1.0, 1e-6);
+    EXPECT_GT(si.geometric_normal.z, 0.0f);  // faces the ray
+  }
+  HitRecord miss;
+  EXPECT_FALSE(intersect(patch, ray(vec3(9.0f, 9.0f, 10.0f), vec3(0, 0, -1)), kInfinity, miss, 1u));
+}
+
+// Quadratic rational Bézier quarter circle (weights 1, 1/sqrt 2, 1) degree-elevated to a
+// cubic (on the homogeneous points: Q1 = (P0 + 2 P1) / 3, Q2 = (2 P1 + P2) / 3).
+void cubic_quarter_circle(const dvec3 p[3], dvec3 out[4], double out_w[4]) {
+  const double w1 = std::sqrt(0.5);
+  const glm::dvec4 h0(p[0], 1.0), h1(p[1] * w1, w1), h2(p[2], 1.0);
+  const glm::dvec4 q[4] = {h0, (h0 + 2.0 * h1) / 3.0, (2.0 * h1 + h2) / 3.0, h2};
+  for (int i = 0; i < 4; ++i) {
+    out_w[i] = q[i].w;
+    out[i] = dvec3(q[i]) / q[i].w;
+  }
+}
+
+// Sphere octant of radius R: the quarter profile from the equator to the north pole swept
+// by a quarter turn around z. The profile's last row collapses to the pole.
+SplinePatchDescription sphere_octant(double R) {
+  const dvec3 profile[3] = {dvec3(R, 0, 0), dvec3(R, 0, R), dvec3(0, 0, R)};
+  const dvec3 turn[3] = {dvec3(1, 0, 0), dvec3(1, 1, 0), dvec3(0, 1, 0)};
+  dvec3 pc[4], tc[4];
+  double pw[4], tw[4];
+  cubic_quarter_circle(profile, pc, pw);
+  cubic_quarter_circle(turn, tc, tw);
+  SplinePatchDescription d;
+  d.count_u = d.count_v = 4;
+  for (int i = 0; i < 4; ++i)      // u along the profile
+    for (int j = 0; j < 4; ++j) {  // v around z
+      d.control_points.push_back(dvec3(pc[i].x * tc[j].x, pc[i].x * tc[j].y, pc[i].z));
+      d.weights.push_back(pw[i] * tw[j]);
+    }
+  d.knots_u = d.knots_v = clamped_knots(4);
+  return d;
+}
+
+TEST(SplinePatch, NurbsCylinderSegmentHasPointsAtTheRadiusAndAnalyticHits) {
+  const double R = 2.0;
+  const dvec3 arc[3] = {dvec3(R, 0, 0), dvec3(R, R, 0), dvec3(0, R, 0)};
+  dvec3 c[4];
+  double w[4];
+  cubic_quarter_circle(arc, c, w);
+  SplinePatchDescription d;
+  d.count_u = d.count_v = 4;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      d.control_points.push_back(dvec3(c[i].x, c[i].y, j / 3.0 * 3.0));  // z in [0, 3]
+      d.weights.push_back(w[i]);
+    }
+  d.knots_u = d.knots_v = clamped_knots(4);
+  SplinePatchPool pool;
+  const SplinePatch patch = build(d, pool);
+  for (int k = 0; k <= 20; ++k)
+    for (int l = 0; l <= 4; ++l) {
+      const dvec3 p = evaluate_patch(patch, k / 20.0, l / 4.0);
+      EXPECT_NEAR(std::hypot(p.x, p.y), R, 1e-14);
+    }
+  // Rays from the axis outwards at angle a hit at t = R; from outside along -x at height y
+  // they hit at x = sqrt(R^2 - y^2).
+  for (int k = 1; k < 20; ++k) {
+    const double a = k / 20.0 * 1.5707963267948966;
+    HitRecord hit;
+    const Ray r = ray(vec3(0.0f, 0.0f, 1.5f),
+                      vec3(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f));
+    ASSERT_TRUE(intersect(patch, r, kInfinity, hit, 0u));
+    EXPECT_NEAR(hit.t, R * glm::length(dvec3(r.direction)), 1e-6);
+    const SurfaceInteraction si = surface_at(patch, r, hit);
+    EXPECT_NEAR(glm::dot(dvec3(si.geometric_normal), -glm::normalize(dvec3(r.direction))), 1.0,
+                1e-6);
+    EXPECT_FALSE(si.front_face);  // from inside: the d/du x d/dv side points outwards
+    const double y = R * std::sin(a);
+    const Ray from_outside = ray(vec3(5.0f, static_cast<float>(y), 2.0f), vec3(-1, 0, 0));
+    ASSERT_TRUE(intersect(patch, from_outside, kInfinity, hit, 0u));
+    EXPECT_NEAR(hit.t, 5.0 - std::sqrt(R * R - double(float(y)) * double(float(y))), 2e-6);
+  }
+}
+
+TEST(SplinePatch, NurbsSphereOctantRadiusAndPoleWithoutNaN) {
+  const double R = 1.5;
+  SplinePatchPool pool;
+  const SplinePatch patch = build(sphere_octant(R), pool);
+  for (int k = 0; k <= 10; ++k)
+    for (int l = 0; l <= 10; ++l)
+      EXPECT_NEAR(glm::length(evaluate_patch(patch, k / 10.0, l / 10.0)), R, 1e-14);
+  // Straight down onto the pole (a collapsed edge: d/du x d/dv = 0 there).
+  for (const vec3 origin : {vec3(0.0f, 0.0f, 5.0f), vec3(1e-7f, 1e-7f, 5.0f)}) {
+    HitRecord hit;
+    const Ray r = ray(origin, vec3(0, 0, -1));
+    ASSERT_TRUE(intersect(patch, r, kInfinity, hit, 0u));
+    EXPECT_NEAR(hit.t, 5.0 - R, 1e-6);
+    const SurfaceInteraction si = surface_at(patch, r, hit);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_TRUE(std::isfinite(si.geometric_normal[a]));
+      EXPECT_TRUE(std::isfinite(si.shading_normal[a]));
+      EXPECT_TRUE(std::isfinite(si.position[a]));
+    }
+    EXPECT_NEAR(si.geometric_normal.z, 1.0f, 1e-3f);
+    EXPECT_TRUE(std::isfinite(si.uv.x) && std::isfinite(si.uv.y));
+  }
+  // Random rays from the centre outwards into the octant: t = R.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.01, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    const dvec3 d = glm::normalize(dvec3(u(rng), u(rng), u(rng)));
+    HitRecord hit;
+    const Ray r = ray(vec3(0.0f), vec3(d));
+    ASSERT_TRUE(intersect(patch, r, kInfinity, hit, 0u));
+    EXPECT_NEAR(hit.t, R / glm::length(dvec3(r.direction)), 1e-6);
+    const SurfaceInteraction si = surface_at(patch, r, hit);
+    EXPECT_NEAR(glm::length(dvec3(si.position)), R, 1e-6);
+  }
+}
+
+// A wavy sheet: z oscillates along u (control points alternately +-1), extruded along v.
+// The ray along x at z = 0 crosses it at every zero of z(u), found independently by
+// bisection on the Cox-de Boor evaluation.
+TEST(SplinePatch, WavyPatchReturnsEveryRootSorted) {
+  SplinePatchDescription d;
+  d.count_u = 10;
+  d.count_v = 4;
+  for (int i = 0; i < d.count_u; ++i)
+    for (int j = 0; j < d.count_v; ++j)
+      d.control_points.push_back(dvec3(i, j, (i % 2 == 0 ? 1.0 : -1.0) + 0.1 * i));
+  d.knots_u = clamped_knots(10);
+  d.knots_v = clamped_knots(4);
+  SplinePatchPool pool;
+  const SplinePatch patch = build(d, pool);
+  const double y = 1.5;
+  std::vector<double> expected;  // x of the zeros of z along the line v with y(v) = 1.5
+  const double v = 1.5 / 3.0 * (patch.v1 - patch.v0);  // y is linear in v on a clamped grid? check
+  ASSERT_NEAR(de_boor_point(d, 0.3, v).y, y, 1e-12);
+  double previous = de_boor_point(d, 0.0, v).z;
+  const int samples = 20000;
+  for (int k = 1; k <= samples; ++k) {
+    const double a = (patch.u1 - patch.u0) * (k - 1) / samples,
+                 b = (patch.u1 - patch.u0) * k / samples;
+    const double value = de_boor_point(d, std::min(b, patch.u1 - 1e-15), v).z;
+    if ((previous < 0.0) != (value < 0.0)) {
+      double lo = a, hi = std::min(b, patch.u1 - 1e-15);
+      for (int it = 0; it < 80; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        ((de_boor_point(d, mid, v).z < 0.0) == (previous < 0.0) ? lo : hi) = mid;
+      }
+      expected.push_back(de_boor_point(d, 0.5 * (lo + hi), v).x);
+    }
+    previous = value;
+  }
+  ASSERT_GE(expected.size(), 3u);
+  const Ray r = ray(vec3(-1.0f, static_cast<float>(y), 0.0f), vec3(1, 0, 0));
+  HitRecord hits[16];
+  const int n = intersect_all(patch, r, kInfinity, hits, 16, 0u);
+  ASSERT_EQ(n, static_cast<int>(expected.size()));
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(hits[i].t, expected[i] + 1.0, 1e-5) << i;
+    if (i > 0) {
+      EXPECT_LT(hits[i - 1].t, hits[i].t);
+    }
+  }
+  HitRecord closest;
+  ASSERT_TRUE(intersect(patch, r, kInfinity, closest, 0u));
+  EXPECT_FLOAT_EQ(closest.t, hits[0].t);
+  // The interval is respected: start past the first two roots, stop before the last.
+  Ray clipped = r;
+  clipped.t_min = 0.5f * (hits[1].t + hits[2].t);
+  const int m = intersect_all(patch, clipped, hits[n - 1].t * 0.9999f, hits, 16, 0u);
+  EXPECT_EQ(m, n - 3);
+}
+
+TEST(SplinePatch, WorksUnderInstanceAndSpawnedRaysDoNotRehit) {
+  static_assert(PreciseIntersectable<SplinePatch>);
+  SplinePatchPool pool;
+  const SplinePatch patch = build(sphere_octant(1.0), pool);
+  Instance<SplinePatch> instance;
+  ASSERT_TRUE(Instance<SplinePatch>::make(
+      patch, AffineTransform::from_trs(dvec3(1e5, -2e4, 3e4), dvec3(0, 0, 1), 0.0, dvec3(2.0)),
+      instance));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.05, 1.0);
+  int hits_found = 0;
+  for (int k = 0; k < 300; ++k) {
+    const dvec3 d = glm::normalize(dvec3(u(rng), u(rng), u(rng)));
+    const dvec3 target = dvec3(1e5, -2e4, 3e4) + 2.0 * d;
+    const dvec3 origin = target + 3.0 * glm::normalize(dvec3(u(rng), u(rng), u(rng)));
+    const Ray r = ray(vec3(origin), vec3(glm::normalize(target - origin)));
+    HitRecord hit;
+    if (!intersect(instance, r, kInfinity, hit, 0u)) continue;
+    ++hits_found;
+    const SurfaceInteraction si = surface_at(instance, r, hit);
+    EXPECT_NEAR(glm::length(dvec3(si.position) - dvec3(1e5, -2e4, 3e4)), 2.0, 2e-2);
+    for (int side = 0; side < 2; ++side) {
+      const vec3 n = side == 0 ? si.geometric_normal : -si.geometric_normal;
+      const Ray spawned = ray(offset_ray_origin(si.position, n), n);
+      HitRecord again;
+      const bool rehit = intersect(instance, spawned, kInfinity, again, 0u);
+      EXPECT_FALSE(rehit && again.t < 1e-2f) << "self-hit at t " << again.t;
+    }
+  }
+  EXPECT_GT(hits_found, 100);
+}
+
+TEST(SplinePatch, ValidationNamesTheField) {
+  SplinePatchDescription d;
+  d.count_u = 4;
+  d.count_v = 3;
+  SplinePatchPool pool;
+  SplinePatch p{};
+  EXPECT_NE(build_spline_patch(d, pool, p, "patches[2]").find("patches[2].count_v"),
+            std::string::npos);
+  d.count_v = 4;
+  d.control_points.assign(16, dvec3(0.0));
+  d.knots_u = clamped_knots(4);
+  d.knots_v = {0, 0, 0, 0, 1, 1, 1};
+  EXPECT_NE(build_spline_patch(d, pool, p).find("patch.knots_v: must have 8"), std::string::npos);
+  d.knots_v = {0, 0, 0, 0, 1, 1, 0.5, 1};
+  EXPECT_NE(build_spline_patch(d, pool, p).find("patch.knots_v[6]: must be non-decreasing"),
+            std::string::npos);
+  d.knots_v = {0, 0, 0, 0, 1, 2, 2, 2};
+  EXPECT_EQ(build_spline_patch(d, pool, p), "");
+  d.knots_v = {0, 0, 0, 1, 1, 1, 1, 1};
+  EXPECT_NE(build_spline_patch(d, pool, p).find("at most 4"), std::string::npos);
+  d.knots_v = {0, 0, 0, 0.5, 0.5, 1, 1, 1};
+  EXPECT_NE(build_spline_patch(d, pool, p).find("empty"), std::string::npos);
+  d.knots_v = clamped_knots(4);
+  d.weights.assign(16, 1.0);
+  d.weights[5] = 0.0;
+  EXPECT_NE(build_spline_patch(d, pool, p).find("patch.weights[5]: must be finite and > 0"),
+            std::string::npos);
+  d.weights.clear();
+  d.control_points[3].y = NAN;
+  EXPECT_NE(build_spline_patch(d, pool, p).find("patch.control_points[3]"), std::string::npos);
+}
+
+TEST(SplinePatch, DegenerateRaysGiveNoHitAndNoNaN) {
+  SplinePatchPool pool;
+  const SplinePatch patch = build(sphere_octant(1.0), pool);
+  HitRecord hit;
+  EXPECT_FALSE(intersect(patch, ray(vec3(0.5f), vec3(0.0f)), kInfinity, hit, 0u));
+  // Along the collapsed edge's axis and exactly through the pole from below.
+  const Ray up = ray(vec3(0.0f, 0.0f, -3.0f), vec3(0, 0, 1));
+  if (intersect(patch, up, kInfinity, hit, 0u)) {
+    EXPECT_NEAR(hit.t, 4.0f, 1e-5f);
+    const SurfaceInteraction si = surface_at(patch, up, hit);
+    EXPECT_TRUE(std::isfinite(si.geometric_normal.x) && std::isfinite(si.geometric_normal.z));
+  }
+}
+
+}  // namespace
+}  // namespace tessera
