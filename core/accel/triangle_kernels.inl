@@ -526,6 +526,37 @@ inline void order(StackKey& a, StackKey& b) {  // a <= b afterwards
   b = hi;
 }
 
+// Requests the memory of every child the ray enters as soon as the node is tested: all
+// four lines of an interior node, the first two triangle blocks of a leaf. The walk then
+// waits for one miss where it waited for several in a row: the child word (the node's last
+// line) is only read once the box test is done, siblings wait on the stack, and a leaf's
+// blocks are read one pair after the other. Measured: +5% on diffuse rays (which miss the
+// caches: the triangle blocks of a million triangles are several times the L3), no change
+// on primary rays (bench/accel/README.md).
+constexpr std::uint32_t kCacheLine = 64;
+constexpr std::uint32_t kPrefetchedLeafBytes = 2 * sizeof(TriangleBlock4);
+
+TESSERA_KERNEL_INLINE void prefetch_children(const WideTriangleView& view, const WideBvhNode& node,
+                                             std::uint32_t mask) {
+  for (; mask != 0; mask &= mask - 1) {
+    const std::uint32_t child = node.children[__builtin_ctz(mask)];
+    const char* begin;
+    std::uint32_t bytes;
+    if (wide_is_leaf(child)) {
+      begin = reinterpret_cast<const char*>(view.blocks + wide_leaf_first(child));
+      bytes = wide_leaf_count(child) * static_cast<std::uint32_t>(sizeof(TriangleBlock4));
+      if (bytes > kPrefetchedLeafBytes) bytes = kPrefetchedLeafBytes;
+    } else {
+      begin = reinterpret_cast<const char*>(view.nodes + child);
+      bytes = sizeof(WideBvhNode);
+    }
+    // Lines at begin, begin + 64, ... cover [begin, begin + bytes) whatever begin's alignment
+    // (the last one ends at or after begin + bytes - 1).
+    for (std::uint32_t offset = 0; offset < bytes; offset += kCacheLine)
+      _mm_prefetch(begin + offset, _MM_HINT_T0);
+  }
+}
+
 template <typename Query>
 TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const PreparedRay& ray,
                                          Query& query) {
@@ -540,6 +571,7 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
       const WideBvhNode& node = view.nodes[child];
       std::uint32_t mask = test_node(node, box_ray, query.t_max, entry);
       if (mask == 0) goto pop;
+      prefetch_children(view, node, mask);
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
       mask &= mask - 1;
       if (mask == 0) {
