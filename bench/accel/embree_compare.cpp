@@ -4,6 +4,7 @@
 // bench/ links it.
 //   embree_compare --mesh FILE --rays FILE.rays [--threads N] [--query closest|any] [--repeat R]
 //                  [--accel wide|bvh|octree|brute|auto] [--isa auto|sse2]
+//                  [--leaf-size N] [--bins N] [--merge N] [--traversal-cost C]
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -127,6 +128,15 @@ int main(int argc, char** argv) {
   app.add_option("--accel", accel_name, "our structure")
       ->check(CLI::IsMember({"bvh", "wide", "octree", "brute", "auto"}));
   app.add_option("--isa", isa, "our kernels: auto or sse2")->check(CLI::IsMember({"auto", "sse2"}));
+  // Tuning (as tessera-bench trace): measured as ratios, which move less on a busy machine.
+  std::uint32_t leaf_size = 0, bins = 0;
+  int merge_limit = -1;
+  float traversal_cost = 0.0f;
+  app.add_option("--leaf-size", leaf_size, "tuning: most triangles per BVH leaf");
+  app.add_option("--bins", bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
+  app.add_option("--merge", merge_limit, "tuning: largest subtree merged into one wide leaf")
+      ->check(CLI::Range(0, 124));
+  app.add_option("--traversal-cost", traversal_cost, "tuning: SAH node cost per block cost");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -147,6 +157,10 @@ int main(int argc, char** argv) {
     AccelBuildOptions options;
     options.kind = *parse_accel_kind(accel_name);
     options.allow_avx2 = isa != "sse2";
+    if (leaf_size != 0) options.wide.max_leaf_size = leaf_size;
+    if (bins != 0) options.wide.bin_count = bins;
+    if (traversal_cost != 0.0f) options.wide.traversal_cost = traversal_cost;
+    if (merge_limit >= 0) options.wide_merge_limit = static_cast<std::uint32_t>(merge_limit);
     const TriangleAccel ours = TriangleAccel::build(triangles, options);
     const AccelStats& s = ours.stats();
     std::printf(
