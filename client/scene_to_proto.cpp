@@ -1,6 +1,8 @@
 #include "client/scene_to_proto.hpp"
 
 #include <algorithm>
+#include <functional>
+#include <optional>
 #include <vector>
 
 namespace tessera {
@@ -35,12 +37,21 @@ bool is_single_inline_triangle(const TriangleMeshDesc& mesh) {
          mesh.indices[0] == 0 && mesh.indices[1] == 1 && mesh.indices[2] == 2;
 }
 
-// Where one shape of the description goes in the proto's single geometry list.
+// One shape of the description and how to write it into the proto's single geometry
+// list (which keeps input order).
 struct GeometryRef {
   std::uint32_t source_index;
-  enum class Kind { kSphere, kQuad, kMesh } kind;
-  std::size_t index;  // into the description's array of that kind
+  std::function<void(v1::Geometry*)> write;
 };
+
+void set_transform(v1::Geometry* g, const std::optional<TransformDesc>& transform) {
+  if (!transform) return;
+  v1::Transform* out = g->mutable_transform();
+  set_vec3(out->mutable_translate(), transform->translate);
+  set_vec3(out->mutable_rotate()->mutable_axis(), transform->rotate_axis);
+  out->mutable_rotate()->set_degrees(transform->rotate_degrees);
+  set_vec3(out->mutable_scale(), transform->scale);
+}
 
 }  // namespace
 
@@ -79,66 +90,118 @@ v1::Scene scene_to_proto(const SceneDescription& scene) {
 
   for (const MaterialDesc& m : scene.materials) *out.add_materials() = material_to_proto(m);
 
+  const auto material_name = [&](std::uint32_t index) {
+    return index < scene.materials.size() ? scene.materials[index].name : std::string();
+  };
   std::vector<GeometryRef> order;
-  order.reserve(scene.spheres.size() + scene.quads.size() + scene.meshes.size());
-  for (std::size_t i = 0; i < scene.spheres.size(); ++i)
-    order.push_back({scene.spheres[i].source_index, GeometryRef::Kind::kSphere, i});
-  for (std::size_t i = 0; i < scene.quads.size(); ++i)
-    order.push_back({scene.quads[i].source_index, GeometryRef::Kind::kQuad, i});
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i)
-    order.push_back({scene.meshes[i].source_index, GeometryRef::Kind::kMesh, i});
+  order.reserve(scene.meshes.size() + scene.analytic_shape_count());
+  // Adds every shape of `shapes`, writing the common fields and then `fill`'s.
+  const auto collect = [&](const auto& shapes, auto fill) {
+    for (const auto& shape : shapes)
+      order.push_back({shape.source_index, [&shape, &material_name, fill](v1::Geometry* g) {
+                         g->set_material(material_name(shape.material));
+                         g->set_visible(shape.visible);
+                         set_transform(g, shape.transform);
+                         fill(shape, g);
+                       }});
+  };
+  collect(scene.spheres, [](const SphereDesc& s, v1::Geometry* g) {
+    set_vec3(g->mutable_sphere()->mutable_center(), s.center);
+    g->mutable_sphere()->set_radius(s.radius);
+  });
+  collect(scene.quads, [](const QuadDesc& q, v1::Geometry* g) {
+    v1::Rectangle* rect = g->mutable_rectangle();
+    set_vec3(rect->mutable_corner(), q.corner);
+    set_vec3(rect->mutable_u(), q.u);
+    set_vec3(rect->mutable_v(), q.v);
+  });
+  collect(scene.meshes, [](const TriangleMeshDesc& mesh, v1::Geometry* g) {
+    if (is_single_inline_triangle(mesh)) {
+      v1::Triangle* tri = g->mutable_triangle();
+      set_vec3(tri->mutable_v0(), mesh.positions[0]);
+      set_vec3(tri->mutable_v1(), mesh.positions[1]);
+      set_vec3(tri->mutable_v2(), mesh.positions[2]);
+      return;
+    }
+    v1::TriangleMesh* out_mesh = g->mutable_mesh();
+    out_mesh->mutable_positions()->Reserve(static_cast<int>(mesh.positions.size() * 3));
+    for (const glm::dvec3& p : mesh.positions) {
+      out_mesh->add_positions(p.x);
+      out_mesh->add_positions(p.y);
+      out_mesh->add_positions(p.z);
+    }
+    out_mesh->mutable_indices()->Add(mesh.indices.begin(), mesh.indices.end());
+    out_mesh->mutable_normals()->Reserve(static_cast<int>(mesh.normals.size() * 3));
+    for (const glm::dvec3& n : mesh.normals) {
+      out_mesh->add_normals(n.x);
+      out_mesh->add_normals(n.y);
+      out_mesh->add_normals(n.z);
+    }
+    out_mesh->mutable_uvs()->Reserve(static_cast<int>(mesh.uvs.size() * 2));
+    for (const glm::dvec2& uv : mesh.uvs) {
+      out_mesh->add_uvs(uv.x);
+      out_mesh->add_uvs(uv.y);
+    }
+  });
+  collect(scene.planes, [](const PlaneDesc& p, v1::Geometry* g) {
+    set_vec3(g->mutable_plane()->mutable_point(), p.point);
+    set_vec3(g->mutable_plane()->mutable_normal(), p.normal);
+  });
+  collect(scene.disks, [](const DiskDesc& d, v1::Geometry* g) {
+    v1::Disk* out_disk = g->mutable_disk();
+    set_vec3(out_disk->mutable_center(), d.center);
+    set_vec3(out_disk->mutable_normal(), d.normal);
+    out_disk->set_radius(d.radius);
+    out_disk->set_inner_radius(d.inner_radius);
+  });
+  collect(scene.cylinders, [](const CylinderDesc& c, v1::Geometry* g) {
+    v1::Cylinder* out_cylinder = g->mutable_cylinder();
+    set_vec3(out_cylinder->mutable_base(), c.base);
+    set_vec3(out_cylinder->mutable_axis(), c.axis);
+    out_cylinder->set_radius(c.radius);
+    out_cylinder->set_height(c.height);
+    out_cylinder->set_caps(c.caps);
+  });
+  collect(scene.cones, [](const ConeDesc& c, v1::Geometry* g) {
+    v1::Cone* out_cone = g->mutable_cone();
+    set_vec3(out_cone->mutable_base(), c.base);
+    set_vec3(out_cone->mutable_axis(), c.axis);
+    out_cone->set_base_radius(c.base_radius);
+    out_cone->set_top_radius(c.top_radius);
+    out_cone->set_height(c.height);
+    out_cone->set_caps(c.caps);
+  });
+  collect(scene.tori, [](const TorusDesc& t, v1::Geometry* g) {
+    v1::Torus* out_torus = g->mutable_torus();
+    set_vec3(out_torus->mutable_center(), t.center);
+    set_vec3(out_torus->mutable_axis(), t.axis);
+    out_torus->set_major_radius(t.major_radius);
+    out_torus->set_minor_radius(t.minor_radius);
+  });
+  collect(scene.sdf_boxes, [](const SdfBoxDesc& b, v1::Geometry* g) {
+    v1::SdfBox* out_box = g->mutable_sdf_box();
+    set_vec3(out_box->mutable_center(), b.center);
+    set_vec3(out_box->mutable_half_extent(), b.half_extent);
+    out_box->set_rounding(b.rounding);
+  });
+  collect(scene.sdf_tori, [](const SdfTorusDesc& t, v1::Geometry* g) {
+    v1::SdfTorus* out_torus = g->mutable_sdf_torus();
+    set_vec3(out_torus->mutable_center(), t.center);
+    set_vec3(out_torus->mutable_axis(), t.axis);
+    out_torus->set_major_radius(t.major_radius);
+    out_torus->set_minor_radius(t.minor_radius);
+  });
+  collect(scene.sdf_capsules, [](const SdfCapsuleDesc& c, v1::Geometry* g) {
+    v1::SdfCapsule* out_capsule = g->mutable_sdf_capsule();
+    set_vec3(out_capsule->mutable_a(), c.a);
+    set_vec3(out_capsule->mutable_b(), c.b);
+    out_capsule->set_radius(c.radius);
+  });
   // Stable: shapes of one kind keep their relative order even if indices repeat.
   std::stable_sort(order.begin(), order.end(), [](const GeometryRef& a, const GeometryRef& b) {
     return a.source_index < b.source_index;
   });
-
-  const auto material_name = [&](std::uint32_t index) {
-    return index < scene.materials.size() ? scene.materials[index].name : std::string();
-  };
-  for (const GeometryRef& ref : order) {
-    v1::Geometry* g = out.add_geometry();
-    switch (ref.kind) {
-      case GeometryRef::Kind::kSphere: {
-        const SphereDesc& s = scene.spheres[ref.index];
-        g->set_material(material_name(s.material));
-        g->set_visible(s.visible);
-        set_vec3(g->mutable_sphere()->mutable_center(), s.center);
-        g->mutable_sphere()->set_radius(s.radius);
-        break;
-      }
-      case GeometryRef::Kind::kQuad: {
-        const QuadDesc& q = scene.quads[ref.index];
-        g->set_material(material_name(q.material));
-        g->set_visible(q.visible);
-        v1::Rectangle* rect = g->mutable_rectangle();
-        set_vec3(rect->mutable_corner(), q.corner);
-        set_vec3(rect->mutable_u(), q.u);
-        set_vec3(rect->mutable_v(), q.v);
-        break;
-      }
-      case GeometryRef::Kind::kMesh: {
-        const TriangleMeshDesc& mesh = scene.meshes[ref.index];
-        g->set_material(material_name(mesh.material));
-        g->set_visible(mesh.visible);
-        if (is_single_inline_triangle(mesh)) {
-          v1::Triangle* tri = g->mutable_triangle();
-          set_vec3(tri->mutable_v0(), mesh.positions[0]);
-          set_vec3(tri->mutable_v1(), mesh.positions[1]);
-          set_vec3(tri->mutable_v2(), mesh.positions[2]);
-        } else {
-          v1::TriangleMesh* out_mesh = g->mutable_mesh();
-          out_mesh->mutable_positions()->Reserve(static_cast<int>(mesh.positions.size() * 3));
-          for (const glm::dvec3& p : mesh.positions) {
-            out_mesh->add_positions(p.x);
-            out_mesh->add_positions(p.y);
-            out_mesh->add_positions(p.z);
-          }
-          out_mesh->mutable_indices()->Add(mesh.indices.begin(), mesh.indices.end());
-        }
-        break;
-      }
-    }
-  }
+  for (const GeometryRef& ref : order) ref.write(out.add_geometry());
   return out;
 }
 

@@ -156,11 +156,49 @@ void convert_mesh(const v1::TriangleMesh& in, const std::string& path, ProtoChec
       break;
     }
   }
+  // Per-vertex attributes: none, or one per vertex, finite.
+  const auto attribute_ok = [&](const google::protobuf::RepeatedField<double>& values,
+                                const char* name, int per_vertex, const char* layout) {
+    if (values.empty()) return true;
+    if (static_cast<std::uint64_t>(values.size()) != vertex_count * per_vertex) {
+      check.fail(path + "." + name, std::string("must be empty or ") + layout + " per vertex (" +
+                                        std::to_string(vertex_count * per_vertex) +
+                                        " numbers), got " + std::to_string(values.size()));
+      return false;
+    }
+    for (int i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values[i])) {
+        check.fail(indexed(path + "." + name, static_cast<std::size_t>(i)),
+                   "must be a finite number, got " + format_number(values[i]));
+        return false;
+      }
+    return true;
+  };
+  ok = attribute_ok(in.normals(), "normals", 3, "x, y, z") && ok;
+  ok = attribute_ok(in.uvs(), "uvs", 2, "u, v") && ok;
   if (!ok) return;
   mesh.positions.reserve(vertex_count);
   for (int i = 0; i + 2 < positions.size(); i += 3)
     mesh.positions.emplace_back(positions[i], positions[i + 1], positions[i + 2]);
   mesh.indices.assign(indices.begin(), indices.end());
+  for (int i = 0; i + 2 < in.normals().size(); i += 3)
+    mesh.normals.emplace_back(in.normals(i), in.normals(i + 1), in.normals(i + 2));
+  for (int i = 0; i + 1 < in.uvs().size(); i += 2) mesh.uvs.emplace_back(in.uvs(i), in.uvs(i + 1));
+}
+
+std::optional<TransformDesc> convert_transform(const v1::Geometry& g, const std::string& path,
+                                               ProtoChecker& check) {
+  if (!g.has_transform()) return std::nullopt;
+  const v1::Transform& in = g.transform();
+  const std::string base = path + ".transform";
+  TransformDesc t;
+  t.translate = check.vec3(base + ".translate", in.translate());
+  if (in.has_rotate()) {
+    t.rotate_axis = check.vec3(base + ".rotate.axis", in.rotate().axis());
+    t.rotate_degrees = check.number(base + ".rotate.degrees", in.rotate().degrees());
+  }
+  if (in.has_scale()) t.scale = check.vec3(base + ".scale", in.scale());
+  return t;
 }
 
 void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription& scene) {
@@ -179,6 +217,14 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
     }
     const bool visible = !g.has_visible() || g.visible();
 
+    const std::optional<TransformDesc> transform = convert_transform(g, path, check);
+    // Fills the fields every shape description has.
+    const auto common = [&](auto& desc) {
+      desc.material = material;
+      desc.visible = visible;
+      desc.source_index = index;
+      desc.transform = transform;
+    };
     switch (g.shape_case()) {
       case v1::Geometry::kSphere: {
         SphereDesc s;
@@ -186,9 +232,7 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
         s.radius = check.number(path + ".sphere.radius", g.sphere().radius());
         if (std::isfinite(s.radius) && !(s.radius > 0.0))
           check.fail(path + ".sphere.radius", "must be positive, got " + format_number(s.radius));
-        s.material = material;
-        s.visible = visible;
-        s.source_index = index;
+        common(s);
         scene.spheres.push_back(s);
         break;
       }
@@ -197,9 +241,7 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
         q.corner = check.vec3(path + ".rectangle.corner", g.rectangle().corner());
         q.u = check.vec3(path + ".rectangle.u", g.rectangle().u());
         q.v = check.vec3(path + ".rectangle.v", g.rectangle().v());
-        q.material = material;
-        q.visible = visible;
-        q.source_index = index;
+        common(q);
         scene.quads.push_back(q);
         break;
       }
@@ -209,23 +251,116 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
                           check.vec3(path + ".triangle.v1", g.triangle().v1()),
                           check.vec3(path + ".triangle.v2", g.triangle().v2())};
         mesh.indices = {0, 1, 2};
-        mesh.material = material;
-        mesh.visible = visible;
-        mesh.source_index = index;
+        common(mesh);
         scene.meshes.push_back(std::move(mesh));
         break;
       }
       case v1::Geometry::kMesh: {
         TriangleMeshDesc mesh;
         convert_mesh(g.mesh(), path + ".mesh", check, mesh);
-        mesh.material = material;
-        mesh.visible = visible;
-        mesh.source_index = index;
+        common(mesh);
         scene.meshes.push_back(std::move(mesh));
         break;
       }
+      // Ranges (positive radii, non-zero axes) are validate_scene's, shared with YAML.
+      case v1::Geometry::kPlane: {
+        const std::string at = path + ".plane.";
+        PlaneDesc p;
+        p.point = check.vec3(at + "point", g.plane().point());
+        p.normal = check.vec3(at + "normal", g.plane().normal());
+        common(p);
+        scene.planes.push_back(p);
+        break;
+      }
+      case v1::Geometry::kDisk: {
+        const std::string at = path + ".disk.";
+        const v1::Disk& in = g.disk();
+        DiskDesc d;
+        d.center = check.vec3(at + "center", in.center());
+        d.normal = check.vec3(at + "normal", in.normal());
+        d.radius = check.number(at + "radius", in.radius());
+        d.inner_radius = check.number(at + "inner_radius", in.inner_radius());
+        common(d);
+        scene.disks.push_back(d);
+        break;
+      }
+      case v1::Geometry::kCylinder: {
+        const std::string at = path + ".cylinder.";
+        const v1::Cylinder& in = g.cylinder();
+        CylinderDesc c;
+        c.base = check.vec3(at + "base", in.base());
+        c.axis = check.vec3(at + "axis", in.axis());
+        c.radius = check.number(at + "radius", in.radius());
+        c.height = check.number(at + "height", in.height());
+        c.caps = in.caps();
+        common(c);
+        scene.cylinders.push_back(c);
+        break;
+      }
+      case v1::Geometry::kCone: {
+        const std::string at = path + ".cone.";
+        const v1::Cone& in = g.cone();
+        ConeDesc c;
+        c.base = check.vec3(at + "base", in.base());
+        c.axis = check.vec3(at + "axis", in.axis());
+        c.base_radius = check.number(at + "base_radius", in.base_radius());
+        c.top_radius = check.number(at + "top_radius", in.top_radius());
+        c.height = check.number(at + "height", in.height());
+        c.caps = in.caps();
+        common(c);
+        scene.cones.push_back(c);
+        break;
+      }
+      case v1::Geometry::kTorus: {
+        const std::string at = path + ".torus.";
+        const v1::Torus& in = g.torus();
+        TorusDesc t;
+        t.center = check.vec3(at + "center", in.center());
+        t.axis = check.vec3(at + "axis", in.axis());
+        t.major_radius = check.number(at + "major_radius", in.major_radius());
+        t.minor_radius = check.number(at + "minor_radius", in.minor_radius());
+        common(t);
+        scene.tori.push_back(t);
+        break;
+      }
+      case v1::Geometry::kSdfBox: {
+        const std::string at = path + ".sdf_box.";
+        const v1::SdfBox& in = g.sdf_box();
+        SdfBoxDesc b;
+        b.center = check.vec3(at + "center", in.center());
+        b.half_extent = check.vec3(at + "half_extent", in.half_extent());
+        b.rounding = check.number(at + "rounding", in.rounding());
+        common(b);
+        scene.sdf_boxes.push_back(b);
+        break;
+      }
+      case v1::Geometry::kSdfTorus: {
+        const std::string at = path + ".sdf_torus.";
+        const v1::SdfTorus& in = g.sdf_torus();
+        SdfTorusDesc t;
+        t.center = check.vec3(at + "center", in.center());
+        t.axis = check.vec3(at + "axis", in.axis());
+        t.major_radius = check.number(at + "major_radius", in.major_radius());
+        t.minor_radius = check.number(at + "minor_radius", in.minor_radius());
+        common(t);
+        scene.sdf_tori.push_back(t);
+        break;
+      }
+      case v1::Geometry::kSdfCapsule: {
+        const std::string at = path + ".sdf_capsule.";
+        const v1::SdfCapsule& in = g.sdf_capsule();
+        SdfCapsuleDesc c;
+        c.a = check.vec3(at + "a", in.a());
+        c.b = check.vec3(at + "b", in.b());
+        c.radius = check.number(at + "radius", in.radius());
+        common(c);
+        scene.sdf_capsules.push_back(c);
+        break;
+      }
       case v1::Geometry::SHAPE_NOT_SET:
-        check.fail(path + ".shape", "is required: set one of sphere, rectangle, triangle or mesh");
+        check.fail(path + ".shape",
+                   "is required: set one of sphere, rectangle, triangle, mesh, plane, disk, "
+                   "cylinder, cone, torus, sdf_box, sdf_torus or sdf_capsule");
         break;
     }
   }
@@ -251,7 +386,10 @@ std::string proto_field(const std::string& core_field, const v1::Scene& scene) {
   if (index < 0 || index >= scene.geometry_size()) return core_field;
   const std::string head = core_field.substr(0, close + 2);
   const std::string rest = core_field.substr(close + 2);
-  if (rest.rfind("material", 0) == 0) return core_field;
+  // Fields of Geometry itself keep their path.
+  if (rest.rfind("material", 0) == 0 || rest.rfind("visible", 0) == 0 ||
+      rest.rfind("transform", 0) == 0)
+    return core_field;
   switch (scene.geometry(index).shape_case()) {
     case v1::Geometry::kSphere:
       return head + "sphere." + rest;
@@ -264,6 +402,22 @@ std::string proto_field(const std::string& core_field, const v1::Scene& scene) {
       if (rest.rfind("positions[", 0) == 0 && rest.size() > 10)
         return head + "triangle.v" + rest.substr(10, 1) + rest.substr(rest.find(']') + 1);
       return head + "triangle";
+    case v1::Geometry::kPlane:
+      return head + "plane." + rest;
+    case v1::Geometry::kDisk:
+      return head + "disk." + rest;
+    case v1::Geometry::kCylinder:
+      return head + "cylinder." + rest;
+    case v1::Geometry::kCone:
+      return head + "cone." + rest;
+    case v1::Geometry::kTorus:
+      return head + "torus." + rest;
+    case v1::Geometry::kSdfBox:
+      return head + "sdf_box." + rest;
+    case v1::Geometry::kSdfTorus:
+      return head + "sdf_torus." + rest;
+    case v1::Geometry::kSdfCapsule:
+      return head + "sdf_capsule." + rest;
     case v1::Geometry::SHAPE_NOT_SET:
       break;
   }

@@ -26,7 +26,7 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
       scene.camera, seed, tile, 1.0f / static_cast<float>(samples_per_pixel), film, &rays};
   const BvhTracer<SceneIntersection<kDeviceFeatures.shapes>> tracer(
       scene.bvh,
-      SceneIntersection<kDeviceFeatures.shapes>{scene.spheres, scene.quads, scene.triangles});
+      SceneIntersection<kDeviceFeatures.shapes>{scene});
   const Pipeline<DeviceConfig> pipeline(generation, tracer,
                                         PathHit<kDeviceFeatures>{scene, max_depth},
                                         BackgroundMiss{scene.background});

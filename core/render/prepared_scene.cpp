@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
 
 namespace tessera {
 
@@ -20,6 +22,38 @@ vec3 metal_preset_color(const std::string& preset, const vec3& fallback) {
   if (preset == "copper") return vec3(0.95f, 0.64f, 0.54f);
   if (preset == "aluminium" || preset == "aluminum") return vec3(0.91f, 0.92f, 0.92f);
   return fallback;
+}
+
+// A geometry entry's transform, in the forms baking and instancing need.
+struct Placement {
+  AffineTransform affine;  // identity when the entry has none
+  double scale = 1.0;      // |uniform scale|, for lengths of baked shapes
+
+  explicit Placement(const std::optional<TransformDesc>& transform) {
+    if (!transform) return;
+    const glm::dmat4 m = transform->matrix();
+    affine.linear = glm::dmat3(m);
+    affine.translation = glm::dvec3(m[3]);
+    scale = std::fabs(transform->scale.x);
+  }
+  vec3 point(const glm::dvec3& p) const { return vec3(affine.point(p)); }
+  vec3 vector(const glm::dvec3& v) const { return vec3(affine.vector(v)); }
+  // A direction: unit, mapped by the linear part (axes of shapes under a similarity).
+  vec3 direction(const glm::dvec3& v) const { return vec3(glm::normalize(affine.vector(v))); }
+  // A surface normal: by the inverse transpose, so it stays perpendicular under any map.
+  vec3 normal(const glm::dvec3& n) const {
+    return vec3(glm::normalize(glm::transpose(glm::inverse(affine.linear)) * n));
+  }
+  float length(double l) const { return static_cast<float>(l * scale); }
+};
+
+// The instance of `shape` placed by `transform` (validated non-singular before this runs).
+template <typename Shape>
+Instance<Shape> make_instance(const Shape& shape, const std::optional<TransformDesc>& transform) {
+  Instance<Shape> instance;
+  if (!Instance<Shape>::make(shape, Placement(transform).affine, instance))
+    throw std::invalid_argument("singular geometry transform (validate_scene rejects these)");
+  return instance;
 }
 
 }  // namespace
@@ -89,30 +123,138 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
       scene->lights_.push_back(LightSource{ref, area});
   };
 
+  // Shapes go into their flat arrays; `place` stores one in `array` and records it under
+  // `type` for the BVH (and the light list when the type has a sampler).
+  const auto place = [&](auto& array, PrimitiveType type, const auto& shape, bool visible,
+                         std::uint32_t material) {
+    const auto index = static_cast<std::uint32_t>(array.size());
+    array.push_back(shape);
+    add(type, index, tessera::bounds(shape), visible, material,
+        has_light_sampler(type) ? surface_area(shape) : 0.0f);
+  };
+
   for (const auto& s : description.spheres) {
-    const Sphere sphere{to_float(s.center), static_cast<float>(s.radius), s.material};
-    const auto index = static_cast<std::uint32_t>(scene->spheres_.size());
-    scene->spheres_.push_back(sphere);
-    add(PrimitiveType::kSphere, index, tessera::bounds(sphere), s.visible, s.material,
-        surface_area(sphere));
+    const Placement at(s.transform);
+    const Sphere object{to_float(s.center), static_cast<float>(s.radius), s.material};
+    if (transform_bakes_into_shape(s.transform))
+      place(scene->spheres_, PrimitiveType::kSphere,
+            Sphere{at.point(s.center), at.length(s.radius), s.material}, s.visible, s.material);
+    else
+      place(scene->sphere_instances_, PrimitiveType::kSphereInstance,
+            make_instance(object, s.transform), s.visible, s.material);
   }
   for (const auto& q : description.quads) {
-    const Quad quad = Quad::make(to_float(q.corner), to_float(q.u), to_float(q.v), q.material);
-    const auto index = static_cast<std::uint32_t>(scene->quads_.size());
-    scene->quads_.push_back(quad);
-    add(PrimitiveType::kQuad, index, tessera::bounds(quad), q.visible, q.material,
-        surface_area(quad));
+    const Placement at(q.transform);  // a parallelogram stays one under any affine map
+    place(scene->quads_, PrimitiveType::kQuad,
+          Quad::make(at.point(q.corner), at.vector(q.u), at.vector(q.v), q.material), q.visible,
+          q.material);
   }
-  for (const auto& mesh : description.meshes) {
-    for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-      const Triangle tri{to_float(mesh.positions[mesh.indices[i]]),
-                         to_float(mesh.positions[mesh.indices[i + 1]]),
-                         to_float(mesh.positions[mesh.indices[i + 2]]), mesh.material};
-      const auto index = static_cast<std::uint32_t>(scene->triangles_.size());
-      scene->triangles_.push_back(tri);
-      add(PrimitiveType::kTriangle, index, tessera::bounds(tri), mesh.visible, mesh.material,
-          surface_area(tri));
+  for (const auto& source : description.meshes) {
+    const TriangleMeshDesc mesh =
+        source.transform ? transformed_mesh(source, *source.transform) : TriangleMeshDesc{};
+    const TriangleMeshDesc& placed = source.transform ? mesh : source;
+    for (std::size_t i = 0; i + 2 < placed.indices.size(); i += 3) {
+      const Triangle tri{to_float(placed.positions[placed.indices[i]]),
+                         to_float(placed.positions[placed.indices[i + 1]]),
+                         to_float(placed.positions[placed.indices[i + 2]]), placed.material};
+      place(scene->triangles_, PrimitiveType::kTriangle, tri, placed.visible, placed.material);
     }
+  }
+  for (const auto& p : description.planes) {
+    if (!p.visible) continue;  // planes never emit, so a hidden one does nothing
+    const Placement at(p.transform);
+    scene->planes_.push_back(Plane::make(at.point(p.point), at.normal(p.normal), p.material));
+  }
+  for (const auto& d : description.disks) {
+    const Placement at(d.transform);
+    if (transform_bakes_into_shape(d.transform))
+      place(scene->disks_, PrimitiveType::kDisk,
+            Disk::make(at.point(d.center), at.direction(d.normal), at.length(d.radius), d.material,
+                       at.length(d.inner_radius)),
+            d.visible, d.material);
+    else
+      place(scene->disk_instances_, PrimitiveType::kDiskInstance,
+            make_instance(
+                Disk::make(to_float(d.center), to_float(d.normal), static_cast<float>(d.radius),
+                           d.material, static_cast<float>(d.inner_radius)),
+                d.transform),
+            d.visible, d.material);
+  }
+  for (const auto& c : description.cylinders) {
+    const Placement at(c.transform);
+    if (transform_bakes_into_shape(c.transform))
+      place(scene->cylinders_, PrimitiveType::kCylinder,
+            Cylinder::make(at.point(c.base), at.direction(c.axis), at.length(c.radius),
+                           at.length(c.height), c.caps, c.material),
+            c.visible, c.material);
+    else
+      place(scene->cylinder_instances_, PrimitiveType::kCylinderInstance,
+            make_instance(
+                Cylinder::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.radius),
+                               static_cast<float>(c.height), c.caps, c.material),
+                c.transform),
+            c.visible, c.material);
+  }
+  for (const auto& c : description.cones) {
+    const Placement at(c.transform);
+    if (transform_bakes_into_shape(c.transform))
+      place(scene->cones_, PrimitiveType::kCone,
+            Cone::make(at.point(c.base), at.direction(c.axis), at.length(c.base_radius),
+                       at.length(c.top_radius), at.length(c.height), c.caps, c.material),
+            c.visible, c.material);
+    else
+      place(scene->cone_instances_, PrimitiveType::kConeInstance,
+            make_instance(
+                Cone::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.base_radius),
+                           static_cast<float>(c.top_radius), static_cast<float>(c.height), c.caps,
+                           c.material),
+                c.transform),
+            c.visible, c.material);
+  }
+  for (const auto& t : description.tori) {
+    const Placement at(t.transform);
+    if (transform_bakes_into_shape(t.transform))
+      place(scene->tori_, PrimitiveType::kTorus,
+            Torus::make(at.point(t.center), at.direction(t.axis), at.length(t.major_radius),
+                        at.length(t.minor_radius), t.material),
+            t.visible, t.material);
+    else
+      place(scene->torus_instances_, PrimitiveType::kTorusInstance,
+            make_instance(Torus::make(to_float(t.center), to_float(t.axis),
+                                      static_cast<float>(t.major_radius),
+                                      static_cast<float>(t.minor_radius), t.material),
+                          t.transform),
+            t.visible, t.material);
+  }
+  // Signed-distance shapes: the box is axis-aligned in its own space, so a rotation needs an
+  // instance anyway; every transformed one is instanced to keep one rule.
+  for (const auto& b : description.sdf_boxes) {
+    const SdfBox box{to_float(b.center), to_float(b.half_extent), static_cast<float>(b.rounding),
+                     b.material};
+    if (!b.transform)
+      place(scene->sdf_boxes_, PrimitiveType::kSdfBox, box, b.visible, b.material);
+    else
+      place(scene->sdf_box_instances_, PrimitiveType::kSdfBoxInstance,
+            make_instance(box, b.transform), b.visible, b.material);
+  }
+  for (const auto& t : description.sdf_tori) {
+    const SdfTorus torus{to_float(t.center), vec3(glm::normalize(t.axis)),
+                         static_cast<float>(t.major_radius), static_cast<float>(t.minor_radius),
+                         t.material};
+    if (!t.transform)
+      place(scene->sdf_tori_, PrimitiveType::kSdfTorus, torus, t.visible, t.material);
+    else
+      place(scene->sdf_torus_instances_, PrimitiveType::kSdfTorusInstance,
+            make_instance(torus, t.transform), t.visible, t.material);
+  }
+  for (const auto& c : description.sdf_capsules) {
+    const SdfCapsule capsule{to_float(c.a), to_float(c.b), static_cast<float>(c.radius),
+                             c.material};
+    if (!c.transform)
+      place(scene->sdf_capsules_, PrimitiveType::kSdfCapsule, capsule, c.visible, c.material);
+    else
+      place(scene->sdf_capsule_instances_, PrimitiveType::kSdfCapsuleInstance,
+            make_instance(capsule, c.transform), c.visible, c.material);
   }
 
   // Visible triangles are traced on the CPU by the SIMD structure (accel/triangle_accel.hpp),
@@ -164,6 +306,23 @@ SceneView PreparedScene::view() const {
   v.spheres = spheres_.data();
   v.quads = quads_.data();
   v.triangles = triangles_.data();
+  v.planes = planes_.data();
+  v.plane_count = static_cast<std::uint32_t>(planes_.size());
+  v.disks = disks_.data();
+  v.cylinders = cylinders_.data();
+  v.cones = cones_.data();
+  v.tori = tori_.data();
+  v.sdf_boxes = sdf_boxes_.data();
+  v.sdf_tori = sdf_tori_.data();
+  v.sdf_capsules = sdf_capsules_.data();
+  v.sphere_instances = sphere_instances_.data();
+  v.disk_instances = disk_instances_.data();
+  v.cylinder_instances = cylinder_instances_.data();
+  v.cone_instances = cone_instances_.data();
+  v.torus_instances = torus_instances_.data();
+  v.sdf_box_instances = sdf_box_instances_.data();
+  v.sdf_torus_instances = sdf_torus_instances_.data();
+  v.sdf_capsule_instances = sdf_capsule_instances_.data();
   v.materials = materials_.data();
   v.lights = lights_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());

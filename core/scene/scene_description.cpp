@@ -1,6 +1,7 @@
 #include "tessera/scene/scene_description.hpp"
 
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
 #include "tessera/scene/scene_error.hpp"
@@ -78,6 +79,32 @@ std::optional<AovBit> aov_from_string(const std::string& name) {
   return std::nullopt;
 }
 
+glm::dmat4 TransformDesc::matrix() const {
+  glm::dmat4 m = glm::translate(glm::dmat4(1.0), translate);
+  if (rotate_degrees != 0.0 && glm::length(rotate_axis) > 0.0)
+    m = glm::rotate(m, glm::radians(rotate_degrees), glm::normalize(rotate_axis));
+  return glm::scale(m, scale);
+}
+
+TriangleMeshDesc transformed_mesh(const TriangleMeshDesc& mesh, const TransformDesc& transform) {
+  TriangleMeshDesc out = mesh;
+  const glm::dmat4 m = transform.matrix();
+  const glm::dmat3 linear(m);
+  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  for (auto& p : out.positions) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+  for (auto& n : out.normals) {
+    const glm::dvec3 mapped = normal_matrix * n;
+    const double length = glm::length(mapped);
+    n = length > 0.0 ? mapped / length : mapped;
+  }
+  return out;
+}
+
+std::size_t SceneDescription::analytic_shape_count() const {
+  return spheres.size() + quads.size() + planes.size() + disks.size() + cylinders.size() +
+         cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() + sdf_capsules.size();
+}
+
 std::size_t SceneDescription::triangle_count() const {
   std::size_t count = 0;
   for (const auto& mesh : meshes) count += mesh.indices.size() / 3;
@@ -114,6 +141,19 @@ class Validator {
     if (!finite(field, value)) return;
     if (value < lo || value > hi)
       fail(field, "must be in [" + format(lo) + ", " + format(hi) + "], got " + format(value));
+  }
+  // A length, radius or size: finite and > 0.
+  bool positive(const std::string& field, double value) {
+    if (!finite(field, value)) return false;
+    if (value > 0.0) return true;
+    fail(field, "must be > 0, got " + format(value));
+    return false;
+  }
+  bool non_zero(const std::string& field, const glm::dvec3& v) {
+    if (!finite(field, v)) return false;
+    if (glm::length(v) > 0.0) return true;
+    fail(field, "must not be the zero vector");
+    return false;
   }
   void non_negative(const std::string& field, const glm::dvec3& v) {
     if (!finite(field, v)) return;
@@ -176,6 +216,34 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
                  "refers to material index " + std::to_string(material) + " but the scene has " +
                      std::to_string(scene.materials.size()));
   };
+  const auto emits = [&](std::uint32_t material) {
+    if (material >= scene.materials.size()) return false;
+    const glm::dvec3& e = scene.materials[material].emission;
+    return e.x > 0.0 || e.y > 0.0 || e.z > 0.0;
+  };
+  // The renderer samples emitting spheres, rectangles, triangles and disks for direct light
+  // (spheres and disks only while their transform keeps them spheres and disks); any other
+  // emitter is seen only by rays that hit it, which a hidden one never is.
+  const auto hidden_emitter_ok = [&](std::uint32_t source, std::uint32_t material, bool visible,
+                                     bool sampled) {
+    if (!visible && !sampled && emits(material))
+      check.fail(geometry_field(source, "visible"),
+                 "an emitter of this shape type (or under a non-uniform scale) is only seen by "
+                 "rays that hit it, so it must be visible");
+  };
+  const auto transform_ok = [&](std::uint32_t source, const std::optional<TransformDesc>& t) {
+    if (!t) return;
+    const std::string base = geometry_field(source, "transform");
+    check.finite(base + ".translate", t->translate);
+    check.non_zero(base + ".rotate.axis", t->rotate_axis);
+    check.finite(base + ".rotate.degrees", t->rotate_degrees);
+    if (check.finite(base + ".scale", t->scale) &&
+        (t->scale.x == 0.0 || t->scale.y == 0.0 || t->scale.z == 0.0))
+      check.fail(base + ".scale", "components must not be zero (the transform would be singular)");
+  };
+  const auto uniform = [](const std::optional<TransformDesc>& t) {
+    return !t || t->uniform_scale();
+  };
 
   for (const auto& s : scene.spheres) {
     check.finite(geometry_field(s.source_index, "center"), s.center);
@@ -183,6 +251,8 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
       check.fail(geometry_field(s.source_index, "radius"),
                  "must be positive, got " + Validator::format(s.radius));
     material_ok(s.source_index, s.material);
+    transform_ok(s.source_index, s.transform);
+    hidden_emitter_ok(s.source_index, s.material, s.visible, uniform(s.transform));
   }
   for (const auto& q : scene.quads) {
     const bool ok = check.finite(geometry_field(q.source_index, "corner"), q.corner) &
@@ -192,6 +262,110 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
       check.fail(geometry_field(q.source_index, "v"),
                  "u and v must span a parallelogram (they are parallel or zero)");
     material_ok(q.source_index, q.material);
+    transform_ok(q.source_index, q.transform);
+  }
+  for (const auto& p : scene.planes) {
+    check.finite(geometry_field(p.source_index, "point"), p.point);
+    check.non_zero(geometry_field(p.source_index, "normal"), p.normal);
+    material_ok(p.source_index, p.material);
+    transform_ok(p.source_index, p.transform);
+    if (emits(p.material))
+      check.fail(geometry_field(p.source_index, "material"),
+                 "an infinite plane cannot emit light (its power would be infinite); use the "
+                 "background or a large rectangle or disk");
+  }
+  for (const auto& d : scene.disks) {
+    const auto at = [&](const char* name) { return geometry_field(d.source_index, name); };
+    check.finite(at("center"), d.center);
+    check.non_zero(at("normal"), d.normal);
+    if (check.positive(at("radius"), d.radius) &&
+        check.finite(at("inner_radius"), d.inner_radius) &&
+        !(d.inner_radius >= 0.0 && d.inner_radius < d.radius))
+      check.fail(at("inner_radius"), "must be in [0, radius) = [0, " + Validator::format(d.radius) +
+                                         "), got " + Validator::format(d.inner_radius));
+    material_ok(d.source_index, d.material);
+    transform_ok(d.source_index, d.transform);
+    hidden_emitter_ok(d.source_index, d.material, d.visible, uniform(d.transform));
+  }
+  for (const auto& c : scene.cylinders) {
+    const auto at = [&](const char* name) { return geometry_field(c.source_index, name); };
+    check.finite(at("base"), c.base);
+    check.non_zero(at("axis"), c.axis);
+    check.positive(at("radius"), c.radius);
+    check.positive(at("height"), c.height);
+    material_ok(c.source_index, c.material);
+    transform_ok(c.source_index, c.transform);
+    hidden_emitter_ok(c.source_index, c.material, c.visible, false);
+  }
+  for (const auto& c : scene.cones) {
+    const auto at = [&](const char* name) { return geometry_field(c.source_index, name); };
+    check.finite(at("base"), c.base);
+    check.non_zero(at("axis"), c.axis);
+    check.positive(at("height"), c.height);
+    const bool radii_finite = check.finite(at("base_radius"), c.base_radius) &
+                              check.finite(at("top_radius"), c.top_radius);
+    if (radii_finite) {
+      if (c.base_radius < 0.0)
+        check.fail(at("base_radius"), "must be >= 0, got " + Validator::format(c.base_radius));
+      if (c.top_radius < 0.0)
+        check.fail(at("top_radius"), "must be >= 0, got " + Validator::format(c.top_radius));
+      if (c.base_radius == 0.0 && c.top_radius == 0.0)
+        check.fail(at("base_radius"), "base_radius and top_radius must not both be 0");
+    }
+    material_ok(c.source_index, c.material);
+    transform_ok(c.source_index, c.transform);
+    hidden_emitter_ok(c.source_index, c.material, c.visible, false);
+  }
+  for (const auto& t : scene.tori) {
+    const auto at = [&](const char* name) { return geometry_field(t.source_index, name); };
+    check.finite(at("center"), t.center);
+    check.non_zero(at("axis"), t.axis);
+    check.positive(at("major_radius"), t.major_radius);
+    check.positive(at("minor_radius"), t.minor_radius);
+    material_ok(t.source_index, t.material);
+    transform_ok(t.source_index, t.transform);
+    hidden_emitter_ok(t.source_index, t.material, t.visible, false);
+  }
+  for (const auto& b : scene.sdf_boxes) {
+    const auto at = [&](const char* name) { return geometry_field(b.source_index, name); };
+    check.finite(at("center"), b.center);
+    if (check.finite(at("half_extent"), b.half_extent)) {
+      if (!(b.half_extent.x > 0.0 && b.half_extent.y > 0.0 && b.half_extent.z > 0.0))
+        check.fail(at("half_extent"), "components must be > 0");
+      else if (check.finite(at("rounding"), b.rounding)) {
+        const double smallest =
+            glm::min(b.half_extent.x, glm::min(b.half_extent.y, b.half_extent.z));
+        if (!(b.rounding >= 0.0 && b.rounding <= smallest))
+          check.fail(at("rounding"), "must be in [0, smallest half extent] = [0, " +
+                                         Validator::format(smallest) + "], got " +
+                                         Validator::format(b.rounding));
+      }
+    }
+    material_ok(b.source_index, b.material);
+    transform_ok(b.source_index, b.transform);
+    hidden_emitter_ok(b.source_index, b.material, b.visible, false);
+  }
+  for (const auto& t : scene.sdf_tori) {
+    const auto at = [&](const char* name) { return geometry_field(t.source_index, name); };
+    check.finite(at("center"), t.center);
+    check.non_zero(at("axis"), t.axis);
+    if (check.positive(at("major_radius"), t.major_radius) &&
+        check.positive(at("minor_radius"), t.minor_radius) && !(t.minor_radius < t.major_radius))
+      check.fail(at("minor_radius"),
+                 "must be < major_radius (" + Validator::format(t.major_radius) +
+                     ") for a signed-distance torus, got " + Validator::format(t.minor_radius));
+    material_ok(t.source_index, t.material);
+    transform_ok(t.source_index, t.transform);
+    hidden_emitter_ok(t.source_index, t.material, t.visible, false);
+  }
+  for (const auto& c : scene.sdf_capsules) {
+    const auto at = [&](const char* name) { return geometry_field(c.source_index, name); };
+    check.finite(at("a"), c.a);
+    check.finite(at("b"), c.b);
+    check.positive(at("radius"), c.radius);
+    material_ok(c.source_index, c.material);
+    transform_ok(c.source_index, c.transform);
+    hidden_emitter_ok(c.source_index, c.material, c.visible, false);
   }
   std::size_t triangles = 0;
   for (const auto& mesh : scene.meshes) {
@@ -211,13 +385,33 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
                        std::to_string(mesh.positions.size()) + " vertices)" + where);
         break;
       }
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+      check.fail(geometry_field(mesh.source_index, "normals"),
+                 "must be empty or one per vertex (" + std::to_string(mesh.positions.size()) +
+                     "), got " + std::to_string(mesh.normals.size()) + where);
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+      check.fail(geometry_field(mesh.source_index, "uvs"),
+                 "must be empty or one per vertex (" + std::to_string(mesh.positions.size()) +
+                     "), got " + std::to_string(mesh.uvs.size()) + where);
     material_ok(mesh.source_index, mesh.material);
+    transform_ok(mesh.source_index, mesh.transform);
     triangles += mesh.indices.size() / 3;
   }
   if (triangles > limits.max_triangles)
     check.fail("geometry", "scene has " + std::to_string(triangles) +
                                " triangles, more than the limit of " +
                                std::to_string(limits.max_triangles));
+  const std::size_t per_type[] = {
+      scene.spheres.size(),   scene.quads.size(),       scene.planes.size(), scene.disks.size(),
+      scene.cylinders.size(), scene.cones.size(),       scene.tori.size(),   scene.sdf_boxes.size(),
+      scene.sdf_tori.size(),  scene.sdf_capsules.size()};
+  for (std::size_t count : per_type)
+    if (count > limits.max_shapes_per_type) {
+      check.fail("geometry", "scene has " + std::to_string(count) +
+                                 " shapes of one type, more than the limit of " +
+                                 std::to_string(limits.max_shapes_per_type));
+      break;
+    }
 
   const auto& r = scene.render;
   const auto in_u32 = [&](const char* name, std::uint32_t value, std::uint32_t lo,

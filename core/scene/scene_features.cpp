@@ -15,11 +15,26 @@ SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
     f.material_kinds |= 1u << static_cast<unsigned>(make_material(m).kind);
     if (m.emission.x > 0 || m.emission.y > 0 || m.emission.z > 0) f.light_shapes |= shape;
   };
-  for (const auto& s : scene.spheres) use(kShapeSphere, s.material);
   for (const auto& q : scene.quads) use(kShapeQuad, q.material);
   for (const auto& m : scene.meshes)
     if (!m.indices.empty()) use(kShapeTriangle, m.material);
-  f.primitive_count = scene.spheres.size() + scene.quads.size() + scene.triangle_count();
+  for (const auto& p : scene.planes) use(kShapePlane, p.material);
+  const auto curved = [&](const auto& shapes, unsigned bit) {
+    for (const auto& s : shapes)
+      use(transform_bakes_into_shape(s.transform) ? bit : kShapeInstance, s.material);
+  };
+  curved(scene.spheres, kShapeSphere);
+  curved(scene.disks, kShapeDisk);
+  curved(scene.cylinders, kShapeCylinder);
+  curved(scene.cones, kShapeCone);
+  curved(scene.tori, kShapeTorus);
+  const auto distance_field = [&](const auto& shapes) {
+    for (const auto& s : shapes) use(s.transform ? kShapeInstance : kShapeSdf, s.material);
+  };
+  distance_field(scene.sdf_boxes);
+  distance_field(scene.sdf_tori);
+  distance_field(scene.sdf_capsules);
+  f.primitive_count = scene.analytic_shape_count() + scene.triangle_count();
   const auto used = [&](BsdfKind kind) {
     return (f.material_kinds & (1u << static_cast<unsigned>(kind))) != 0;
   };
@@ -48,6 +63,13 @@ std::string SceneFeatures::summary() const {
   add(kShapeSphere, "spheres");
   add(kShapeQuad, "quads");
   add(kShapeTriangle, "triangles");
+  add(kShapePlane, "planes");
+  add(kShapeDisk, "disks");
+  add(kShapeCylinder, "cylinders");
+  add(kShapeCone, "cones");
+  add(kShapeTorus, "tori");
+  add(kShapeSdf, "sdfs");
+  add(kShapeInstance, "instances");
   if (shapes_text.empty()) shapes_text = "empty";
   return shapes_text + ", " + std::to_string(light_count) + " lights, " +
          std::to_string(primitive_count) + " primitives";

@@ -243,6 +243,71 @@ class SceneBuilder {
     return *index;
   }
 
+  // A number the semantic checks may complain about later: its node is remembered so the
+  // error carries its line.
+  double number_at(const YAML::Node& g, const char* key, const std::string& path) {
+    const std::string field = YamlReader::join(path, key);
+    const YAML::Node node = in_.required(g, key, path);
+    locations_[field] = node;
+    return in_.number(node, field);
+  }
+  double number_or(const YAML::Node& g, const char* key, const std::string& path, double fallback) {
+    double value = fallback;
+    optional(g, key, path, [&](auto& n, auto& f) { value = in_.number(n, f); });
+    return value;
+  }
+  glm::dvec3 vec3_at(const YAML::Node& g, const char* key, const std::string& path) {
+    const std::string field = YamlReader::join(path, key);
+    const YAML::Node node = in_.required(g, key, path);
+    locations_[field] = node;
+    return in_.vec3(node, field);
+  }
+  glm::dvec3 vec3_or(const YAML::Node& g, const char* key, const std::string& path,
+                     const glm::dvec3& fallback) {
+    glm::dvec3 value = fallback;
+    optional(g, key, path, [&](auto& n, auto& f) { value = in_.vec3(n, f); });
+    return value;
+  }
+  bool bool_or(const YAML::Node& g, const char* key, const std::string& path, bool fallback) {
+    bool value = fallback;
+    optional(g, key, path, [&](auto& n, auto& f) { value = in_.boolean(n, f); });
+    return value;
+  }
+  // A scale: one number (uniform) or three.
+  glm::dvec3 scale_of(const YAML::Node& n, const std::string& f) {
+    return n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
+  }
+
+  // transform: { translate: [x, y, z], rotate: { axis: [x, y, z], degrees: a }, scale: s }
+  std::optional<TransformDesc> read_transform(const YAML::Node& g, const std::string& path) {
+    std::optional<TransformDesc> result;
+    optional(g, "transform", path, [&](const YAML::Node& n, const std::string& f) {
+      map_at(n, f);
+      in_.check_keys(n, f, {"translate", "rotate", "scale"});
+      TransformDesc t;
+      optional(n, "translate", f, [&](auto& v, auto& vf) { t.translate = in_.vec3(v, vf); });
+      optional(n, "rotate", f, [&](const YAML::Node& r, const std::string& rf) {
+        map_at(r, rf);
+        in_.check_keys(r, rf, {"axis", "degrees"});
+        t.rotate_axis = vec3_at(r, "axis", rf);
+        t.rotate_degrees = number_at(r, "degrees", rf);
+      });
+      optional(n, "scale", f, [&](auto& v, auto& vf) { t.scale = scale_of(v, vf); });
+      result = t;
+    });
+    return result;
+  }
+
+  // Fills the fields every shape description has.
+  template <typename Desc>
+  void common(Desc& desc, const YAML::Node& g, const std::string& path, std::uint32_t index,
+              bool visible) {
+    desc.material = material_ref(g, path);
+    desc.visible = visible;
+    desc.source_index = index;
+    desc.transform = read_transform(g, path);
+  }
+
   void read_geometry(const YAML::Node& node, const char* key) {
     if (!node.IsSequence())
       in_.fail(node, key, std::string("must be a list, got a ") + YamlReader::kind(node));
@@ -254,61 +319,144 @@ class SceneBuilder {
       bool visible = true;
       optional(g, "visible", path, [&](auto& n, auto& f) { visible = in_.boolean(n, f); });
       if (type == "sphere") {
-        in_.check_keys(g, path, {"type", "material", "center", "radius", "visible"});
+        in_.check_keys(g, path, {"type", "material", "center", "radius", "visible", "transform"});
         SphereDesc s;
-        s.material = material_ref(g, path);
+        common(s, g, path, index, visible);
         s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
         s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
         locations_[path + ".radius"] = g["radius"];
         if (!(s.radius > 0.0))
           in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
-        s.visible = visible;
-        s.source_index = index;
         scene_.spheres.push_back(s);
       } else if (type == "rectangle" || type == "quad") {
-        in_.check_keys(g, path, {"type", "material", "corner", "u", "v", "visible"});
+        in_.check_keys(g, path, {"type", "material", "corner", "u", "v", "visible", "transform"});
         QuadDesc q;
-        q.material = material_ref(g, path);
+        common(q, g, path, index, visible);
         q.corner = in_.vec3(in_.required(g, "corner", path), path + ".corner");
         q.u = in_.vec3(in_.required(g, "u", path), path + ".u");
         q.v = in_.vec3(in_.required(g, "v", path), path + ".v");
         locations_[path + ".v"] = g["v"];
-        q.visible = visible;
-        q.source_index = index;
         scene_.quads.push_back(q);
       } else if (type == "triangle") {
-        in_.check_keys(g, path, {"type", "material", "v0", "v1", "v2", "visible"});
+        in_.check_keys(g, path, {"type", "material", "v0", "v1", "v2", "visible", "transform"});
         TriangleMeshDesc mesh;
-        mesh.material = material_ref(g, path);
+        common(mesh, g, path, index, visible);
         mesh.positions = {in_.vec3(in_.required(g, "v0", path), path + ".v0"),
                           in_.vec3(in_.required(g, "v1", path), path + ".v1"),
                           in_.vec3(in_.required(g, "v2", path), path + ".v2")};
         mesh.indices = {0, 1, 2};
-        mesh.visible = visible;
-        mesh.source_index = index;
         scene_.meshes.push_back(std::move(mesh));
       } else if (type == "obj" || type == "mesh") {
-        in_.check_keys(g, path, {"type", "material", "file", "position", "scale", "visible"});
+        in_.check_keys(g, path,
+                       {"type", "material", "file", "position", "scale", "visible", "transform"});
         const std::uint32_t material = material_ref(g, path);
         const YAML::Node file_node = in_.required(g, "file", path);
         const std::string file = in_.string(file_node, path + ".file");
-        glm::dvec3 position(0.0), scale(1.0);
-        optional(g, "position", path, [&](auto& n, auto& f) { position = in_.vec3(n, f); });
+        // RayON's placement (scale, then move) is baked into the vertices here, through the
+        // same path as a transform so that normals follow (inverse transpose).
+        TransformDesc placement;
+        optional(g, "position", path,
+                 [&](auto& n, auto& f) { placement.translate = in_.vec3(n, f); });
         optional(g, "scale", path, [&](auto& n, auto& f) {
-          scale = n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
-          if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0)
+          placement.scale = scale_of(n, f);
+          if (placement.scale.x == 0.0 || placement.scale.y == 0.0 || placement.scale.z == 0.0)
             in_.fail(n, f, "components must not be zero");
         });
         TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
-        for (auto& p : mesh.positions) p = p * scale + position;
+        if (placement != TransformDesc{}) mesh = transformed_mesh(mesh, placement);
         mesh.material = material;
         mesh.visible = visible;
         mesh.source_index = index;
+        mesh.transform = read_transform(g, path);
         scene_.meshes.push_back(std::move(mesh));
+      } else if (type == "plane") {
+        in_.check_keys(g, path, {"type", "material", "point", "normal", "visible", "transform"});
+        PlaneDesc p;
+        common(p, g, path, index, visible);
+        p.point = vec3_or(g, "point", path, glm::dvec3(0.0));
+        p.normal = vec3_at(g, "normal", path);
+        scene_.planes.push_back(p);
+      } else if (type == "disk") {
+        in_.check_keys(g, path,
+                       {"type", "material", "center", "normal", "radius", "inner_radius", "visible",
+                        "transform"});
+        DiskDesc d;
+        common(d, g, path, index, visible);
+        d.center = vec3_at(g, "center", path);
+        d.normal = vec3_at(g, "normal", path);
+        d.radius = number_at(g, "radius", path);
+        d.inner_radius = number_or(g, "inner_radius", path, 0.0);
+        scene_.disks.push_back(d);
+      } else if (type == "cylinder") {
+        in_.check_keys(g, path,
+                       {"type", "material", "base", "axis", "radius", "height", "caps", "visible",
+                        "transform"});
+        CylinderDesc c;
+        common(c, g, path, index, visible);
+        c.base = vec3_at(g, "base", path);
+        c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+        c.radius = number_at(g, "radius", path);
+        c.height = number_at(g, "height", path);
+        c.caps = bool_or(g, "caps", path, false);
+        scene_.cylinders.push_back(c);
+      } else if (type == "cone") {
+        in_.check_keys(g, path,
+                       {"type", "material", "base", "axis", "base_radius", "top_radius", "height",
+                        "caps", "visible", "transform"});
+        ConeDesc c;
+        common(c, g, path, index, visible);
+        c.base = vec3_at(g, "base", path);
+        c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+        c.base_radius = number_at(g, "base_radius", path);
+        c.top_radius = number_or(g, "top_radius", path, 0.0);
+        c.height = number_at(g, "height", path);
+        c.caps = bool_or(g, "caps", path, false);
+        scene_.cones.push_back(c);
+      } else if (type == "torus" || type == "sdf_torus") {
+        in_.check_keys(g, path,
+                       {"type", "material", "center", "axis", "major_radius", "minor_radius",
+                        "visible", "transform"});
+        TorusDesc t;
+        common(t, g, path, index, visible);
+        t.center = vec3_at(g, "center", path);
+        t.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+        t.major_radius = number_at(g, "major_radius", path);
+        t.minor_radius = number_at(g, "minor_radius", path);
+        if (type == "torus") {
+          scene_.tori.push_back(t);
+        } else {
+          scene_.sdf_tori.push_back(SdfTorusDesc{t.center, t.axis, t.major_radius, t.minor_radius,
+                                                 t.material, t.visible, t.source_index,
+                                                 t.transform});
+        }
+      } else if (type == "sdf_box" || type == "sdf_rounded_box") {
+        const bool rounded = type == "sdf_rounded_box";
+        if (rounded)
+          in_.check_keys(
+              g, path,
+              {"type", "material", "center", "half_extent", "rounding", "visible", "transform"});
+        else
+          in_.check_keys(g, path,
+                         {"type", "material", "center", "half_extent", "visible", "transform"});
+        SdfBoxDesc b;
+        common(b, g, path, index, visible);
+        b.center = vec3_or(g, "center", path, glm::dvec3(0.0));
+        b.half_extent = vec3_at(g, "half_extent", path);
+        if (rounded) b.rounding = number_at(g, "rounding", path);
+        scene_.sdf_boxes.push_back(b);
+      } else if (type == "sdf_capsule") {
+        in_.check_keys(g, path, {"type", "material", "a", "b", "radius", "visible", "transform"});
+        SdfCapsuleDesc c;
+        common(c, g, path, index, visible);
+        c.a = vec3_at(g, "a", path);
+        c.b = vec3_at(g, "b", path);
+        c.radius = number_at(g, "radius", path);
+        scene_.sdf_capsules.push_back(c);
       } else {
         in_.fail(g["type"], path + ".type",
                  "unknown geometry type '" + type +
-                     "' (expected sphere, rectangle, quad, triangle, obj or mesh)");
+                     "' (expected sphere, rectangle, quad, triangle, obj, mesh, plane, disk, "
+                     "cylinder, cone, torus, sdf_box, sdf_rounded_box, sdf_torus or sdf_capsule)");
       }
     }
   }

@@ -18,8 +18,7 @@ void run_tile(const P& pipeline, const TileRect& tile, std::uint32_t samples_per
 
 template <unsigned kShapes>
 BvhTracer<SceneIntersection<kShapes>> make_tracer(const SceneView& scene) {
-  return BvhTracer<SceneIntersection<kShapes>>(
-      scene.bvh, SceneIntersection<kShapes>{scene.spheres, scene.quads, scene.triangles});
+  return BvhTracer<SceneIntersection<kShapes>>(scene.bvh, SceneIntersection<kShapes>{scene});
 }
 
 // Runs Config's pipeline over one tile. Every integrator's ray generation is a camera-ray
@@ -50,9 +49,8 @@ TileStats render_path(const SceneView& scene, const RenderSettings& settings, co
 template <unsigned kShapes>
 TileStats render_shadow(const SceneView& scene, const RenderSettings& settings,
                         const TileRect& tile, const FilmPlanes& film) {
-  return render_camera_pipeline<ShadowConfig<kShapes>>(scene, settings, tile, film,
-                                                       ShadowHit<kShapes>{scene},
-                                                       BackgroundMiss{scene.background});
+  return render_camera_pipeline<ShadowConfig<kShapes>>(
+      scene, settings, tile, film, ShadowHit<kShapes>{scene}, BackgroundMiss{scene.background});
 }
 
 template <unsigned kShapes>

@@ -117,7 +117,8 @@ TEST(SceneFromProto, ZeroRenderSettingsGetServerDefaults) {
 TEST(SceneFromProto, MissingShapeIsNamed) {
   v1::Scene scene = tiny_scene();
   scene.add_geometry()->set_material("grey");
-  expect_single_issue(scene, "geometry[2].shape", "set one of sphere, rectangle, triangle or mesh");
+  expect_single_issue(scene, "geometry[2].shape",
+                      "set one of sphere, rectangle, triangle, mesh, plane");
 }
 
 TEST(SceneFromProto, UnknownMaterialNameIsNamed) {

@@ -14,7 +14,14 @@ namespace tessera {
 // shadow ray's early exit is compiled in, not tested per node. On the CPU, triangles may
 // live in the SIMD structure BvhView::triangles instead of the BVH; each query then asks
 // it first (one call per ray) and walks the BVH for the other shapes. nvcc never sees
-// that structure (its kernels are x86 code): device code walks the BVH alone.
+// that structure (its kernels are x86 code): device code walks the BVH alone. Shapes no
+// box can hold (infinite planes) stay outside the BVH: an intersection program with
+// kHasUnbounded tests them per ray through its *_unbounded functions.
+template <typename I>
+concept HasUnboundedShapes = requires {
+  requires I::kHasUnbounded;
+};
+
 template <IntersectionProgram Intersection>
 class BvhTracer {
  public:
@@ -27,11 +34,15 @@ class BvhTracer {
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr) found = bvh_.triangles->closest(ray, hit);
 #endif
-    return traverse_bvh<false>(
-        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-          return intersection_.intersect(primitive, r, t_max, h);
-        }) ||
-           found;
+    found = traverse_bvh<false>(
+                bvh_, ray, hit,
+                [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+                  return intersection_.intersect(primitive, r, t_max, h);
+                }) ||
+            found;
+    if constexpr (HasUnboundedShapes<Intersection>)
+      found = intersection_.intersect_unbounded(ray, hit) || found;
+    return found;
   }
 
   // Any hit, with its record: the first one traversal finds, not necessarily the nearest.
@@ -40,6 +51,8 @@ class BvhTracer {
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr && bvh_.triangles->closest(ray, hit)) return true;
 #endif
+    if constexpr (HasUnboundedShapes<Intersection>)
+      if (intersection_.intersect_unbounded(ray, hit)) return true;
     return traverse_bvh<true>(
         bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
           return intersection_.intersect(primitive, r, t_max, h);
@@ -50,6 +63,8 @@ class BvhTracer {
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr && bvh_.triangles->occluded(ray)) return true;
 #endif
+    if constexpr (HasUnboundedShapes<Intersection>)
+      if (intersection_.occluded_unbounded(ray)) return true;
     HitRecord hit;
     hit.t = ray.t_max;
     return traverse_bvh<true>(
@@ -73,12 +88,18 @@ class BvhTracer {
       if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
     }
 #endif
+    if constexpr (HasUnboundedShapes<Intersection>) {
+      intersection_.intersect_all_unbounded(ray, bound.t, [&](const HitRecord& h) {
+        insert_sorted(hits, count, h);
+        if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
+      });
+    }
     traverse_bvh<false>(bvh_, ray, bound,
                         [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& b) {
-                          HitRecord found[2];
+                          HitRecord found[4];  // a torus is crossed up to four times
                           int n;
                           if constexpr (HasIntersectAll<Intersection>) {
-                            n = intersection_.intersect_all(primitive, r, t_max, found, 2);
+                            n = intersection_.intersect_all(primitive, r, t_max, found, 4);
                           } else {
                             n = intersection_.intersect(primitive, r, t_max, found[0]) ? 1 : 0;
                           }

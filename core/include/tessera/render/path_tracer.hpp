@@ -123,6 +123,20 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
       material = t.material;
       break;
     }
+    case PrimitiveType::kDisk: {
+      // Uniform in area over the annulus: radius by the inverse of its area CDF.
+      const Disk& d = scene.disks[index];
+      const float r2 = d.inner_radius * d.inner_radius;
+      const float rho = std::sqrt(r2 + u1 * (d.radius * d.radius - r2));
+      const float phi = 2.0f * kPi * u2;
+      const Frame frame = Frame::from_normal(d.normal);
+      point = d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
+      light_normal = d.normal;
+      material = d.material;
+      break;
+    }
+    default:  // no sampler (has_light_sampler): never in the light list
+      return vec3(0.0f);
   }
   const vec3 n = si.geometric_normal;
   const vec3 origin = offset_ray_origin(si.position, n);
@@ -160,7 +174,10 @@ struct PathHit {
         payload.aov.primitive = hit.primitive;
       }
     }
-    if (material.emissive() && payload.count_emission)
+    // Emitters without an area sampler are not in the light list, so next-event estimation
+    // never reaches them: their emission is counted whenever a ray hits them instead.
+    if (material.emissive() &&
+        (payload.count_emission || !has_light_sampler(primitive_type(hit.primitive))))
       payload.radiance += payload.throughput * material.emission;
     if (material.kind == BsdfKind::kEmitter) return;
     if (payload.depth + 1 >= max_depth) return;

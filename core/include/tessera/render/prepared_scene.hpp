@@ -59,9 +59,25 @@ class PreparedScene {
   std::vector<Sphere> spheres_;
   std::vector<Quad> quads_;
   std::vector<Triangle> triangles_;
+  std::vector<Plane> planes_;  // visible planes only, outside the BVH
+  std::vector<Disk> disks_;
+  std::vector<Cylinder> cylinders_;
+  std::vector<Cone> cones_;
+  std::vector<Torus> tori_;
+  std::vector<SdfBox> sdf_boxes_;
+  std::vector<SdfTorus> sdf_tori_;
+  std::vector<SdfCapsule> sdf_capsules_;
+  std::vector<Instance<Sphere>> sphere_instances_;
+  std::vector<Instance<Disk>> disk_instances_;
+  std::vector<Instance<Cylinder>> cylinder_instances_;
+  std::vector<Instance<Cone>> cone_instances_;
+  std::vector<Instance<Torus>> torus_instances_;
+  std::vector<Instance<SdfBox>> sdf_box_instances_;
+  std::vector<Instance<SdfTorus>> sdf_torus_instances_;
+  std::vector<Instance<SdfCapsule>> sdf_capsule_instances_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
-  Bvh bvh_;                       // every visible shape but triangles
+  Bvh bvh_;                       // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;  // visible triangles, named by their tagged references
   Camera camera_{};
   vec3 background_{0.0f};

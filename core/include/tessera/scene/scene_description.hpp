@@ -16,11 +16,15 @@ struct CameraDesc {
   glm::dvec3 look_at{0.0, 0.0, 0.0};
   glm::dvec3 up{0.0, 1.0, 0.0};
   double fov_degrees = 40.0;  // vertical field of view
+
+  friend bool operator==(const CameraDesc&, const CameraDesc&) = default;
 };
 
 struct BackgroundDesc {
   glm::dvec3 color{0.0};
   double intensity = 1.0;  // radiance of a miss = color * intensity
+
+  friend bool operator==(const BackgroundDesc&, const BackgroundDesc&) = default;
 };
 
 enum class MaterialType {
@@ -50,16 +54,38 @@ struct MaterialDesc {
   std::string preset;           // anisotropic_metal: named metal colour
   double film_thickness = 0.0;  // thin_film, nanometres
   double film_ior = 1.33;
+
+  friend bool operator==(const MaterialDesc&, const MaterialDesc&) = default;
+};
+
+// Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,
+// then rotate by `rotate_degrees` around `rotate_axis` (right-handed), then translate.
+// The renderer bakes it into the shape where the shape type can represent the result and
+// instances the shape otherwise.
+struct TransformDesc {
+  glm::dvec3 translate{0.0};
+  glm::dvec3 rotate_axis{0.0, 0.0, 1.0};  // any non-zero length
+  double rotate_degrees = 0.0;
+  glm::dvec3 scale{1.0};  // per axis; non-zero
+
+  bool uniform_scale() const { return scale.x == scale.y && scale.y == scale.z; }
+  // The affine map as a 4x4 matrix (column-major, glm).
+  glm::dmat4 matrix() const;
+  friend bool operator==(const TransformDesc&, const TransformDesc&) = default;
 };
 
 // Every shape remembers where it came from in the input (`geometry[i]`), so a problem found
-// after parsing still names the field the user wrote.
+// after parsing still names the field the user wrote. `transform`, when set, places the
+// shape as written (object space -> world space).
 struct SphereDesc {
   glm::dvec3 center{0.0};
   double radius = 1.0;
   std::uint32_t material = 0;
   bool visible = true;  // false: emits light but is not seen by camera rays
   std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const SphereDesc&, const SphereDesc&) = default;
 };
 
 struct QuadDesc {
@@ -69,6 +95,124 @@ struct QuadDesc {
   std::uint32_t material = 0;
   bool visible = true;
   std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const QuadDesc&, const QuadDesc&) = default;
+};
+
+// Infinite plane through `point` perpendicular to `normal`. Never an emitter (it would have
+// infinite power); kept out of the BVH and tested per ray.
+struct PlaneDesc {
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0, 1.0, 0.0};  // non-zero; normalised by the renderer
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const PlaneDesc&, const PlaneDesc&) = default;
+};
+
+// Disk of `radius` around `center`, perpendicular to `normal`; an annulus when
+// inner_radius > 0.
+struct DiskDesc {
+  glm::dvec3 center{0.0};
+  glm::dvec3 normal{0.0, 1.0, 0.0};
+  double radius = 1.0;
+  double inner_radius = 0.0;  // [0, radius)
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const DiskDesc&, const DiskDesc&) = default;
+};
+
+// Finite cylinder from `base` to base + height * axis / |axis|; caps close both ends.
+struct CylinderDesc {
+  glm::dvec3 base{0.0};
+  glm::dvec3 axis{0.0, 1.0, 0.0};
+  double radius = 1.0;
+  double height = 1.0;
+  bool caps = false;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const CylinderDesc&, const CylinderDesc&) = default;
+};
+
+// Finite cone (one nappe): base_radius at `base`, top_radius (0: pointed) at the top.
+struct ConeDesc {
+  glm::dvec3 base{0.0};
+  glm::dvec3 axis{0.0, 1.0, 0.0};
+  double base_radius = 1.0;
+  double top_radius = 0.0;
+  double height = 1.0;
+  bool caps = false;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const ConeDesc&, const ConeDesc&) = default;
+};
+
+// Torus around `axis` through `center`: ring (minor < major), horn (=) or spindle (>).
+struct TorusDesc {
+  glm::dvec3 center{0.0};
+  glm::dvec3 axis{0.0, 1.0, 0.0};
+  double major_radius = 1.0;
+  double minor_radius = 0.25;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const TorusDesc&, const TorusDesc&) = default;
+};
+
+// Signed-distance primitives, drawn by sphere tracing.
+// Axis-aligned box of half extents `half_extent`; rounding > 0 rounds its edges (a rounded
+// box, same outer size). YAML `sdf_box` and `sdf_rounded_box` both map here.
+struct SdfBoxDesc {
+  glm::dvec3 center{0.0};
+  glm::dvec3 half_extent{0.5};
+  double rounding = 0.0;  // [0, smallest half extent]
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const SdfBoxDesc&, const SdfBoxDesc&) = default;
+};
+
+// Ring torus (minor < major) as a distance function.
+struct SdfTorusDesc {
+  glm::dvec3 center{0.0};
+  glm::dvec3 axis{0.0, 1.0, 0.0};
+  double major_radius = 1.0;
+  double minor_radius = 0.25;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const SdfTorusDesc&, const SdfTorusDesc&) = default;
+};
+
+// Points within `radius` of the segment a-b.
+struct SdfCapsuleDesc {
+  glm::dvec3 a{0.0};
+  glm::dvec3 b{0.0, 1.0, 0.0};
+  double radius = 0.25;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const SdfCapsuleDesc&, const SdfCapsuleDesc&) = default;
 };
 
 struct TriangleMeshDesc {
@@ -81,7 +225,15 @@ struct TriangleMeshDesc {
   bool visible = true;
   std::uint32_t source_index = 0;
   std::string source_file;  // mesh file it was loaded from, if any
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const TriangleMeshDesc&, const TriangleMeshDesc&) = default;
 };
+
+// The mesh moved by `transform`: positions mapped, normals by the inverse transpose
+// (renormalised), so shading stays right under non-uniform scale. `transform` of the
+// result is left as the input's.
+TriangleMeshDesc transformed_mesh(const TriangleMeshDesc& mesh, const TransformDesc& transform);
 
 // The program set a job renders with.
 enum class IntegratorKind {
@@ -115,6 +267,8 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   IntegratorKind integrator = IntegratorKind::kPath;
   std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
+
+  friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };
 
 struct SceneDescription {
@@ -124,11 +278,23 @@ struct SceneDescription {
   std::vector<SphereDesc> spheres;
   std::vector<QuadDesc> quads;
   std::vector<TriangleMeshDesc> meshes;
+  std::vector<PlaneDesc> planes;
+  std::vector<DiskDesc> disks;
+  std::vector<CylinderDesc> cylinders;
+  std::vector<ConeDesc> cones;
+  std::vector<TorusDesc> tori;
+  std::vector<SdfBoxDesc> sdf_boxes;
+  std::vector<SdfTorusDesc> sdf_tori;
+  std::vector<SdfCapsuleDesc> sdf_capsules;
   RenderSettings render;
 
   std::size_t triangle_count() const;
+  // Every geometry entry except mesh triangles counted one by one (spheres, quads, ...).
+  std::size_t analytic_shape_count() const;
   // Index of the material called `name`, if any.
   std::optional<std::uint32_t> find_material(const std::string& name) const;
+
+  friend bool operator==(const SceneDescription&, const SceneDescription&) = default;
 };
 
 // Limits that keep one job from exhausting the daemon; they apply to every input path.
@@ -139,6 +305,8 @@ struct SceneLimits {
   std::uint32_t min_tile_size = 8;
   std::uint32_t max_tile_size = 1024;
   std::size_t max_triangles = 50'000'000;
+  // Shapes of one type; the renderer's primitive references hold 27 index bits.
+  std::size_t max_shapes_per_type = (std::size_t{1} << 27) - 1;
 };
 
 // Semantic checks shared by every loader (finite numbers, positive radii, valid material

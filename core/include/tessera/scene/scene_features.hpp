@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "tessera/scene/scene_description.hpp"
@@ -11,8 +12,26 @@ enum ShapeBit : unsigned {
   kShapeSphere = 1u << 0,
   kShapeQuad = 1u << 1,
   kShapeTriangle = 1u << 2,
+  kShapePlane = 1u << 3,
+  kShapeDisk = 1u << 4,
+  kShapeCylinder = 1u << 5,
+  kShapeCone = 1u << 6,
+  kShapeTorus = 1u << 7,
+  kShapeSdf = 1u << 8,       // signed-distance box, rounded box, torus, capsule
+  kShapeInstance = 1u << 9,  // any shape under a transform its own type cannot hold
 };
-inline constexpr unsigned kAllShapes = kShapeSphere | kShapeQuad | kShapeTriangle;
+inline constexpr unsigned kAllShapes = kShapeSphere | kShapeQuad | kShapeTriangle | kShapePlane |
+                                       kShapeDisk | kShapeCylinder | kShapeCone | kShapeTorus |
+                                       kShapeSdf | kShapeInstance;
+
+// True when a curved shape under `transform` stays a shape of its own type (translate,
+// rotate and uniform scale: a similarity), so the renderer bakes the transform into its
+// parameters; otherwise it becomes an Instance (ShapeBit kShapeInstance). Planes, quads and
+// triangles bake under every affine map; signed-distance shapes are instanced whenever
+// they have a transform.
+inline bool transform_bakes_into_shape(const std::optional<TransformDesc>& transform) {
+  return !transform || transform->uniform_scale();
+}
 
 // What a scene contains, so the renderer can leave out what it does not.
 struct SceneFeatures {
