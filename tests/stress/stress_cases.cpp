@@ -1018,6 +1018,7 @@ std::vector<Row> all_rows() {
   add("mesh: grid", "shared edges/vertices", watertight_row(2, 0.0), 20000);
   add("mesh: bipyramid", "@1e5 shared edges", watertight_row(1, 1e5), 20000);
   add("mesh: fan 4-1024", "@1e5 shared edges", watertight_row(0, 1e5), 20000);
+  add_patch_rows(rows, bounds_for);
   return rows;
 }
 

@@ -35,6 +35,11 @@ struct Row {
 
 std::vector<Row> all_rows();
 
+// The rows of B-spline/NURBS patches and trimmed faces (patch_cases.cpp), with their
+// bounds looked up by (surface, family).
+void add_patch_rows(std::vector<Row>& rows,
+                    const std::function<Bounds(const std::string&, const std::string&)>& bounds);
+
 bool passes(const Row& row, const RowResult& result);
 std::string table_header();
 std::string table_line(const Row& row, const RowResult& result);

@@ -215,12 +215,58 @@ TESSERA_HD TESSERA_INLINE double local_distance(const RationalBezierPatch& piece
   return glm::min(distance, glm::length(evaluate(piece, s, t, query).position));
 }
 
+// Whether the projected cell can hold at most one root: the gradients of the two plane
+// distances (homogeneous form; at a root the gradient of w f is w times that of f) lie in
+// boxes bounded by the control-point differences, and when their 2x2 determinant keeps one
+// sign over every pair of gradients the map is one-to-one on the (convex) cell. For p != q,
+// F(q) - F(p) = (g1 . (q - p), g2 . (q - p)) with g1, g2 mean gradients inside those boxes,
+// which vanishes only if g1 and g2 are parallel, i.e. their determinant is 0. (After the
+// transversality test of Elber and Kim 2001 for two equations in two unknowns.)
+TESSERA_HD TESSERA_INLINE bool single_root_cell(const ProjectedCell& cell) {
+  double lo[2][2], hi[2][2];  // [function][s or t]
+  for (int f = 0; f < 2; ++f) {
+    lo[f][0] = lo[f][1] = kInfinity;
+    hi[f][0] = hi[f][1] = -kInfinity;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        if (i < 3) {
+          const double d = cell.c[i + 1][j][f] - cell.c[i][j][f];
+          lo[f][0] = glm::min(lo[f][0], d);
+          hi[f][0] = glm::max(hi[f][0], d);
+        }
+        if (j < 3) {
+          const double d = cell.c[i][j + 1][f] - cell.c[i][j][f];
+          lo[f][1] = glm::min(lo[f][1], d);
+          hi[f][1] = glm::max(hi[f][1], d);
+        }
+      }
+    }
+  }
+  const auto product = [](double a_lo, double a_hi, double b_lo, double b_hi, double& p_lo,
+                          double& p_hi) {
+    const double p[4] = {a_lo * b_lo, a_lo * b_hi, a_hi * b_lo, a_hi * b_hi};
+    p_lo = glm::min(glm::min(p[0], p[1]), glm::min(p[2], p[3]));
+    p_hi = glm::max(glm::max(p[0], p[1]), glm::max(p[2], p[3]));
+  };
+  double a_lo, a_hi, b_lo, b_hi;
+  product(lo[0][0], hi[0][0], lo[1][1], hi[1][1], a_lo, a_hi);  // df1/ds * df2/dt
+  product(lo[0][1], hi[0][1], lo[1][0], hi[1][0], b_lo, b_hi);  // df1/dt * df2/ds
+  const double det_lo = a_lo - b_hi, det_hi = a_hi - b_lo;
+  const double slack = 1e-12 * (glm::max(std::fabs(a_lo), std::fabs(a_hi)) +
+                                glm::max(std::fabs(b_lo), std::fabs(b_hi)));
+  return det_lo > slack || det_hi < -slack;
+}
+
 // Roots of one piece, found by subdividing the projected piece with an explicit stack
-// while its box holds the 2D origin, down to the flatness levels of the piece, then by
-// Newton from the centre of each surviving cell (Martin et al. 2000). A root is accepted
-// wherever in the piece Newton converges; roots found twice are merged by PatchRoots::add.
+// while its box holds the 2D origin (Martin et al. 2000), then by Newton's method from the
+// centre of a cell that is flat (the piece's flatness levels) and provably holds at most
+// one root (single_root_cell). A cell whose Newton iteration does not converge inside it is
+// subdivided further, down to kMaxPatchDepth halvings, so two roots close together are
+// separated rather than merged, and a root is not lost to a Newton step that left its cell.
+// Newton roots anywhere in the piece are kept (PatchRoots::add merges the duplicates).
 // `closest` narrows t_hi to the nearest root found so far.
-inline constexpr int kPatchStackSize = 2 * kMaxPatchLevels + 2;
+inline constexpr std::uint32_t kMaxPatchDepth = 16;
+inline constexpr int kPatchStackSize = static_cast<int>(kMaxPatchDepth) + 2;
 
 TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
                                            const SplinePatch& patch, RayPlanes& ray, bool closest,
@@ -246,32 +292,45 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
   while (top > 0) {
     const ProjectedCell cell = stack[--top];
     if (!cell_may_hit(cell, ray.t_lo, ray.t_hi)) continue;
-    const bool split_u = cell.level_u < piece.levels_u;
-    const bool split_v = cell.level_v < piece.levels_v;
-    if ((split_u || split_v) && top + 2 <= kPatchStackSize) {
-      const bool along_u = split_u && (!split_v || cell.level_u <= cell.level_v);
+    const bool at_depth_limit = cell.level_u + cell.level_v >= kMaxPatchDepth;
+    const bool flat = cell.level_u >= piece.levels_u && cell.level_v >= piece.levels_v;
+    bool subdivide = !at_depth_limit && (!flat || !single_root_cell(cell));
+    if (!subdivide) {
+      double s = 0.5 * (cell.s0 + cell.s1), t = 0.5 * (cell.t0 + cell.t1);
+      dvec3 point;
+      if (newton_root(piece, ray, patch.size, s, t, point)) {
+        const double margin = 1e-9;
+        const bool in_cell = s >= cell.s0 - margin && s <= cell.s1 + margin &&
+                             t >= cell.t0 - margin && t <= cell.t1 + margin;
+        const double root_t = glm::dot(ray.direction, point) * ray.inverse_dd;
+        // A ray that starts on the patch finds it again near its origin (see
+        // is_start_surface_root): dropped when the origin and the midpoint to the root
+        // are both within the origin's uncertainty of the surface.
+        const bool start_surface =
+            local_distance(piece, ray.origin, s, t) <= band &&
+            local_distance(piece, ray.origin + (0.5 * root_t) * ray.direction, s, t) <= band;
+        if (root_t >= ray.t_lo && root_t <= ray.t_hi && !start_surface) {
+          const double u = piece.u0 + s * (piece.u1 - piece.u0);
+          const double v = piece.v0 + t * (piece.v1 - piece.v0);
+          const double t_tolerance = 1e-10 * (std::fabs(root_t) + patch.size / direction_length);
+          if (roots.add(root_t, u, v, t_tolerance, 1e-7 * (patch.u1 - patch.u0),
+                        1e-7 * (patch.v1 - patch.v0)) &&
+              closest)
+            ray.t_hi = root_t;
+        }
+        if (in_cell) continue;
+      }
+      subdivide = !at_depth_limit;
+    }
+    if (subdivide && top + 2 <= kPatchStackSize) {
+      const bool split_u = cell.level_u < piece.levels_u;
+      const bool split_v = cell.level_v < piece.levels_v;
+      const bool along_u = (split_u || split_v) ? split_u && (!split_v || cell.level_u <= cell.level_v)
+                                                : cell.level_u - piece.levels_u <=
+                                                      cell.level_v - piece.levels_v;
       split_cell(cell, along_u, stack[top + 1], stack[top]);
       top += 2;
-      continue;
     }
-    double s = 0.5 * (cell.s0 + cell.s1), t = 0.5 * (cell.t0 + cell.t1);
-    dvec3 point;
-    if (!newton_root(piece, ray, patch.size, s, t, point)) continue;
-    const double root_t = glm::dot(ray.direction, point) * ray.inverse_dd;
-    if (!(root_t >= ray.t_lo && root_t <= ray.t_hi)) continue;
-    // A ray that starts on the patch finds it again near its origin (see
-    // is_start_surface_root): dropped when the origin and the midpoint to the root are
-    // both within the origin's uncertainty of the surface.
-    if (local_distance(piece, ray.origin, s, t) <= band &&
-        local_distance(piece, ray.origin + (0.5 * root_t) * ray.direction, s, t) <= band)
-      continue;
-    const double u = piece.u0 + s * (piece.u1 - piece.u0);
-    const double v = piece.v0 + t * (piece.v1 - piece.v0);
-    const double t_tolerance = 1e-10 * (std::fabs(root_t) + patch.size / direction_length);
-    if (roots.add(root_t, u, v, t_tolerance, 1e-7 * (patch.u1 - patch.u0),
-                  1e-7 * (patch.v1 - patch.v0)) &&
-        closest)
-      ray.t_hi = root_t;
   }
 }
 
