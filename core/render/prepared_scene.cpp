@@ -149,15 +149,37 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
           Quad::make(at.point(q.corner), at.vector(q.u), at.vector(q.v), q.material), q.visible,
           q.material);
   }
+  // Shading attributes are stored only when some mesh has normals or uvs; the others then
+  // get zero normals (shade flat) and the uvs that reproduce barycentric uvs.
+  const bool attributes =
+      std::any_of(description.meshes.begin(), description.meshes.end(),
+                  [](const TriangleMeshDesc& m) { return !m.normals.empty() || !m.uvs.empty(); });
   for (const auto& source : description.meshes) {
     const TriangleMeshDesc mesh =
         source.transform ? transformed_mesh(source, *source.transform) : TriangleMeshDesc{};
     const TriangleMeshDesc& placed = source.transform ? mesh : source;
+    const bool normals = placed.normals.size() == placed.positions.size();
+    const bool uvs = placed.uvs.size() == placed.positions.size();
     for (std::size_t i = 0; i + 2 < placed.indices.size(); i += 3) {
-      const Triangle tri{to_float(placed.positions[placed.indices[i]]),
-                         to_float(placed.positions[placed.indices[i + 1]]),
-                         to_float(placed.positions[placed.indices[i + 2]]), placed.material};
+      const std::uint32_t a = placed.indices[i], b = placed.indices[i + 1],
+                          c = placed.indices[i + 2];
+      const Triangle tri{to_float(placed.positions[a]), to_float(placed.positions[b]),
+                         to_float(placed.positions[c]), placed.material};
       place(scene->triangles_, PrimitiveType::kTriangle, tri, placed.visible, placed.material);
+      if (!attributes) continue;
+      TriangleAttributes shading{vec3(0.0f), vec3(0.0f),       vec3(0.0f),
+                                 vec2(0.0f), vec2(1.0f, 0.0f), vec2(0.0f, 1.0f)};
+      if (normals) {
+        shading.n0 = to_float(placed.normals[a]);
+        shading.n1 = to_float(placed.normals[b]);
+        shading.n2 = to_float(placed.normals[c]);
+      }
+      if (uvs) {
+        shading.uv0 = vec2(placed.uvs[a]);
+        shading.uv1 = vec2(placed.uvs[b]);
+        shading.uv2 = vec2(placed.uvs[c]);
+      }
+      scene->triangle_attributes_.push_back(shading);
     }
   }
   for (const auto& p : description.planes) {
@@ -306,6 +328,7 @@ SceneView PreparedScene::view() const {
   v.spheres = spheres_.data();
   v.quads = quads_.data();
   v.triangles = triangles_.data();
+  v.triangle_attributes = triangle_attributes_.empty() ? nullptr : triangle_attributes_.data();
   v.planes = planes_.data();
   v.plane_count = static_cast<std::uint32_t>(planes_.size());
   v.disks = disks_.data();

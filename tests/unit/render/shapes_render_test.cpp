@@ -284,6 +284,54 @@ TEST(ShapesRender, TransformedMeshEqualsTheMeshPlacedByHand) {
   EXPECT_GT(covered, 50);
 }
 
+// Per-vertex normals shade meshes (normals integrator): each pixel shows the normal
+// interpolated at its hit, here of a mesh scaled non-uniformly, whose normals must have
+// followed the inverse transpose. The reference interpolates in double from the hit point.
+TEST(ShapesRender, MeshNormalsAreInterpolatedAfterTheirTransform) {
+  SceneDescription scene = base_scene(IntegratorKind::kNormals);
+  scene.camera.position = {0, 0, 4};
+  scene.camera.look_at = {0, 0, 0};
+  TriangleMeshDesc mesh;
+  mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2};
+  mesh.normals = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.transform = TransformDesc{{0, 0, 0}, {0, 0, 1}, 0.0, {1.5, 0.8, 1.0}};
+  scene.meshes.push_back(mesh);
+  const auto image = render_image(*PreparedScene::build(scene));
+  const glm::dvec3 scale(1.5, 0.8, 1.0);
+  glm::dvec3 p[3], n[3];
+  for (int k = 0; k < 3; ++k) {
+    p[k] = mesh.positions[k] * scale;
+    n[k] = glm::normalize(mesh.normals[k] / scale);  // inverse transpose of a diagonal map
+  }
+  int checked = 0;
+  for (std::uint32_t y = 0; y < kHeight; ++y)
+    for (std::uint32_t x = 0; x < kWidth; ++x) {
+      const Ray ray = camera_ray(scene, x, y);
+      const glm::dvec3 o(ray.origin), d(ray.direction);
+      const glm::dvec3 q = o + (-o.z / d.z) * d;
+      // Barycentrics of q in the (planar, z = 0) triangle.
+      const double area =
+          (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
+      const double b1 =
+          ((q.x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (q.y - p[0].y)) / area;
+      const double b2 =
+          ((p[1].x - p[0].x) * (q.y - p[0].y) - (q.x - p[0].x) * (p[1].y - p[0].y)) / area;
+      const double b0 = 1.0 - b1 - b2;
+      const float* pixel = &image[(y * kWidth + x) * 4];
+      if (std::min(b0, std::min(b1, b2)) < -1e-3) {
+        EXPECT_EQ(pixel[0] + pixel[1] + pixel[2], 0.0f) << x << ", " << y;
+        continue;
+      }
+      if (std::min(b0, std::min(b1, b2)) < 1e-3) continue;  // on an edge
+      const glm::dvec3 expected = glm::normalize(b0 * n[0] + b1 * n[1] + b2 * n[2]);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(pixel[k], 0.5 * expected[k] + 0.5, 1e-4);
+      ++checked;
+    }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(ShapesRender, SceneWithEveryShapeUsesTheAllVariant) {
   SceneDescription scene = base_scene(IntegratorKind::kPath);
   scene.planes.push_back(PlaneDesc{{0, -1, 0}, {0, 1, 0}, 0, true, 0});

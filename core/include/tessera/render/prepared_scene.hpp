@@ -59,7 +59,8 @@ class PreparedScene {
   std::vector<Sphere> spheres_;
   std::vector<Quad> quads_;
   std::vector<Triangle> triangles_;
-  std::vector<Plane> planes_;  // visible planes only, outside the BVH
+  std::vector<TriangleAttributes> triangle_attributes_;  // empty unless a mesh has normals/uvs
+  std::vector<Plane> planes_;                            // visible planes only, outside the BVH
   std::vector<Disk> disks_;
   std::vector<Cylinder> cylinders_;
   std::vector<Cone> cones_;

@@ -13,6 +13,7 @@
 #include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
+#include "tessera/geometry/triangle_attributes.hpp"
 #include "tessera/render/camera.hpp"
 #include "tessera/render/material.hpp"
 #include "tessera/scene/scene_features.hpp"
@@ -87,6 +88,9 @@ struct SceneShapes {
   const Sphere* spheres = nullptr;
   const Quad* quads = nullptr;
   const Triangle* triangles = nullptr;
+  // Per-vertex normals and uvs, indexed like `triangles`; null when no mesh has any (then
+  // triangles shade flat, with barycentric uvs).
+  const TriangleAttributes* triangle_attributes = nullptr;
   const Plane* planes = nullptr;
   std::uint32_t plane_count = 0;
   const Disk* disks = nullptr;
@@ -254,6 +258,13 @@ struct SceneIntersection {
 template <unsigned kShapes>
 TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray,
                                          const HitRecord& hit) {
+  if constexpr ((kShapes & kShapeTriangle) != 0) {
+    if (scene.triangle_attributes != nullptr &&
+        primitive_type(hit.primitive) == PrimitiveType::kTriangle) {
+      const std::uint32_t i = primitive_index(hit.primitive);
+      return surface_at(scene.triangles[i], scene.triangle_attributes[i], ray, hit);
+    }
+  }
   return scene_detail::dispatch<kShapes>(
       scene, hit.primitive, SurfaceInteraction{},
       [&](const auto& shape) { return surface_at(shape, ray, hit); });
