@@ -20,9 +20,11 @@
 #include "tessera/geometry/quad.hpp"
 #include "tessera/geometry/sphere.hpp"
 #include "tessera/geometry/sphere_tracing.hpp"
+#include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 #include "tessera/geometry/triangle_precise.hpp"
+#include "tessera/geometry/trimmed_face_build.hpp"
 #include "tessera/math/solver_bracketed.hpp"
 #include "tessera/math/solver_quartic.hpp"
 
@@ -163,6 +165,95 @@ void register_intersectors() {
   });
 }
 
+// Patches and trimmed faces. The pools live as long as the program (the benchmarks hold
+// plain pointers into them, as the renderer will).
+SplinePatchDescription wavy_patch_description() {
+  SplinePatchDescription d;
+  d.count_u = d.count_v = 6;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      d.control_points.push_back(
+          dvec3((i - 2.5) * 0.4, (j - 2.5) * 0.4, 0.3 * std::sin(1.7 * i + 2.3 * j)));
+  for (int i = 0; i < 10; ++i) {
+    d.knots_u.push_back(i);
+    d.knots_v.push_back(i);
+  }
+  return d;
+}
+
+SplinePatchDescription sphere_octant_description() {
+  const double w = std::sqrt(0.5);
+  // Degree-elevated rational quarter circles (weights 1, 1/sqrt 2, 1).
+  const glm::dvec4 h[3] = {glm::dvec4(1, 0, 0, 1), glm::dvec4(w, 0, w, w), glm::dvec4(0, 0, 1, 1)};
+  const glm::dvec4 profile[4] = {h[0], (h[0] + 2.0 * h[1]) / 3.0, (2.0 * h[1] + h[2]) / 3.0, h[2]};
+  const glm::dvec4 t[3] = {glm::dvec4(1, 0, 0, 1), glm::dvec4(w, w, 0, w), glm::dvec4(0, 1, 0, 1)};
+  const glm::dvec4 turn[4] = {t[0], (t[0] + 2.0 * t[1]) / 3.0, (2.0 * t[1] + t[2]) / 3.0, t[2]};
+  SplinePatchDescription d;
+  d.count_u = d.count_v = 4;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const dvec3 p = dvec3(profile[i]) / profile[i].w, r = dvec3(turn[j]) / turn[j].w;
+      d.control_points.push_back(dvec3(p.x * r.x, p.x * r.y, p.z));
+      d.weights.push_back(profile[i].w * turn[j].w);
+    }
+  d.knots_u = d.knots_v = {0, 0, 0, 0, 1, 1, 1, 1};
+  return d;
+}
+
+void register_patches() {
+  static SplinePatchPool pool;
+  static TrimPool trims;
+  pool.pieces.reserve(16);  // no reallocation: the patches point into it
+  SplinePatch wavy{}, octant{};
+  build_spline_patch(wavy_patch_description(), pool, wavy);
+  build_spline_patch(sphere_octant_description(), pool, octant);
+  bind_pieces(wavy, pool.pieces.data());
+  bind_pieces(octant, pool.pieces.data());
+  register_shape("bspline patch (6x6, 9 pieces)", dvec3(0.0), 1.5, closest_hit(wavy));
+  register_shape("nurbs patch (sphere octant)", dvec3(0.5), 1.0, closest_hit(octant));
+  register_shape("bspline patch intersect_all", dvec3(0.0), 1.5,
+                 [wavy](const Ray& ray, HitRecord& hit) {
+                   HitRecord hits[16];
+                   const int n = intersect_all(wavy, ray, kInfinity, hits, 16, 0u);
+                   if (n > 0) hit = hits[0];
+                   return n > 0;
+                 });
+  trims.points.reserve(64);
+  trims.loops.reserve(8);
+  Trimmed<SplinePatch> trimmed_patch{};
+  build_trimmed_face(
+      wavy,
+      {{{3.0, 3.0}, {6.0, 3.0}, {6.0, 6.0}, {4.7, 6.0}, {4.5, 4.4}, {4.2, 6.0}, {3.0, 6.0}},
+       {{3.5, 3.5}, {4.1, 3.6}, {3.8, 4.2}}},
+      trims, trimmed_patch);
+  Trimmed<Sphere> trimmed_sphere{};
+  build_trimmed_face(Sphere{vec3(0.0f), 1.0f, 0},
+                     {{{0, 0.2}, {0.5, 0.2}, {1, 0.2}, {1, 0.8}, {0.5, 0.8}, {0, 0.8}},
+                      {{0.93, 0.35}, {0.07, 0.4}, {0.05, 0.65}, {0.9, 0.6}}},
+                     trims, trimmed_sphere);
+  bind_trim_region(trimmed_patch.region, trims);
+  bind_trim_region(trimmed_sphere.region, trims);
+  register_shape("trimmed face (bspline patch, hole)", dvec3(0.0), 1.5, closest_hit(trimmed_patch));
+  register_shape("trimmed face (sphere, seam hole)", dvec3(0.0), 1.0, closest_hit(trimmed_sphere));
+  // The trim test alone: uv points spread over the patch domain, inside and outside.
+  const auto points = std::make_shared<std::vector<dvec2>>();
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(2.9, 6.1);
+  for (int k = 0; k < kRays; ++k) points->push_back(dvec2(u(rng), u(rng)));
+  const TrimRegion region = trimmed_patch.region;
+  benchmark::RegisterBenchmark("trim test alone (7 + 3 point loops)",
+                               [points, region](benchmark::State& state) {
+                                 std::size_t i = 0;
+                                 int inside = 0;
+                                 for (auto _ : state) {
+                                   inside += face_contains(region, (*points)[i]) ? 1 : 0;
+                                   i = (i + 1) % points->size();
+                                 }
+                                 benchmark::DoNotOptimize(inside);
+                                 state.SetItemsProcessed(state.iterations());
+                               });
+}
+
 // The quartic solvers on random quartics with four real roots in [-1, 1].
 std::vector<Polynomial<4, double>> random_quartics(int count, bool four_real) {
   std::mt19937_64 rng(42);
@@ -214,6 +305,7 @@ void register_solvers() {
 
 int main(int argc, char** argv) {
   register_intersectors();
+  register_patches();
   register_solvers();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

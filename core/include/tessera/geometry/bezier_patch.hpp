@@ -84,7 +84,7 @@ inline constexpr std::uint32_t kMaxPatchLevels = 8;
 
 TESSERA_HD TESSERA_INLINE std::uint32_t levels_for(double second_difference, double extent) {
   if (!(extent > 0.0) || !(second_difference > 0.0)) return 0;
-  const double ratio = 15.0 * second_difference / extent;
+  const double ratio = 3.75 * second_difference / extent;
   std::uint32_t k = 0;
   double reach = 1.0;
   while (reach < ratio && k < kMaxPatchLevels) {

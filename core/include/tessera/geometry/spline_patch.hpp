@@ -289,6 +289,13 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
   root.level_u = root.level_v = 0;
   const double direction_length = std::sqrt(1.0 / ray.inverse_dd);
   const double band = ray.origin_error + 1e-13 * (patch.size + max_abs(piece.point[0][0]));
+  // The start-surface test below costs a dozen surface evaluations per root; it can only
+  // succeed when the origin is within the band of the piece, hence of its control box (the
+  // piece lies in the hull of its control points).
+  dvec3 box_lower, box_upper;
+  control_box(piece, box_lower, box_upper);
+  const dvec3 outside = glm::max(box_lower - ray.origin, ray.origin - box_upper);
+  const bool origin_near_piece = glm::length(glm::max(outside, dvec3(0.0))) <= band;
   while (top > 0) {
     const ProjectedCell cell = stack[--top];
     if (!cell_may_hit(cell, ray.t_lo, ray.t_hi)) continue;
@@ -307,7 +314,7 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
         // is_start_surface_root): dropped when the origin and the midpoint to the root
         // are both within the origin's uncertainty of the surface.
         const bool start_surface =
-            local_distance(piece, ray.origin, s, t) <= band &&
+            origin_near_piece && local_distance(piece, ray.origin, s, t) <= band &&
             local_distance(piece, ray.origin + (0.5 * root_t) * ray.direction, s, t) <= band;
         if (root_t >= ray.t_lo && root_t <= ray.t_hi && !start_surface) {
           const double u = piece.u0 + s * (piece.u1 - piece.u0);
@@ -325,9 +332,9 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
     if (subdivide && top + 2 <= kPatchStackSize) {
       const bool split_u = cell.level_u < piece.levels_u;
       const bool split_v = cell.level_v < piece.levels_v;
-      const bool along_u = (split_u || split_v) ? split_u && (!split_v || cell.level_u <= cell.level_v)
-                                                : cell.level_u - piece.levels_u <=
-                                                      cell.level_v - piece.levels_v;
+      const bool along_u = (split_u || split_v)
+                               ? split_u && (!split_v || cell.level_u <= cell.level_v)
+                               : cell.level_u - piece.levels_u <= cell.level_v - piece.levels_v;
       split_cell(cell, along_u, stack[top + 1], stack[top]);
       top += 2;
     }
