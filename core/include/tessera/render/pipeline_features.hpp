@@ -26,7 +26,9 @@ inline constexpr PipelineFeatures kAllFeatures{};
 
 // Shape classes compiled, smallest first: a scene gets the first one covering its shapes.
 // Classes rather than every subset keep the variant count (and build time) flat as shape
-// types are added.
+// types are added: "all" holds every ShapeBit (planes, disks, cylinders, cones, tori,
+// signed-distance shapes and instances too), so a new shape type adds code to the "all"
+// variants only, not new variants.
 inline constexpr unsigned kShapeClasses[] = {kShapeTriangle, kShapeSphere | kShapeQuad, kAllShapes};
 
 }  // namespace tessera
