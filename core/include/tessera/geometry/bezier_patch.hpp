@@ -22,6 +22,8 @@ struct RationalBezierPatch {
   // Halvings in each direction after which a sub-patch is flat enough that Newton started
   // from its centre converges to the one root it may hold (see flatness_levels).
   std::uint32_t levels_u, levels_v;
+  // Box of the control points (holds the piece: the convex hull property, weights > 0).
+  dvec3 lower, upper;
 };
 
 // Cubic Bernstein basis and its derivative at x.

@@ -196,6 +196,61 @@ TESSERA_HD TESSERA_INLINE bool newton_root(const RationalBezierPatch& piece, con
   return false;
 }
 
+// The same Newton iteration on the piece's projection onto the ray's planes (the
+// homogeneous (distance 1, distance 2, t, 1) * w control values of ProjectedCell): three
+// bicubic scalars instead of the 3D point, about half the work per step. Returns the root's
+// t along the ray.
+TESSERA_HD TESSERA_INLINE bool newton_projected(const double (&c)[4][4][4], double scale,
+                                                double direction_length, double& s, double& t,
+                                                double& root_t) {
+  for (int iteration = 0; iteration < 32; ++iteration) {
+    double bs[4], dbs[4], bt[4], dbt[4];
+    bernstein3(s, bs, dbs);
+    bernstein3(t, bt, dbt);
+    double v[4] = {0, 0, 0, 0}, vs[4] = {0, 0, 0, 0}, vt[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        const double b = bs[i] * bt[j], b_s = dbs[i] * bt[j], b_t = bs[i] * dbt[j];
+        for (int k = 0; k < 4; ++k) {
+          v[k] += b * c[i][j][k];
+          vs[k] += b_s * c[i][j][k];
+          vt[k] += b_t * c[i][j][k];
+        }
+      }
+    }
+    const double inverse_w = 1.0 / v[3];
+    const double f1 = v[0] * inverse_w, f2 = v[1] * inverse_w;
+    root_t = v[2] * inverse_w;
+    const double j11 = (vs[0] - f1 * vs[3]) * inverse_w, j12 = (vt[0] - f1 * vt[3]) * inverse_w;
+    const double j21 = (vs[1] - f2 * vs[3]) * inverse_w, j22 = (vt[1] - f2 * vt[3]) * inverse_w;
+    const double det = j11 * j22 - j12 * j21;
+    // Converged: both distances at the rounding level of the point's coordinates relative
+    // to the ray origin (|t| |d| along the ray).
+    const double tolerance = 1e-13 * scale + 4e-16 * std::fabs(root_t) * direction_length;
+    const bool small = std::fabs(f1) <= tolerance && std::fabs(f2) <= tolerance;
+    const bool inside = s >= -1e-9 && s <= 1.0 + 1e-9 && t >= -1e-9 && t <= 1.0 + 1e-9;
+    const bool singular = !(det != 0.0) || !std::isfinite(det);
+    double ds = singular ? 0.0 : (-f1 * j22 + f2 * j12) / det;
+    double dt = singular ? 0.0 : (-j11 * f2 + j21 * f1) / det;
+    if (small && (singular || std::fabs(ds) + std::fabs(dt) < 1e-9 || iteration == 31)) {
+      if (!inside) return false;
+      s = glm::clamp(s, 0.0, 1.0);
+      t = glm::clamp(t, 0.0, 1.0);
+      return true;
+    }
+    if (singular) return false;
+    const double step = glm::max(std::fabs(ds), std::fabs(dt));
+    if (step > 0.5) {
+      ds *= 0.5 / step;
+      dt *= 0.5 / step;
+    }
+    s += ds;
+    t += dt;
+    if (!(s > -0.5 && s < 1.5 && t > -0.5 && t < 1.5)) return false;
+  }
+  return false;
+}
+
 // Distance from `query` to the surface near the local parameters (s, t): a few Gauss-Newton
 // steps of the foot point, clamped to the piece. It can only overestimate the distance to
 // the whole surface, which is the safe side for its one use (start-surface roots).
@@ -268,9 +323,37 @@ TESSERA_HD TESSERA_INLINE bool single_root_cell(const ProjectedCell& cell) {
 inline constexpr std::uint32_t kMaxPatchDepth = 16;
 inline constexpr int kPatchStackSize = static_cast<int>(kMaxPatchDepth) + 2;
 
+// Whether the ray meets the piece's control box within [t_lo, t_hi] (slab test in double,
+// widened by a relative 1e-9 so rounding never drops a box the ray grazes).
+TESSERA_HD TESSERA_INLINE bool ray_meets_box(const RayPlanes& ray, const dvec3& lower,
+                                             const dvec3& upper) {
+  double t0 = ray.t_lo, t1 = ray.t_hi;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double pad = 1e-9 * (upper[axis] - lower[axis]) +
+                       1e-15 * (std::fabs(lower[axis]) + std::fabs(upper[axis]));
+    const double lo = lower[axis] - pad - ray.origin[axis];
+    const double hi = upper[axis] + pad - ray.origin[axis];
+    const double d = ray.direction[axis];
+    if (d == 0.0) {
+      if (lo > 0.0 || hi < 0.0) return false;
+      continue;
+    }
+    double a = lo / d, b = hi / d;
+    if (a > b) {
+      const double swap = a;
+      a = b;
+      b = swap;
+    }
+    t0 = glm::max(t0, a);
+    t1 = glm::min(t1, b);
+  }
+  return t0 <= t1 * (1.0 + 1e-12) + 1e-300;
+}
+
 TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
                                            const SplinePatch& patch, RayPlanes& ray, bool closest,
                                            PatchRoots& roots) {
+  if (!ray_meets_box(ray, piece.lower, piece.upper)) return;
   ProjectedCell stack[kPatchStackSize];
   int top = 0;
   ProjectedCell& root = stack[top++];
@@ -287,14 +370,18 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
   root.s0 = root.t0 = 0.0;
   root.s1 = root.t1 = 1.0;
   root.level_u = root.level_v = 0;
+  // Newton runs on the whole piece's projection (not the cell's), so a root is reported
+  // with the piece's parameters wherever the iteration ends.
+  double projected[4][4][4];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) projected[i][j][k] = root.c[i][j][k];
   const double direction_length = std::sqrt(1.0 / ray.inverse_dd);
   const double band = ray.origin_error + 1e-13 * (patch.size + max_abs(piece.point[0][0]));
   // The start-surface test below costs a dozen surface evaluations per root; it can only
   // succeed when the origin is within the band of the piece, hence of its control box (the
   // piece lies in the hull of its control points).
-  dvec3 box_lower, box_upper;
-  control_box(piece, box_lower, box_upper);
-  const dvec3 outside = glm::max(box_lower - ray.origin, ray.origin - box_upper);
+  const dvec3 outside = glm::max(piece.lower - ray.origin, ray.origin - piece.upper);
   const bool origin_near_piece = glm::length(glm::max(outside, dvec3(0.0))) <= band;
   while (top > 0) {
     const ProjectedCell cell = stack[--top];
@@ -304,12 +391,11 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
     bool subdivide = !at_depth_limit && (!flat || !single_root_cell(cell));
     if (!subdivide) {
       double s = 0.5 * (cell.s0 + cell.s1), t = 0.5 * (cell.t0 + cell.t1);
-      dvec3 point;
-      if (newton_root(piece, ray, patch.size, s, t, point)) {
+      double root_t;
+      if (newton_projected(projected, patch.size, direction_length, s, t, root_t)) {
         const double margin = 1e-9;
         const bool in_cell = s >= cell.s0 - margin && s <= cell.s1 + margin &&
                              t >= cell.t0 - margin && t <= cell.t1 + margin;
-        const double root_t = glm::dot(ray.direction, point) * ray.inverse_dd;
         // A ray that starts on the patch finds it again near its origin (see
         // is_start_surface_root): dropped when the origin and the midpoint to the root
         // are both within the origin's uncertainty of the surface.

@@ -184,6 +184,7 @@ inline std::string build_spline_patch(const SplinePatchDescription& description,
       piece.v0 = kv[b];
       piece.v1 = kv[b + 1];
       flatness_levels(piece);
+      control_box(piece, piece.lower, piece.upper);
       pool.pieces.push_back(piece);
     }
   }
