@@ -21,11 +21,16 @@ struct Cone {
   float height;
   std::uint32_t capped;
   std::uint32_t material;
+  // AxisFrame::from_axis(axis), computed once by make (see Cylinder::frame).
+  AxisFrame frame;
 
   static Cone make(const vec3& base, const vec3& axis, float base_radius, float top_radius,
                    float height, bool capped, std::uint32_t material) {
-    return Cone{base,   glm::normalize(axis), base_radius, top_radius,
-                height, capped ? 1u : 0u,     material};
+    const vec3 unit = glm::normalize(axis);
+    return Cone{base,        unit,
+                base_radius, top_radius,
+                height,      capped ? 1u : 0u,
+                material,    AxisFrame::from_axis(unit)};
   }
 };
 
@@ -41,7 +46,7 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Cone& c) {
 namespace detail {
 TESSERA_HD TESSERA_INLINE HitCandidates<4> cone_candidates(const Cone& c, const PreciseRay& ray) {
   HitCandidates<4> out;
-  const LocalRay local = to_local_ray(ray, c.base, AxisFrame::from_axis(c.axis));
+  const LocalRay local = to_local_ray(ray, c.base, c.frame);
   const double dd = glm::dot(local.direction, local.direction);
   const double r0 = c.base_radius, r1 = c.top_radius, h = c.height;
   if (!(dd > 0.0) || !(h > 0.0)) return out;
@@ -81,7 +86,7 @@ TESSERA_HD TESSERA_INLINE int intersect_all(const Cone& c, const Ray& ray, float
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cone& c, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
-  const AxisFrame frame = AxisFrame::from_axis(c.axis);
+  const AxisFrame frame = c.frame;
   const LocalRay local = to_local_ray(ray, c.base, frame);
   const std::uint32_t part = static_cast<std::uint32_t>(hit.v);
   const double t = detail::cone_candidates(c, ray).nearest(hit.t, part);

@@ -20,10 +20,15 @@ struct Cylinder {
   float height;
   std::uint32_t capped;  // 0 or 1 (an integer keeps the struct plain for device copies)
   std::uint32_t material;
+  // AxisFrame::from_axis(axis), computed once by make instead of on every intersection.
+  // Build cylinders through make (or refresh the frame after changing the axis).
+  AxisFrame frame;
 
   static Cylinder make(const vec3& base, const vec3& axis, float radius, float height, bool capped,
                        std::uint32_t material) {
-    return Cylinder{base, glm::normalize(axis), radius, height, capped ? 1u : 0u, material};
+    const vec3 unit = glm::normalize(axis);
+    return Cylinder{
+        base, unit, radius, height, capped ? 1u : 0u, material, AxisFrame::from_axis(unit)};
   }
 };
 
@@ -106,7 +111,7 @@ TESSERA_HD void cap_root(const LocalRay& ray, double z_cap, double cap_radius, s
 TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c,
                                                                const PreciseRay& ray) {
   HitCandidates<4> out;
-  const LocalRay local = to_local_ray(ray, c.base, AxisFrame::from_axis(c.axis));
+  const LocalRay local = to_local_ray(ray, c.base, c.frame);
   const double band = ray.origin_error + 1e-15 * (c.radius + c.height);
   const double a = local.direction.x * local.direction.x + local.direction.y * local.direction.y;
   if (a > 0.0) {
@@ -146,7 +151,7 @@ TESSERA_HD TESSERA_INLINE int intersect_all(const Cylinder& c, const Ray& ray, f
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Cylinder& c, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
-  const AxisFrame frame = AxisFrame::from_axis(c.axis);
+  const AxisFrame frame = c.frame;
   const LocalRay local = to_local_ray(ray, c.base, frame);
   const std::uint32_t part = static_cast<std::uint32_t>(hit.v);
   const double t = detail::cylinder_candidates(c, ray).nearest(hit.t, part);
