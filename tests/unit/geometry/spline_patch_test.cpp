@@ -367,10 +367,60 @@ TEST(SplinePatch, DegenerateRaysGiveNoHitAndNoNaN) {
   EXPECT_FALSE(intersect(patch, ray(vec3(0.5f), vec3(0.0f)), kInfinity, hit, 0u));
   // Along the collapsed edge's axis and exactly through the pole from below.
   const Ray up = ray(vec3(0.0f, 0.0f, -3.0f), vec3(0, 0, 1));
-  if (intersect(patch, up, kInfinity, hit, 0u)) {
-    EXPECT_NEAR(hit.t, 4.0f, 1e-5f);
-    const SurfaceInteraction si = surface_at(patch, up, hit);
-    EXPECT_TRUE(std::isfinite(si.geometric_normal.x) && std::isfinite(si.geometric_normal.z));
+  ASSERT_TRUE(intersect(patch, up, kInfinity, hit, 0u));
+  EXPECT_NEAR(hit.t, 4.0f, 1e-5f);
+  const SurfaceInteraction si = surface_at(patch, up, hit);
+  EXPECT_TRUE(std::isfinite(si.geometric_normal.x) && std::isfinite(si.geometric_normal.z));
+  EXPECT_NEAR(std::fabs(si.geometric_normal.z), 1.0f, 1e-3f);
+  // Rays parallel to the patch's tangent plane at the pole, just above and below it.
+  for (const float z : {1.0f + 1e-6f, 1.0f, 1.0f - 1e-6f}) {
+    const Ray across = ray(vec3(-2.0f, 0.3f, z), vec3(1, 0, 0));
+    HitRecord h;
+    if (intersect(patch, across, kInfinity, h, 0u)) {
+      const SurfaceInteraction s2 = surface_at(patch, across, h);
+      EXPECT_TRUE(std::isfinite(h.t) && std::isfinite(s2.geometric_normal.x) &&
+                  std::isfinite(s2.uv.x));
+    }
+  }
+}
+
+// A single bump crossed just below its top: two roots a small distance apart, inside one
+// flatness cell of the piece. Subdivision must separate them (each found, sorted, matching
+// bisection on Cox-de Boor).
+TEST(SplinePatch, TwoCloseRootsNearATangentAreBothFound) {
+  SplinePatchDescription d;
+  d.count_u = 7;
+  d.count_v = 4;
+  for (int i = 0; i < d.count_u; ++i)
+    for (int j = 0; j < d.count_v; ++j) d.control_points.push_back(dvec3(i, j, i == 3 ? 1.0 : 0.0));
+  d.knots_u = clamped_knots(7);
+  d.knots_v = clamped_knots(4);
+  SplinePatchPool pool;
+  const SplinePatch patch = build(d, pool);
+  const double v = 0.5;  // y = 1.5
+  const auto z_at = [&](double u) { return de_boor_point(d, u, v).z; };
+  // The top of the bump (z(u) is symmetric around u = 2).
+  const double top = z_at(2.0);
+  for (const double below : {1e-2, 1e-4, 1e-6}) {
+    const double height = top - below;
+    const auto crossing = [&](double lo, double hi) {
+      const bool rising = z_at(lo) < height;
+      for (int it = 0; it < 100; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        ((z_at(mid) < height) == rising ? lo : hi) = mid;
+      }
+      return de_boor_point(d, 0.5 * (lo + hi), v).x;
+    };
+    const double x0 = crossing(0.0, 2.0), x1 = crossing(2.0, 4.0 - 1e-12);
+    const Ray r = ray(vec3(-1.0f, 1.5f, static_cast<float>(height)), vec3(1, 0, 0));
+    // The float ray is at height float(height): recompute for that exact height.
+    ASSERT_EQ(static_cast<double>(static_cast<float>(height)), static_cast<double>(r.origin.z));
+    HitRecord hits[8];
+    const int n = intersect_all(patch, r, kInfinity, hits, 8, 0u);
+    ASSERT_EQ(n, 2) << "below " << below;
+    const double expected_gap = x1 - x0;
+    EXPECT_GT(expected_gap, 0.0);
+    EXPECT_NEAR(hits[1].t - hits[0].t, expected_gap, 1e-3 * expected_gap + 1e-5) << below;
   }
 }
 

@@ -259,6 +259,66 @@ TEST(TrimmedFace, TrimmedPatchAndInstance) {
   EXPECT_FALSE(intersect(instance, ray(vec3(12.1f, 2.1f, 1.0f), vec3(0, 0, -1)), kInfinity, h, 0u));
 }
 
+// Each remaining analytic surface: a hit is kept exactly when its surface_at uv is in the
+// face (uv from the untrimmed surface), including the torus, periodic in u and v.
+template <typename Surface>
+void check_against_untrimmed(const Surface& surface, const std::vector<std::vector<dvec2>>& loops,
+                             const dvec3& center, double radius, int expected_min_in,
+                             int expected_min_out) {
+  TrimPool pool;
+  Trimmed<Surface> face;
+  ASSERT_EQ(build_trimmed_face(surface, loops, pool, face), "");
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int in = 0, out = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const dvec3 o = center + glm::normalize(dvec3(unit(rng), unit(rng), unit(rng))) * 4.0 * radius;
+    const dvec3 target = center + dvec3(unit(rng), unit(rng), unit(rng)) * radius;
+    const Ray r = ray(vec3(o), vec3(glm::normalize(target - o)));
+    HitRecord all[8];
+    const int n = intersect_all(surface, r, kInfinity, all, 8, 0u);
+    int expected = 0;
+    float first = kInfinity;
+    for (int i = 0; i < n; ++i) {
+      const vec2 uv = surface_at(surface, r, all[i]).uv;
+      // Side hits only for cylinders/cones (face_uv refuses caps): all[i].v is the part.
+      const bool side = !std::is_same_v<Surface, Cone> || static_cast<int>(all[i].v) == 0;
+      if (side && face_contains(face.region, dvec2(uv))) {
+        if (expected == 0) first = all[i].t;
+        ++expected;
+      }
+    }
+    HitRecord kept[8];
+    EXPECT_EQ(intersect_all(face, r, kInfinity, kept, 8, 0u), expected);
+    HitRecord hit;
+    const bool found = intersect(face, r, kInfinity, hit, 0u);
+    EXPECT_EQ(found, expected > 0);
+    if (found) {
+      EXPECT_EQ(hit.t, first);
+    }
+    in += expected > 0;
+    out += n > 0 && expected == 0;
+  }
+  EXPECT_GE(in, expected_min_in);
+  EXPECT_GE(out, expected_min_out);
+}
+
+TEST(TrimmedFace, ConeTorusDiskPlaneAgreeWithTheUntrimmedSurfaceAndTheirUv) {
+  check_against_untrimmed(
+      Cone::make(vec3(0.0f), vec3(0, 1, 0), 1.0f, 0.2f, 1.5f, true, 0),
+      {{{0.8, 0.1}, {0.3, 0.1}, {0.3, 0.9}, {0.8, 0.9}}, {{0.95, 0.4}, {0.05, 0.4}, {0.0, 0.6}}},
+      dvec3(0, 0.75, 0), 1.3, 100, 100);
+  // Torus: a window across both seams (u near 0 and v near 0 at once).
+  check_against_untrimmed(Torus::make(vec3(0.0f), vec3(0, 0, 1), 1.0f, 0.3f, 0),
+                          {{{0.9, 0.8}, {0.2, 0.8}, {0.2, 0.2}, {0.9, 0.2}}}, dvec3(0.0), 1.3, 100,
+                          100);
+  check_against_untrimmed(Disk::make(vec3(0.0f), vec3(0, 0, 1), 1.0f, 0),
+                          {{{0.7, 0.2}, {0.4, 0.3}, {0.4, 0.9}, {0.7, 0.9}}}, dvec3(0.0), 1.0, 100,
+                          100);
+  check_against_untrimmed(Plane::make(vec3(0.0f), vec3(0.2f, 1.0f, 0.1f), 0),
+                          {{{-0.5, -0.5}, {0.5, -0.5}, {0.0, 0.5}}}, dvec3(0.0), 1.0, 100, 100);
+}
+
 TEST(TrimmedFace, TrimmedPlaneHasFiniteBounds) {
   const Plane plane = Plane::make(vec3(0.0f, 0.0f, 3.0f), vec3(0, 0, 1), 0, 2.0f);
   TrimPool pool;
