@@ -191,15 +191,21 @@ TEST(ShapesRender, BakedSimilarityEqualsTheInstancedShape) {
       Cylinder::make(vec3(0, 0, 0), vec3(0, 1, 0), 0.5f, 1.0f, true, 0), transform);
   const auto torus =
       instance_reference(Torus::make(vec3(1.5, 0, 0), vec3(0, 1, 0), 0.5f, 0.2f, 0), transform);
+  // A mirroring uniform scale (negative) still bakes: lengths scale by |s|, the axis flips.
+  const TransformDesc mirror{{-1.5, 0.5, 0}, {0, 0, 1}, 30.0, glm::dvec3(-0.8)};
+  scene.cones.push_back(ConeDesc{{0, 0, 0}, {0, 1, 0}, 0.6, 0.1, 1.0, true, 0, true, 2, mirror});
+  const auto cone = instance_reference(
+      Cone::make(vec3(0, 0, 0), vec3(0, 1, 0), 0.6f, 0.1f, 1.0f, true, 0), mirror);
   const int hits = expect_depth_matches(
       scene,
       [&](const Ray& ray) -> std::optional<double> {
-        const auto a = cylinder(ray), b = torus(ray);
-        if (a && b) return std::min(*a, *b);
-        return a ? a : b;
+        std::optional<double> nearest;
+        for (const auto& candidate : {cylinder(ray), torus(ray), cone(ray)})
+          if (candidate && (!nearest || *candidate < *nearest)) nearest = candidate;
+        return nearest;
       },
-      1e-4, 2);
-  EXPECT_GT(hits, 50);
+      1e-4, 3);
+  EXPECT_GT(hits, 80);
 }
 
 // Non-uniform scale turns a sphere into an ellipsoid, which only an Instance can draw; the
