@@ -381,7 +381,7 @@ TEST(ShapesRender, PlaneOutsideTheBvhOccludesShadowRays) {
 
 // Transparency composites every hit, planes included: a half-transparent plane in front of
 // an opaque one gives a mix of both albedos, not only the nearer.
-TEST(ShapesRender, TransparencySeesPlanesAndEveryTorusCrossing) {
+TEST(ShapesRender, TransparencySeesPlanesOutsideTheBvh) {
   SceneDescription scene = base_scene(IntegratorKind::kTransparency);
   scene.camera.position = {0, 0, 5};
   scene.camera.look_at = {0, 0, 0};
@@ -398,6 +398,21 @@ TEST(ShapesRender, TransparencySeesPlanesAndEveryTorusCrossing) {
   const float* centre = &image[(kHeight / 2 * kWidth + kWidth / 2) * 4];
   EXPECT_GT(centre[0], 0.1f);  // the veil
   EXPECT_GT(centre[2], 0.1f);  // the wall behind it
+}
+
+// A ray through a torus's hole along its equator crosses the surface four times; each
+// crossing of a half-opaque torus halves what is left of the background (blue here).
+TEST(ShapesRender, TransparencyCompositesAllFourTorusCrossings) {
+  SceneDescription scene = base_scene(IntegratorKind::kTransparency);
+  scene.camera.position = {5, 0, 0};
+  scene.camera.look_at = {0, 0, 0};
+  scene.camera.fov_degrees = 1.0;
+  scene.background.color = {0, 0, 1};
+  scene.materials[0].albedo = {1, 0, 0};
+  scene.materials[0].transmission = 0.5;
+  scene.tori.push_back(TorusDesc{{0, 0, 0}, {0, 1, 0}, 1.0, 0.3, 0, true, 0});
+  const auto image = render_image(*PreparedScene::build(scene));
+  for (std::size_t i = 0; i < image.size(); i += 4) ASSERT_NEAR(image[i + 2], 0.0625f, 1e-6f);
 }
 
 // Irradiance at the centre of a floor under emitters, seen through a narrow camera straight
