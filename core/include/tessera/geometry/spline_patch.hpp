@@ -388,14 +388,22 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
     if (!cell_may_hit(cell, ray.t_lo, ray.t_hi)) continue;
     const bool at_depth_limit = cell.level_u + cell.level_v >= kMaxPatchDepth;
     const bool flat = cell.level_u >= piece.levels_u && cell.level_v >= piece.levels_v;
-    bool subdivide = !at_depth_limit && (!flat || !single_root_cell(cell));
+    const bool single = flat && single_root_cell(cell);
+    bool subdivide = !at_depth_limit && !single;
     if (!subdivide) {
-      double s = 0.5 * (cell.s0 + cell.s1), t = 0.5 * (cell.t0 + cell.t1);
-      double root_t;
-      if (newton_projected(projected, patch.size, direction_length, s, t, root_t)) {
+      // At the depth limit a cell not proven to hold one root may hold two close ones (a
+      // ray within ~1e-3 of tangency): Newton from its corners too, which reach the roots
+      // on either side of the tangent point.
+      const int starts = single ? 1 : 5;
+      bool converged_in_cell = false;
+      for (int start = 0; start < starts; ++start) {
+        double s = start == 0 ? 0.5 * (cell.s0 + cell.s1) : ((start & 1) ? cell.s1 : cell.s0);
+        double t = start == 0 ? 0.5 * (cell.t0 + cell.t1) : ((start & 2) ? cell.t1 : cell.t0);
+        double root_t;
+        if (!newton_projected(projected, patch.size, direction_length, s, t, root_t)) continue;
         const double margin = 1e-9;
-        const bool in_cell = s >= cell.s0 - margin && s <= cell.s1 + margin &&
-                             t >= cell.t0 - margin && t <= cell.t1 + margin;
+        converged_in_cell = converged_in_cell || (s >= cell.s0 - margin && s <= cell.s1 + margin &&
+                                                  t >= cell.t0 - margin && t <= cell.t1 + margin);
         // A ray that starts on the patch finds it again near its origin (see
         // is_start_surface_root): dropped when the origin and the midpoint to the root
         // are both within the origin's uncertainty of the surface.
@@ -411,8 +419,8 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
               closest)
             ray.t_hi = root_t;
         }
-        if (in_cell) continue;
       }
+      if (converged_in_cell) continue;
       subdivide = !at_depth_limit;
     }
     if (subdivide && top + 2 <= kPatchStackSize) {
