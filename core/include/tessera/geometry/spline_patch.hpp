@@ -150,7 +150,22 @@ TESSERA_HD TESSERA_INLINE bool cell_may_hit(const ProjectedCell& cell, double t_
   }
   const double slack = 1e-12 * magnitude;
   if (before || after) return false;
-  return lo[0] <= slack && hi[0] >= -slack && lo[1] <= slack && hi[1] >= -slack;
+  if (!(lo[0] <= slack && hi[0] >= -slack && lo[1] <= slack && hi[1] >= -slack)) return false;
+  // The same test along the diagonals (an octagon around the hull instead of a box):
+  // slanted cells whose box holds the origin often do not.
+  double sum_lo = kInfinity, sum_hi = -kInfinity, diff_lo = kInfinity, diff_hi = -kInfinity;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      const double sum = cell.c[i][j][0] + cell.c[i][j][1];
+      const double diff = cell.c[i][j][0] - cell.c[i][j][1];
+      sum_lo = glm::min(sum_lo, sum);
+      sum_hi = glm::max(sum_hi, sum);
+      diff_lo = glm::min(diff_lo, diff);
+      diff_hi = glm::max(diff_hi, diff);
+    }
+  }
+  return sum_lo <= 2.0 * slack && sum_hi >= -2.0 * slack && diff_lo <= 2.0 * slack &&
+         diff_hi >= -2.0 * slack;
 }
 
 // Newton's method on the two plane distances of the rational surface point, in the
