@@ -67,89 +67,82 @@ inline bool prepare(const Ray& ray, PreparedRay& r) {
 // ---- Box tests -------------------------------------------------------------------------
 
 // The far end of the interval (the box's exit, or the closest hit so far if nearer) is
-// widened by four ulps after the slab distances are taken, which with the subtract-then-multiply
-// slab test keeps boxes from being missed through rounding (Ize, "Robust BVH ray traversal",
-// JCGT 2013, needs 1 + 2 gamma(3), about 1 + 6 * 2^-24; this is 1 + 16 * 2^-24): a flat box
-// holding an axis-aligned quad, or a box entered at the same distance, up to rounding, as the
-// hit found so far. Scaling the minimum once equals scaling each far distance (rounding is
-// monotone) and keeps three registers free for the walk.
-constexpr float kFarScale = 1.0f + 4.0f * 1.1920929e-07f;
+// widened by two ulps (folded into the far planes' reciprocals and into t_max), which with the
+// subtract-then-multiply slab test keeps boxes from being missed through rounding (Ize, "Robust BVH
+// ray traversal", JCGT 2013): a flat box holding an axis-aligned quad, or a box entered at the same
+// distance, up to rounding, as the hit found so far.
+constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
 
 #if TESSERA_KERNEL_AVX2
-using BoxVector = __m256;
-#else
-using BoxVector = __m128;
-#endif
-
-// The ray as the box tests read it: broadcast origin and reciprocal direction, and which
-// bounds row is the near plane on each axis (the far row is the other one of the pair).
 struct BoxRay {
-  BoxVector origin[3], inv_direction[3], t_min;
-  std::uint32_t near_row[3], far_row[3];
+  __m256 origin[3], inv_direction[3], inv_direction_far[3], t_min;
   explicit BoxRay(const PreparedRay& r) {
     for (int axis = 0; axis < 3; ++axis) {
-#if TESSERA_KERNEL_AVX2
       origin[axis] = _mm256_set1_ps(r.origin[axis]);
       inv_direction[axis] = _mm256_set1_ps(r.inv_direction[axis]);
-#else
-      origin[axis] = _mm_set1_ps(r.origin[axis]);
-      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
-#endif
-      near_row[axis] = r.near_row[axis];
-      far_row[axis] = r.far_row[axis];
+      inv_direction_far[axis] = _mm256_set1_ps(r.inv_direction[axis] * kFarScale);
     }
-#if TESSERA_KERNEL_AVX2
     t_min = _mm256_set1_ps(r.t_min);
-#else
-    t_min = _mm_set1_ps(r.t_min);
-#endif
   }
 };
 
-#if TESSERA_KERNEL_AVX2
 // Returns the mask of children whose box the ray enters within [t_min, t_max]; `entry`
 // receives the bits of their entry distances, clamped to >= +0.
-TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const BoxRay& b, float t_max,
-                                              std::uint32_t* entry) {
-  const auto slab = [&](std::uint32_t row, int axis) {
+TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r,
+                                              const BoxRay& b, float t_max, std::uint32_t* entry) {
+  const auto slab = [&](std::uint32_t row, int axis, const __m256* inv) {
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]),
-                         b.inv_direction[axis]);
+                         inv[axis]);
   };
-  const __m256 near_x = slab(b.near_row[0], 0), near_y = slab(b.near_row[1], 1),
-               near_z = slab(b.near_row[2], 2);
-  const __m256 far_x = slab(b.far_row[0], 0), far_y = slab(b.far_row[1], 1),
-               far_z = slab(b.far_row[2], 2);
+  const __m256 near_x = slab(r.near_row[0], 0, b.inv_direction),
+               near_y = slab(r.near_row[1], 1, b.inv_direction),
+               near_z = slab(r.near_row[2], 2, b.inv_direction);
+  const __m256 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
+               far_y = slab(r.far_row[1], 1, b.inv_direction_far),
+               far_z = slab(r.far_row[2], 2, b.inv_direction_far);
   // max/min return their second operand when either is NaN: the plane distances go first
   // and the accumulated interval second, so a NaN plane leaves the interval unchanged.
   const __m256 t_near =
       _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
-  const __m256 t_far = _mm256_mul_ps(
-      _mm256_min_ps(far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max)))),
-      _mm256_set1_ps(kFarScale));
+  const __m256 t_far = _mm256_min_ps(
+      far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max * kFarScale))));
   // Entry distances clamped to +0 (max returns its second operand for -0 and NaN), so their
   // bits order like their values: the stack keys need no branch (see stack_key).
   _mm256_store_ps(reinterpret_cast<float*>(entry), _mm256_max_ps(t_near, _mm256_setzero_ps()));
   return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ)));
 }
 #else
-TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const BoxRay& b, float t_max,
-                                              std::uint32_t* entry) {
+struct BoxRay {
+  __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
+  explicit BoxRay(const PreparedRay& r) {
+    for (int axis = 0; axis < 3; ++axis) {
+      origin[axis] = _mm_set1_ps(r.origin[axis]);
+      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
+      inv_direction_far[axis] = _mm_set1_ps(r.inv_direction[axis] * kFarScale);
+    }
+    t_min = _mm_set1_ps(r.t_min);
+  }
+};
+
+TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r,
+                                              const BoxRay& b, float t_max, std::uint32_t* entry) {
   std::uint32_t mask = 0;
-  const __m128 far_limit = _mm_set1_ps(t_max);
+  const __m128 far_limit = _mm_set1_ps(t_max * kFarScale);
   for (int half = 0; half < 2; ++half) {
     const int lane = 4 * half;
-    const auto slab = [&](std::uint32_t row, int axis) {
+    const auto slab = [&](std::uint32_t row, int axis, const __m128* inv) {
       return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]),
-                        b.inv_direction[axis]);
+                        inv[axis]);
     };
-    const __m128 near_x = slab(b.near_row[0], 0), near_y = slab(b.near_row[1], 1),
-                 near_z = slab(b.near_row[2], 2);
-    const __m128 far_x = slab(b.far_row[0], 0), far_y = slab(b.far_row[1], 1),
-                 far_z = slab(b.far_row[2], 2);
+    const __m128 near_x = slab(r.near_row[0], 0, b.inv_direction),
+                 near_y = slab(r.near_row[1], 1, b.inv_direction),
+                 near_z = slab(r.near_row[2], 2, b.inv_direction);
+    const __m128 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
+                 far_y = slab(r.far_row[1], 1, b.inv_direction_far),
+                 far_z = slab(r.far_row[2], 2, b.inv_direction_far);
     // NaN plane distances go first: see the AVX2 version.
     const __m128 t_near = _mm_max_ps(near_x, _mm_max_ps(near_y, _mm_max_ps(near_z, b.t_min)));
-    const __m128 t_far = _mm_mul_ps(
-        _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit))), _mm_set1_ps(kFarScale));
+    const __m128 t_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit)));
     _mm_store_ps(reinterpret_cast<float*>(entry + lane), _mm_max_ps(t_near, _mm_setzero_ps()));
     mask |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmple_ps(t_near, t_far))) << lane;
   }
@@ -569,7 +562,7 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
   for (;;) {
     while (!wide_is_leaf(child)) {
       const WideBvhNode& node = view.nodes[child];
-      std::uint32_t mask = test_node(node, box_ray, query.t_max, entry);
+      std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, entry);
       if (mask == 0) goto pop;
       prefetch_children(view, node, mask);
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
