@@ -168,6 +168,41 @@ TESSERA_HD TESSERA_INLINE bool cell_may_hit(const ProjectedCell& cell, double t_
          diff_hi >= -2.0 * slack;
 }
 
+enum class NewtonStep { kContinue, kConverged, kFailed };
+
+// One step of the 2x2 Newton iteration on the two plane distances (f1, f2) with Jacobian
+// [[j11, j12], [j21, j22]] in the piece's local parameters (s, t), shared by both
+// iterations below. Converged when the distances are at rounding level (`tolerance`) and a
+// further step would not move the point (a double root at a tangent converges only
+// linearly: the step test, not the iteration count, ends it), or when the Jacobian is
+// singular at a root (a collapsed edge); a root must lie inside the piece.
+TESSERA_HD TESSERA_INLINE NewtonStep newton_step(double f1, double f2, double j11, double j12,
+                                                 double j21, double j22, double tolerance,
+                                                 bool last_iteration, double& s, double& t) {
+  const double det = j11 * j22 - j12 * j21;
+  const bool small = std::fabs(f1) <= tolerance && std::fabs(f2) <= tolerance;
+  const bool inside = s >= -1e-9 && s <= 1.0 + 1e-9 && t >= -1e-9 && t <= 1.0 + 1e-9;
+  const bool singular = !(det != 0.0) || !std::isfinite(det);
+  double ds = singular ? 0.0 : (-f1 * j22 + f2 * j12) / det;
+  double dt = singular ? 0.0 : (-j11 * f2 + j21 * f1) / det;
+  if (small && (singular || std::fabs(ds) + std::fabs(dt) < 1e-9 || last_iteration)) {
+    if (!inside) return NewtonStep::kFailed;
+    s = glm::clamp(s, 0.0, 1.0);
+    t = glm::clamp(t, 0.0, 1.0);
+    return NewtonStep::kConverged;
+  }
+  if (singular) return NewtonStep::kFailed;
+  // Damped: a step of more than half the piece leaves the basin anyway.
+  const double step = glm::max(std::fabs(ds), std::fabs(dt));
+  if (step > 0.5) {
+    ds *= 0.5 / step;
+    dt *= 0.5 / step;
+  }
+  s += ds;
+  t += dt;
+  return (s > -0.5 && s < 1.5 && t > -0.5 && t < 1.5) ? NewtonStep::kContinue : NewtonStep::kFailed;
+}
+
 // Newton's method on the two plane distances of the rational surface point, in the
 // piece's local parameters. Returns true with (s, t) and the point (relative to the ray
 // origin) when it converged to a root inside the piece.
@@ -178,35 +213,12 @@ TESSERA_HD TESSERA_INLINE bool newton_root(const RationalBezierPatch& piece, con
     const double f1 = glm::dot(ray.n1, p.position), f2 = glm::dot(ray.n2, p.position);
     const double j11 = glm::dot(ray.n1, p.du), j12 = glm::dot(ray.n1, p.dv);
     const double j21 = glm::dot(ray.n2, p.du), j22 = glm::dot(ray.n2, p.dv);
-    const double det = j11 * j22 - j12 * j21;
     point = p.position;
     // Converged: both distances at the rounding level of the point's coordinates.
     const double tolerance = 1e-13 * scale + 4e-16 * glm::length(p.position);
-    const bool small = std::fabs(f1) <= tolerance && std::fabs(f2) <= tolerance;
-    const bool inside = s >= -1e-9 && s <= 1.0 + 1e-9 && t >= -1e-9 && t <= 1.0 + 1e-9;
-    const bool singular = !(det != 0.0) || !std::isfinite(det);
-    double ds = singular ? 0.0 : (-f1 * j22 + f2 * j12) / det;
-    double dt = singular ? 0.0 : (-j11 * f2 + j21 * f1) / det;
-    // Done when the distances are at rounding level and a further step would not move the
-    // point (a double root at a tangent converges only linearly: the step test, not the
-    // iteration count, ends it), or when the Jacobian is singular at a root (a collapsed
-    // edge).
-    if (small && (singular || std::fabs(ds) + std::fabs(dt) < 1e-9 || iteration == 31)) {
-      if (!inside) return false;
-      s = glm::clamp(s, 0.0, 1.0);
-      t = glm::clamp(t, 0.0, 1.0);
-      return true;
-    }
-    if (singular) return false;
-    // Damped: a step of more than half the piece leaves the basin anyway.
-    const double step = glm::max(std::fabs(ds), std::fabs(dt));
-    if (step > 0.5) {
-      ds *= 0.5 / step;
-      dt *= 0.5 / step;
-    }
-    s += ds;
-    t += dt;
-    if (!(s > -0.5 && s < 1.5 && t > -0.5 && t < 1.5)) return false;
+    const NewtonStep step =
+        newton_step(f1, f2, j11, j12, j21, j22, tolerance, iteration == 31, s, t);
+    if (step != NewtonStep::kContinue) return step == NewtonStep::kConverged;
   }
   return false;
 }
@@ -238,30 +250,12 @@ TESSERA_HD TESSERA_INLINE bool newton_projected(const double (&c)[4][4][4], doub
     root_t = v[2] * inverse_w;
     const double j11 = (vs[0] - f1 * vs[3]) * inverse_w, j12 = (vt[0] - f1 * vt[3]) * inverse_w;
     const double j21 = (vs[1] - f2 * vs[3]) * inverse_w, j22 = (vt[1] - f2 * vt[3]) * inverse_w;
-    const double det = j11 * j22 - j12 * j21;
     // Converged: both distances at the rounding level of the point's coordinates relative
     // to the ray origin (|t| |d| along the ray).
     const double tolerance = 1e-13 * scale + 4e-16 * std::fabs(root_t) * direction_length;
-    const bool small = std::fabs(f1) <= tolerance && std::fabs(f2) <= tolerance;
-    const bool inside = s >= -1e-9 && s <= 1.0 + 1e-9 && t >= -1e-9 && t <= 1.0 + 1e-9;
-    const bool singular = !(det != 0.0) || !std::isfinite(det);
-    double ds = singular ? 0.0 : (-f1 * j22 + f2 * j12) / det;
-    double dt = singular ? 0.0 : (-j11 * f2 + j21 * f1) / det;
-    if (small && (singular || std::fabs(ds) + std::fabs(dt) < 1e-9 || iteration == 31)) {
-      if (!inside) return false;
-      s = glm::clamp(s, 0.0, 1.0);
-      t = glm::clamp(t, 0.0, 1.0);
-      return true;
-    }
-    if (singular) return false;
-    const double step = glm::max(std::fabs(ds), std::fabs(dt));
-    if (step > 0.5) {
-      ds *= 0.5 / step;
-      dt *= 0.5 / step;
-    }
-    s += ds;
-    t += dt;
-    if (!(s > -0.5 && s < 1.5 && t > -0.5 && t < 1.5)) return false;
+    const NewtonStep step =
+        newton_step(f1, f2, j11, j12, j21, j22, tolerance, iteration == 31, s, t);
+    if (step != NewtonStep::kContinue) return step == NewtonStep::kConverged;
   }
   return false;
 }
