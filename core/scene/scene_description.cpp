@@ -4,7 +4,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
+#include "tessera/geometry/spline_patch_build.hpp"
+#include "tessera/geometry/trimmed_face_build.hpp"
 #include "tessera/scene/scene_error.hpp"
+#include "tessera/scene/spline_geometry.hpp"
 
 namespace tessera {
 
@@ -102,7 +105,55 @@ TriangleMeshDesc transformed_mesh(const TriangleMeshDesc& mesh, const TransformD
 
 std::size_t SceneDescription::analytic_shape_count() const {
   return spheres.size() + quads.size() + planes.size() + disks.size() + cylinders.size() +
-         cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() + sdf_capsules.size();
+         cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() + sdf_capsules.size() +
+         patches.size() + trimmed_faces.size();
+}
+
+std::vector<double> clamped_uniform_knots(std::uint32_t count) {
+  std::vector<double> knots;
+  if (count < 4) return knots;
+  knots.reserve(count + 4);
+  for (int i = 0; i < 4; ++i) knots.push_back(0.0);
+  const std::uint32_t spans = count - 3;
+  for (std::uint32_t i = 1; i < spans; ++i) knots.push_back(static_cast<double>(i) / spans);
+  for (int i = 0; i < 4; ++i) knots.push_back(1.0);
+  return knots;
+}
+
+const char* trimmed_surface_name(const TrimmedSurfaceDesc& surface) {
+  constexpr const char* kNames[] = {"plane",    "disk", "rectangle", "sphere",
+                                    "cylinder", "cone", "torus",     "bspline_patch"};
+  return kNames[surface.index()];
+}
+
+SplinePatchDescription to_spline_patch_description(const SplinePatchDesc& desc, bool placed) {
+  SplinePatchDescription out;
+  out.count_u = static_cast<int>(desc.count_u);
+  out.count_v = static_cast<int>(desc.count_v);
+  out.control_points = desc.control_points;
+  if (placed && desc.transform) {
+    const glm::dmat4 m = desc.transform->matrix();
+    for (auto& p : out.control_points) p = glm::dvec3(m * glm::dvec4(p, 1.0));
+  }
+  out.weights = desc.weights;
+  out.knots_u = desc.knots_u.empty() ? clamped_uniform_knots(desc.count_u) : desc.knots_u;
+  out.knots_v = desc.knots_v.empty() ? clamped_uniform_knots(desc.count_v) : desc.knots_v;
+  out.material = desc.material;
+  return out;
+}
+
+UvPeriodicity trimmed_surface_periodicity(const TrimmedSurfaceDesc& surface) {
+  switch (surface.index()) {
+    case 1:  // disk
+    case 3:  // sphere
+    case 4:  // cylinder
+    case 5:  // cone
+      return {true, false};
+    case 6:  // torus
+      return {true, true};
+    default:
+      return {false, false};
+  }
 }
 
 std::size_t SceneDescription::triangle_count() const {
@@ -367,6 +418,99 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
     transform_ok(c.source_index, c.transform);
     hidden_emitter_ok(c.source_index, c.material, c.visible, false);
   }
+  // Patches and trimming loops are checked by building them (the builders name the field
+  // and the reason); sizes are bounded first so no input allocates without limit.
+  std::size_t control_points = 0, trim_points = 0;
+  const auto add_issue = [&](const std::string& error) {
+    const std::size_t colon = error.find(": ");
+    if (colon == std::string::npos)
+      check.fail("", error);
+    else
+      check.fail(error.substr(0, colon), error.substr(colon + 2));
+  };
+  const auto patch_ok = [&](const SplinePatchDesc& p, const std::string& base) {
+    if (p.count_u < 4 || p.count_v < 4) {
+      check.fail(base + (p.count_u < 4 ? ".count_u" : ".count_v"),
+                 "must be at least 4 (bicubic), got " +
+                     std::to_string(p.count_u < 4 ? p.count_u : p.count_v));
+      return;
+    }
+    const std::size_t count = std::size_t{p.count_u} * p.count_v;
+    control_points += count;
+    if (control_points > limits.max_patch_control_points) return;  // reported below
+    if (p.control_points.size() != count) {
+      check.fail(base + ".control_points",
+                 "must have count_u * count_v = " + std::to_string(count) + " points, got " +
+                     std::to_string(p.control_points.size()));
+      return;
+    }
+    SplinePatchPool pool;
+    SplinePatch patch;
+    const std::string error =
+        build_spline_patch(to_spline_patch_description(p, false), pool, patch, base);
+    if (!error.empty()) add_issue(error);
+  };
+  for (const auto& p : scene.patches) {
+    const std::string base = "geometry[" + std::to_string(p.source_index) + "]";
+    patch_ok(p, base);
+    material_ok(p.source_index, p.material);
+    transform_ok(p.source_index, p.transform);
+    hidden_emitter_ok(p.source_index, p.material, p.visible, false);
+  }
+  for (const auto& f : scene.trimmed_faces) {
+    const std::string base = "geometry[" + std::to_string(f.source_index) + "]";
+    if (const auto* patch = std::get_if<SplinePatchDesc>(&f.surface)) {
+      patch_ok(*patch, base + ".surface");
+    } else {
+      // The analytic surface is checked by the rules above, in a scene of its own, and its
+      // issues are renamed from geometry[i].x to geometry[i].surface.x.
+      SceneDescription alone;
+      alone.materials.emplace_back().name = "surface";
+      std::visit(
+          [&](auto s) {
+            using S = decltype(s);
+            s.material = 0;
+            s.visible = true;
+            s.transform = std::nullopt;
+            s.source_index = f.source_index;
+            if constexpr (std::is_same_v<S, PlaneDesc>) alone.planes.push_back(s);
+            if constexpr (std::is_same_v<S, DiskDesc>) alone.disks.push_back(s);
+            if constexpr (std::is_same_v<S, QuadDesc>) alone.quads.push_back(s);
+            if constexpr (std::is_same_v<S, SphereDesc>) alone.spheres.push_back(s);
+            if constexpr (std::is_same_v<S, CylinderDesc>) alone.cylinders.push_back(s);
+            if constexpr (std::is_same_v<S, ConeDesc>) alone.cones.push_back(s);
+            if constexpr (std::is_same_v<S, TorusDesc>) alone.tori.push_back(s);
+          },
+          f.surface);
+      for (SceneIssue issue : validate_scene(alone, limits)) {
+        if (issue.field.rfind(base + ".", 0) == 0)
+          issue.field = base + ".surface" + issue.field.substr(base.size());
+        issues.push_back(std::move(issue));
+      }
+    }
+    std::size_t points = 0;
+    for (const auto& loop : f.loops) points += loop.size();
+    trim_points += points;
+    if (trim_points <= limits.max_trim_points) {
+      TrimPool pool;
+      TrimRegion region;
+      const std::string error =
+          build_trim_region(f.loops, trimmed_surface_periodicity(f.surface), pool, region, base);
+      if (!error.empty()) add_issue(error);
+    }
+    material_ok(f.source_index, f.material);
+    transform_ok(f.source_index, f.transform);
+    hidden_emitter_ok(f.source_index, f.material, f.visible, false);
+  }
+  if (control_points > limits.max_patch_control_points)
+    check.fail("geometry", "scene has " + std::to_string(control_points) +
+                               " patch control points, more than the limit of " +
+                               std::to_string(limits.max_patch_control_points));
+  if (trim_points > limits.max_trim_points)
+    check.fail("geometry", "scene has " + std::to_string(trim_points) +
+                               " trimming loop points, more than the limit of " +
+                               std::to_string(limits.max_trim_points));
+
   std::size_t triangles = 0;
   for (const auto& mesh : scene.meshes) {
     const std::string where = mesh.source_file.empty() ? "" : " (" + mesh.source_file + ")";
@@ -402,9 +546,10 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
                                " triangles, more than the limit of " +
                                std::to_string(limits.max_triangles));
   const std::size_t per_type[] = {
-      scene.spheres.size(),   scene.quads.size(),       scene.planes.size(), scene.disks.size(),
-      scene.cylinders.size(), scene.cones.size(),       scene.tori.size(),   scene.sdf_boxes.size(),
-      scene.sdf_tori.size(),  scene.sdf_capsules.size()};
+      scene.spheres.size(),      scene.quads.size(),     scene.planes.size(),
+      scene.disks.size(),        scene.cylinders.size(), scene.cones.size(),
+      scene.tori.size(),         scene.sdf_boxes.size(), scene.sdf_tori.size(),
+      scene.sdf_capsules.size(), scene.patches.size(),   scene.trimmed_faces.size()};
   for (std::size_t count : per_type)
     if (count > limits.max_shapes_per_type) {
       check.fail("geometry", "scene has " + std::to_string(count) +

@@ -320,22 +320,13 @@ class SceneBuilder {
       optional(g, "visible", path, [&](auto& n, auto& f) { visible = in_.boolean(n, f); });
       if (type == "sphere") {
         in_.check_keys(g, path, {"type", "material", "center", "radius", "visible", "transform"});
-        SphereDesc s;
+        SphereDesc s = sphere_fields(g, path);
         common(s, g, path, index, visible);
-        s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
-        s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
-        locations_[path + ".radius"] = g["radius"];
-        if (!(s.radius > 0.0))
-          in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
         scene_.spheres.push_back(s);
       } else if (type == "rectangle" || type == "quad") {
         in_.check_keys(g, path, {"type", "material", "corner", "u", "v", "visible", "transform"});
-        QuadDesc q;
+        QuadDesc q = quad_fields(g, path);
         common(q, g, path, index, visible);
-        q.corner = in_.vec3(in_.required(g, "corner", path), path + ".corner");
-        q.u = in_.vec3(in_.required(g, "u", path), path + ".u");
-        q.v = in_.vec3(in_.required(g, "v", path), path + ".v");
-        locations_[path + ".v"] = g["v"];
         scene_.quads.push_back(q);
       } else if (type == "triangle") {
         in_.check_keys(g, path, {"type", "material", "v0", "v1", "v2", "visible", "transform"});
@@ -371,57 +362,36 @@ class SceneBuilder {
         scene_.meshes.push_back(std::move(mesh));
       } else if (type == "plane") {
         in_.check_keys(g, path, {"type", "material", "point", "normal", "visible", "transform"});
-        PlaneDesc p;
+        PlaneDesc p = plane_fields(g, path);
         common(p, g, path, index, visible);
-        p.point = vec3_or(g, "point", path, glm::dvec3(0.0));
-        p.normal = vec3_at(g, "normal", path);
         scene_.planes.push_back(p);
       } else if (type == "disk") {
         in_.check_keys(g, path,
                        {"type", "material", "center", "normal", "radius", "inner_radius", "visible",
                         "transform"});
-        DiskDesc d;
+        DiskDesc d = disk_fields(g, path);
         common(d, g, path, index, visible);
-        d.center = vec3_at(g, "center", path);
-        d.normal = vec3_at(g, "normal", path);
-        d.radius = number_at(g, "radius", path);
-        d.inner_radius = number_or(g, "inner_radius", path, 0.0);
         scene_.disks.push_back(d);
       } else if (type == "cylinder") {
         in_.check_keys(g, path,
                        {"type", "material", "base", "axis", "radius", "height", "caps", "visible",
                         "transform"});
-        CylinderDesc c;
+        CylinderDesc c = cylinder_fields(g, path);
         common(c, g, path, index, visible);
-        c.base = vec3_at(g, "base", path);
-        c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-        c.radius = number_at(g, "radius", path);
-        c.height = number_at(g, "height", path);
-        c.caps = bool_or(g, "caps", path, false);
         scene_.cylinders.push_back(c);
       } else if (type == "cone") {
         in_.check_keys(g, path,
                        {"type", "material", "base", "axis", "base_radius", "top_radius", "height",
                         "caps", "visible", "transform"});
-        ConeDesc c;
+        ConeDesc c = cone_fields(g, path);
         common(c, g, path, index, visible);
-        c.base = vec3_at(g, "base", path);
-        c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-        c.base_radius = number_at(g, "base_radius", path);
-        c.top_radius = number_or(g, "top_radius", path, 0.0);
-        c.height = number_at(g, "height", path);
-        c.caps = bool_or(g, "caps", path, false);
         scene_.cones.push_back(c);
       } else if (type == "torus" || type == "sdf_torus") {
         in_.check_keys(g, path,
                        {"type", "material", "center", "axis", "major_radius", "minor_radius",
                         "visible", "transform"});
-        TorusDesc t;
+        TorusDesc t = torus_fields(g, path);
         common(t, g, path, index, visible);
-        t.center = vec3_at(g, "center", path);
-        t.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-        t.major_radius = number_at(g, "major_radius", path);
-        t.minor_radius = number_at(g, "minor_radius", path);
         if (type == "torus") {
           scene_.tori.push_back(t);
         } else {
@@ -452,13 +422,215 @@ class SceneBuilder {
         c.b = vec3_at(g, "b", path);
         c.radius = number_at(g, "radius", path);
         scene_.sdf_capsules.push_back(c);
+      } else if (type == "bspline_patch") {
+        in_.check_keys(g, path,
+                       {"type", "material", "control_points", "weights", "knots_u", "knots_v",
+                        "visible", "transform"});
+        SplinePatchDesc p = patch_fields(g, path);
+        common(p, g, path, index, visible);
+        scene_.patches.push_back(std::move(p));
+      } else if (type == "trimmed") {
+        in_.check_keys(g, path, {"type", "material", "surface", "loops", "visible", "transform"});
+        TrimmedFaceDesc f;
+        common(f, g, path, index, visible);
+        f.surface = surface_fields(g, path);
+        f.loops = loops_field(g, path);
+        scene_.trimmed_faces.push_back(std::move(f));
       } else {
         in_.fail(g["type"], path + ".type",
                  "unknown geometry type '" + type +
                      "' (expected sphere, rectangle, quad, triangle, obj, mesh, plane, disk, "
-                     "cylinder, cone, torus, sdf_box, sdf_rounded_box, sdf_torus or sdf_capsule)");
+                     "cylinder, cone, torus, sdf_box, sdf_rounded_box, sdf_torus, sdf_capsule, "
+                     "bspline_patch or trimmed)");
       }
     }
+  }
+
+  // The shape fields of each type (material, visible and transform are common()'s), shared
+  // by top-level entries and the `surface` of a trimmed face.
+  SphereDesc sphere_fields(const YAML::Node& g, const std::string& path) {
+    SphereDesc s;
+    s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
+    s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
+    locations_[path + ".radius"] = g["radius"];
+    if (!(s.radius > 0.0))
+      in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
+    return s;
+  }
+  QuadDesc quad_fields(const YAML::Node& g, const std::string& path) {
+    QuadDesc q;
+    q.corner = in_.vec3(in_.required(g, "corner", path), path + ".corner");
+    q.u = in_.vec3(in_.required(g, "u", path), path + ".u");
+    q.v = in_.vec3(in_.required(g, "v", path), path + ".v");
+    locations_[path + ".v"] = g["v"];
+    return q;
+  }
+  PlaneDesc plane_fields(const YAML::Node& g, const std::string& path) {
+    PlaneDesc p;
+    p.point = vec3_or(g, "point", path, glm::dvec3(0.0));
+    p.normal = vec3_at(g, "normal", path);
+    return p;
+  }
+  DiskDesc disk_fields(const YAML::Node& g, const std::string& path) {
+    DiskDesc d;
+    d.center = vec3_at(g, "center", path);
+    d.normal = vec3_at(g, "normal", path);
+    d.radius = number_at(g, "radius", path);
+    d.inner_radius = number_or(g, "inner_radius", path, 0.0);
+    return d;
+  }
+  CylinderDesc cylinder_fields(const YAML::Node& g, const std::string& path) {
+    CylinderDesc c;
+    c.base = vec3_at(g, "base", path);
+    c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+    c.radius = number_at(g, "radius", path);
+    c.height = number_at(g, "height", path);
+    c.caps = bool_or(g, "caps", path, false);
+    return c;
+  }
+  ConeDesc cone_fields(const YAML::Node& g, const std::string& path) {
+    ConeDesc c;
+    c.base = vec3_at(g, "base", path);
+    c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+    c.base_radius = number_at(g, "base_radius", path);
+    c.top_radius = number_or(g, "top_radius", path, 0.0);
+    c.height = number_at(g, "height", path);
+    c.caps = bool_or(g, "caps", path, false);
+    return c;
+  }
+  TorusDesc torus_fields(const YAML::Node& g, const std::string& path) {
+    TorusDesc t;
+    t.center = vec3_at(g, "center", path);
+    t.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
+    t.major_radius = number_at(g, "major_radius", path);
+    t.minor_radius = number_at(g, "minor_radius", path);
+    return t;
+  }
+
+  // A list of numbers; each element's node is remembered for the semantic checks' lines.
+  std::vector<double> number_list(const YAML::Node& n, const std::string& f) {
+    if (!n.IsSequence())
+      in_.fail(n, f, std::string("must be a list of numbers, got a ") + YamlReader::kind(n));
+    locations_[f] = n;
+    std::vector<double> values;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+      const std::string item = f + "[" + std::to_string(i) + "]";
+      locations_[item] = n[i];
+      values.push_back(in_.number(n[i], item));
+    }
+    return values;
+  }
+
+  // control_points: one row per u index, each row the count_v points along v.
+  // weights (optional): the same shape, one number per point.
+  SplinePatchDesc patch_fields(const YAML::Node& g, const std::string& path) {
+    SplinePatchDesc p;
+    const std::string rows_field = path + ".control_points";
+    const YAML::Node rows = in_.required(g, "control_points", path);
+    locations_[rows_field] = rows;
+    if (!rows.IsSequence() || rows.size() < 4)
+      in_.fail(rows, rows_field,
+               "must be a list of at least 4 rows (u direction) of control points");
+    p.count_u = static_cast<std::uint32_t>(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const std::string row_field = rows_field + "[" + std::to_string(i) + "]";
+      const YAML::Node row = rows[i];
+      if (!row.IsSequence() || row.size() < 4)
+        in_.fail(row, row_field, "must be a list of at least 4 points (v direction)");
+      if (i == 0) p.count_v = static_cast<std::uint32_t>(row.size());
+      if (row.size() != p.count_v)
+        in_.fail(row, row_field,
+                 "every row must have as many points as the first (" + std::to_string(p.count_v) +
+                     "), got " + std::to_string(row.size()));
+      for (std::size_t j = 0; j < row.size(); ++j) {
+        const std::string point_field = row_field + "[" + std::to_string(j) + "]";
+        locations_[rows_field + "[" + std::to_string(i * p.count_v + j) + "]"] = row[j];
+        p.control_points.push_back(in_.vec3(row[j], point_field));
+      }
+    }
+    optional(g, "weights", path, [&](const YAML::Node& n, const std::string& f) {
+      if (!n.IsSequence() || n.size() != p.count_u)
+        in_.fail(n, f,
+                 "must be a list of " + std::to_string(p.count_u) +
+                     " rows of weights, shaped like control_points");
+      for (std::size_t i = 0; i < n.size(); ++i) {
+        const std::string row_field = f + "[" + std::to_string(i) + "]";
+        if (!n[i].IsSequence() || n[i].size() != p.count_v)
+          in_.fail(n[i], row_field, "must be a list of " + std::to_string(p.count_v) + " weights");
+        for (std::size_t j = 0; j < n[i].size(); ++j) {
+          locations_[f + "[" + std::to_string(i * p.count_v + j) + "]"] = n[i][j];
+          p.weights.push_back(in_.number(n[i][j], row_field + "[" + std::to_string(j) + "]"));
+        }
+      }
+    });
+    optional(g, "knots_u", path, [&](auto& n, auto& f) { p.knots_u = number_list(n, f); });
+    optional(g, "knots_v", path, [&](auto& n, auto& f) { p.knots_v = number_list(n, f); });
+    return p;
+  }
+
+  // surface: { type: sphere, center: ..., radius: ... } (any analytic surface or a patch,
+  // without material, visible or transform: the face's apply).
+  TrimmedSurfaceDesc surface_fields(const YAML::Node& g, const std::string& face_path) {
+    const std::string path = face_path + ".surface";
+    const YAML::Node s = map_at(in_.required(g, "surface", face_path), path);
+    locations_[path] = s;
+    const std::string type = in_.string(in_.required(s, "type", path), path + ".type");
+    if (type == "sphere") {
+      in_.check_keys(s, path, {"type", "center", "radius"});
+      return sphere_fields(s, path);
+    } else if (type == "rectangle" || type == "quad") {
+      in_.check_keys(s, path, {"type", "corner", "u", "v"});
+      return quad_fields(s, path);
+    } else if (type == "plane") {
+      in_.check_keys(s, path, {"type", "point", "normal"});
+      return plane_fields(s, path);
+    } else if (type == "disk") {
+      in_.check_keys(s, path, {"type", "center", "normal", "radius", "inner_radius"});
+      return disk_fields(s, path);
+    } else if (type == "cylinder") {
+      in_.check_keys(s, path, {"type", "base", "axis", "radius", "height"});
+      return cylinder_fields(s, path);
+    } else if (type == "cone") {
+      in_.check_keys(s, path, {"type", "base", "axis", "base_radius", "top_radius", "height"});
+      return cone_fields(s, path);
+    } else if (type == "torus") {
+      in_.check_keys(s, path, {"type", "center", "axis", "major_radius", "minor_radius"});
+      return torus_fields(s, path);
+    } else if (type == "bspline_patch") {
+      in_.check_keys(s, path, {"type", "control_points", "weights", "knots_u", "knots_v"});
+      return patch_fields(s, path);
+    }
+    in_.fail(s["type"], path + ".type",
+             "unknown surface type '" + type +
+                 "' for a trimmed face (expected plane, disk, rectangle, quad, sphere, cylinder, "
+                 "cone, torus or bspline_patch)");
+  }
+
+  // loops: [[[u, v], ...], ...]: the outer loop, then holes.
+  std::vector<std::vector<glm::dvec2>> loops_field(const YAML::Node& g, const std::string& path) {
+    const std::string field = path + ".loops";
+    const YAML::Node n = in_.required(g, "loops", path);
+    locations_[field] = n;
+    if (!n.IsSequence() || n.size() == 0)
+      in_.fail(n, field, "must be a list of loops (the outer loop first, then holes)");
+    std::vector<std::vector<glm::dvec2>> loops;
+    for (std::size_t k = 0; k < n.size(); ++k) {
+      const std::string loop_field = field + "[" + std::to_string(k) + "]";
+      const YAML::Node loop = n[k];
+      locations_[loop_field] = loop;
+      if (!loop.IsSequence()) in_.fail(loop, loop_field, "must be a list of [u, v] points");
+      std::vector<glm::dvec2>& points = loops.emplace_back();
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::string point_field = loop_field + "[" + std::to_string(i) + "]";
+        const YAML::Node uv = loop[i];
+        locations_[point_field] = uv;
+        if (!uv.IsSequence() || uv.size() != 2)
+          in_.fail(uv, point_field, "must be a [u, v] pair of numbers");
+        points.emplace_back(in_.number(uv[0], point_field + "[0]"),
+                            in_.number(uv[1], point_field + "[1]"));
+      }
+    }
+    return loops;
   }
 
   TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,

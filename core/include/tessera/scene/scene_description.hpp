@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -215,6 +216,52 @@ struct SdfCapsuleDesc {
   friend bool operator==(const SdfCapsuleDesc&, const SdfCapsuleDesc&) = default;
 };
 
+// Bicubic B-spline patch; rational (NURBS) when `weights` is set. Control point (i, j), i
+// along u and j along v, is control_points[i * count_v + j]. Knot vectors hold count + 4
+// non-decreasing values each; empty means clamped uniform over [0, 1] (the patch then
+// passes through its four corner points). The patch covers [knots[3], knots[count]] in each
+// direction, and that is its uv (trimming loops of a trimmed patch use it). A transform is
+// baked into the control points exactly (B-splines are affine invariant).
+struct SplinePatchDesc {
+  std::uint32_t count_u = 4;
+  std::uint32_t count_v = 4;
+  std::vector<glm::dvec3> control_points;
+  std::vector<double> weights;  // empty: non-rational; else one per control point, > 0
+  std::vector<double> knots_u;  // empty: clamped uniform
+  std::vector<double> knots_v;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const SplinePatchDesc&, const SplinePatchDesc&) = default;
+};
+
+// The clamped uniform knot vector of a cubic with `count` control points over [0, 1]:
+// four zeros, count - 4 evenly spaced inner knots, four ones.
+std::vector<double> clamped_uniform_knots(std::uint32_t count);
+
+// The surface a trimmed face cuts: one of the analytic surfaces or a patch. Its own
+// material, visible and transform fields are ignored (the face's apply).
+using TrimmedSurfaceDesc = std::variant<PlaneDesc, DiskDesc, QuadDesc, SphereDesc, CylinderDesc,
+                                        ConeDesc, TorusDesc, SplinePatchDesc>;
+const char* trimmed_surface_name(const TrimmedSurfaceDesc& surface);  // "sphere", "patch", ...
+
+// A surface bounded in its own uv (surface_at's uv, see the README) by closed loops:
+// loops[0] the outer boundary, the others holes; points inside by non-zero winding. Each
+// loop is a polyline of >= 3 uv points, the last joined back to the first; on a surface
+// whose u (or v) wraps, steps are taken the short way round, so loops may cross the seam.
+struct TrimmedFaceDesc {
+  TrimmedSurfaceDesc surface = SphereDesc{};
+  std::vector<std::vector<glm::dvec2>> loops;
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const TrimmedFaceDesc&, const TrimmedFaceDesc&) = default;
+};
+
 struct TriangleMeshDesc {
   std::vector<glm::dvec3> positions;
   std::vector<std::uint32_t> indices;  // three per triangle
@@ -286,6 +333,8 @@ struct SceneDescription {
   std::vector<SdfBoxDesc> sdf_boxes;
   std::vector<SdfTorusDesc> sdf_tori;
   std::vector<SdfCapsuleDesc> sdf_capsules;
+  std::vector<SplinePatchDesc> patches;
+  std::vector<TrimmedFaceDesc> trimmed_faces;
   RenderSettings render;
 
   std::size_t triangle_count() const;
@@ -307,6 +356,10 @@ struct SceneLimits {
   std::size_t max_triangles = 50'000'000;
   // Shapes of one type; the renderer's primitive references hold 27 index bits.
   std::size_t max_shapes_per_type = (std::size_t{1} << 27) - 1;
+  // Control points of all patches together (each becomes at most one Bézier piece of
+  // ~650 bytes) and uv points of all trimming loops together (16 bytes each).
+  std::size_t max_patch_control_points = 250'000;
+  std::size_t max_trim_points = 4'000'000;
 };
 
 // Semantic checks shared by every loader (finite numbers, positive radii, valid material
