@@ -503,7 +503,9 @@ struct AllQuery {
 // conditional moves instead of unpredictable branches.
 using StackKey = std::uint64_t;
 
-// `distance_bits`: the bits of a distance >= +0 (test_node clamps them).
+// `distance_bits`: the bits of a distance >= +0 (test_node clamps them). A key of 0 stands
+// for any entry distance <= 0, so the pop compares keys with max(t_max, 0): a ray with
+// t_min < 0 whose best hit so far lies behind its origin must still visit them.
 TESSERA_KERNEL_INLINE StackKey stack_key(std::uint32_t distance_bits, std::uint32_t child) {
   return (static_cast<StackKey>(distance_bits) << 32) | child;
 }
@@ -641,7 +643,7 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
     do {
       if (size == 0) return;
       popped = stack[--size];
-    } while (key_distance(popped) > query.t_max);
+    } while (key_distance(popped) > (query.t_max > 0.0f ? query.t_max : 0.0f));
     child = static_cast<std::uint32_t>(popped);
   }
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <random>
 #include <string>
 #include <tuple>
 
@@ -137,6 +138,32 @@ TEST_P(TriangleAccelTest, ClosedMeshIsWatertight) {
     HitRecord hit;
     ASSERT_TRUE(accel.closest(rays[i], hit)) << "ray " << i;
     ASSERT_TRUE(accel.occluded(rays[i])) << "ray " << i;
+  }
+  expect_same_hits(tris, accel, rays);
+}
+
+TEST_P(TriangleAccelTest, BounceRaysFromTheSurfaceMatchBruteForce) {
+  // Rays that start on the surface, as bounce rays do: the origin lies inside (or on) most
+  // boxes the ray enters, so entry distances are zero or negative (t_min = 0 and t_min < 0)
+  // and the origin's own triangle is tested at t near 0. A closed sphere and a soup
+  // around it, origins at random points of random triangles, t compared exactly.
+  auto tris = accel_test::closed_sphere(4);
+  for (const Triangle& t : accel_test::triangle_soup(800, 21)) tris.push_back(t);
+  const TriangleAccel accel = build(tris);
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::uniform_int_distribution<std::size_t> pick(0, tris.size() - 1);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 1500; ++i) {
+    const Triangle& t = tris[pick(rng)];
+    float b1 = unit(rng), b2 = unit(rng);
+    if (b1 + b2 > 1.0f) {
+      b1 = 1.0f - b1;
+      b2 = 1.0f - b2;
+    }
+    const vec3 origin = t.p0 + b1 * (t.p1 - t.p0) + b2 * (t.p2 - t.p0);
+    const float t_min = i % 3 == 0 ? -0.25f : 0.0f;
+    rays.push_back(Ray{origin, accel_test::random_direction(rng), t_min, kInfinity});
   }
   expect_same_hits(tris, accel, rays);
 }

@@ -80,7 +80,10 @@ struct TriangleKernels {
 // Traces rays against a triangle set. Hits name the triangle by its index in the array
 // given to build() (or by the reference given for it); u and v are the barycentric weights of p1
 // and p2 (as tessera::intersect). Rays with a non-finite origin or direction, a zero direction or
-// t_min > t_max never hit.
+// t_min > t_max never hit. t_min may be negative (hits behind the origin count), but the
+// boxes' rounding padding widens them towards +t only, as tessera's scalar box test does: a hit
+// behind the origin in a box the ray only grazes there (a flat box along its face) can be
+// missed. The renderer's rays have t_min >= 0.
 class TriangleAccel {
  public:
   TriangleAccel() = default;  // traces nothing
