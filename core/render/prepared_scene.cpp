@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tessera/scene/spline_geometry.hpp"
+
 namespace tessera {
 
 namespace {
@@ -54,6 +56,41 @@ Instance<Shape> make_instance(const Shape& shape, const std::optional<TransformD
   if (!Instance<Shape>::make(shape, Placement(transform).affine, instance))
     throw std::invalid_argument("singular geometry transform (validate_scene rejects these)");
   return instance;
+}
+
+// The surfaces a trimmed face cuts, in their own space (the face's transform goes into the
+// instance), carrying the face's material.
+Plane object_surface(const PlaneDesc& p, std::uint32_t material) {
+  return Plane::make(to_float(p.point), vec3(glm::normalize(p.normal)), material);
+}
+Disk object_surface(const DiskDesc& d, std::uint32_t material) {
+  return Disk::make(to_float(d.center), vec3(glm::normalize(d.normal)),
+                    static_cast<float>(d.radius), material, static_cast<float>(d.inner_radius));
+}
+Quad object_surface(const QuadDesc& q, std::uint32_t material) {
+  return Quad::make(to_float(q.corner), to_float(q.u), to_float(q.v), material);
+}
+Sphere object_surface(const SphereDesc& s, std::uint32_t material) {
+  return Sphere{to_float(s.center), static_cast<float>(s.radius), material};
+}
+Cylinder object_surface(const CylinderDesc& c, std::uint32_t material) {
+  return Cylinder::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.radius),
+                        static_cast<float>(c.height), c.caps, material);
+}
+Cone object_surface(const ConeDesc& c, std::uint32_t material) {
+  return Cone::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.base_radius),
+                    static_cast<float>(c.top_radius), static_cast<float>(c.height), c.caps,
+                    material);
+}
+Torus object_surface(const TorusDesc& t, std::uint32_t material) {
+  return Torus::make(to_float(t.center), to_float(t.axis), static_cast<float>(t.major_radius),
+                     static_cast<float>(t.minor_radius), material);
+}
+
+// Build errors were reported by validate_scene already; one here means a caller skipped it.
+void require_built(const std::string& error) {
+  if (!error.empty())
+    throw std::invalid_argument(error + " (validate_scene rejects such scenes before rendering)");
 }
 
 }  // namespace
@@ -279,6 +316,74 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
             make_instance(capsule, c.transform), c.visible, c.material);
   }
 
+  // Patches: the transform is baked into the control points (exact: B-splines are affine
+  // invariant), so the patch is stored as it stands in the world.
+  for (const auto& p : description.patches) {
+    SplinePatch patch;
+    require_built(build_spline_patch(to_spline_patch_description(p, true), scene->patch_pool_,
+                                     patch, "geometry[" + std::to_string(p.source_index) + "]"));
+    const auto index = static_cast<std::uint32_t>(scene->patches_.size());
+    scene->patches_.push_back(patch);
+    add(PrimitiveType::kSplinePatch, index, tessera::bounds(patch), p.visible, p.material, 0.0f);
+  }
+  // Trimmed faces: each an instance of the trimmed surface in its own space.
+  for (const auto& f : description.trimmed_faces) {
+    const std::string field = "geometry[" + std::to_string(f.source_index) + "]";
+    const auto store = [&](auto& array, PrimitiveType type, const auto& surface) {
+      using Surface = std::decay_t<decltype(surface)>;
+      Trimmed<Surface> face;
+      require_built(build_trimmed_face(surface, f.loops, scene->trim_pool_, face, field));
+      const auto index = static_cast<std::uint32_t>(array.size());
+      array.push_back(make_instance(face, f.transform));
+      add(type, index, tessera::bounds(array.back()), f.visible, f.material, 0.0f);
+    };
+    std::visit(
+        [&](const auto& desc) {
+          using D = std::decay_t<decltype(desc)>;
+          if constexpr (std::is_same_v<D, SplinePatchDesc>) {
+            SplinePatchDesc object = desc;
+            object.material = f.material;
+            SplinePatch patch;
+            require_built(build_spline_patch(to_spline_patch_description(object, false),
+                                             scene->patch_pool_, patch, field + ".surface"));
+            store(scene->trimmed_patches_, PrimitiveType::kTrimmedPatch, patch);
+          } else {
+            const auto surface = object_surface(desc, f.material);
+            using S = std::decay_t<decltype(surface)>;
+            if constexpr (std::is_same_v<S, Plane>)
+              store(scene->trimmed_planes_, PrimitiveType::kTrimmedPlane, surface);
+            else if constexpr (std::is_same_v<S, Disk>)
+              store(scene->trimmed_disks_, PrimitiveType::kTrimmedDisk, surface);
+            else if constexpr (std::is_same_v<S, Quad>)
+              store(scene->trimmed_quads_, PrimitiveType::kTrimmedQuad, surface);
+            else if constexpr (std::is_same_v<S, Sphere>)
+              store(scene->trimmed_spheres_, PrimitiveType::kTrimmedSphere, surface);
+            else if constexpr (std::is_same_v<S, Cylinder>)
+              store(scene->trimmed_cylinders_, PrimitiveType::kTrimmedCylinder, surface);
+            else if constexpr (std::is_same_v<S, Cone>)
+              store(scene->trimmed_cones_, PrimitiveType::kTrimmedCone, surface);
+            else
+              store(scene->trimmed_tori_, PrimitiveType::kTrimmedTorus, surface);
+          }
+        },
+        f.surface);
+  }
+  // Every pool has its final size now: point the shapes at where their data ended up.
+  for (auto& patch : scene->patches_) bind_pieces(patch, scene->patch_pool_.pieces.data());
+  const auto bind_faces = [&](auto& faces) {
+    for (auto& face : faces) bind_trim_region(face.shape.region, scene->trim_pool_);
+  };
+  bind_faces(scene->trimmed_planes_);
+  bind_faces(scene->trimmed_disks_);
+  bind_faces(scene->trimmed_quads_);
+  bind_faces(scene->trimmed_spheres_);
+  bind_faces(scene->trimmed_cylinders_);
+  bind_faces(scene->trimmed_cones_);
+  bind_faces(scene->trimmed_tori_);
+  bind_faces(scene->trimmed_patches_);
+  for (auto& face : scene->trimmed_patches_)
+    bind_pieces(face.shape.surface, scene->patch_pool_.pieces.data());
+
   // Visible triangles are traced on the CPU by the SIMD structure (accel/triangle_accel.hpp),
   // every other shape by the BVH; BvhView::triangles joins the two for BvhTracer.
   std::vector<Triangle> visible_triangles;
@@ -346,6 +451,15 @@ SceneView PreparedScene::view() const {
   v.sdf_box_instances = sdf_box_instances_.data();
   v.sdf_torus_instances = sdf_torus_instances_.data();
   v.sdf_capsule_instances = sdf_capsule_instances_.data();
+  v.patches = patches_.data();
+  v.trimmed_planes = trimmed_planes_.data();
+  v.trimmed_disks = trimmed_disks_.data();
+  v.trimmed_quads = trimmed_quads_.data();
+  v.trimmed_spheres = trimmed_spheres_.data();
+  v.trimmed_cylinders = trimmed_cylinders_.data();
+  v.trimmed_cones = trimmed_cones_.data();
+  v.trimmed_tori = trimmed_tori_.data();
+  v.trimmed_patches = trimmed_patches_.data();
   v.materials = materials_.data();
   v.lights = lights_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());

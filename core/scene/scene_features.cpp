@@ -34,6 +34,8 @@ SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
   distance_field(scene.sdf_boxes);
   distance_field(scene.sdf_tori);
   distance_field(scene.sdf_capsules);
+  for (const auto& p : scene.patches) use(kShapePatch, p.material);
+  for (const auto& t : scene.trimmed_faces) use(kShapeTrimmed, t.material);
   f.primitive_count = scene.analytic_shape_count() + scene.triangle_count();
   const auto used = [&](BsdfKind kind) {
     return (f.material_kinds & (1u << static_cast<unsigned>(kind))) != 0;
@@ -70,6 +72,8 @@ std::string SceneFeatures::summary() const {
   add(kShapeTorus, "tori");
   add(kShapeSdf, "sdfs");
   add(kShapeInstance, "instances");
+  add(kShapePatch, "patches");
+  add(kShapeTrimmed, "trimmed faces");
   if (shapes_text.empty()) shapes_text = "empty";
   return shapes_text + ", " + std::to_string(light_count) + " lights, " +
          std::to_string(primitive_count) + " primitives";

@@ -7,6 +7,8 @@
 
 #include "tessera/accel/bvh.hpp"
 #include "tessera/accel/triangle_accel.hpp"
+#include "tessera/geometry/spline_patch_build.hpp"
+#include "tessera/geometry/trimmed_face_build.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
@@ -76,6 +78,19 @@ class PreparedScene {
   std::vector<Instance<SdfBox>> sdf_box_instances_;
   std::vector<Instance<SdfTorus>> sdf_torus_instances_;
   std::vector<Instance<SdfCapsule>> sdf_capsule_instances_;
+  // Patches and trimmed faces hold plain pointers into these pools, bound once every shape
+  // is built (the scene lives on the heap and never moves afterwards).
+  SplinePatchPool patch_pool_;
+  TrimPool trim_pool_;
+  std::vector<SplinePatch> patches_;
+  std::vector<Instance<Trimmed<Plane>>> trimmed_planes_;
+  std::vector<Instance<Trimmed<Disk>>> trimmed_disks_;
+  std::vector<Instance<Trimmed<Quad>>> trimmed_quads_;
+  std::vector<Instance<Trimmed<Sphere>>> trimmed_spheres_;
+  std::vector<Instance<Trimmed<Cylinder>>> trimmed_cylinders_;
+  std::vector<Instance<Trimmed<Cone>>> trimmed_cones_;
+  std::vector<Instance<Trimmed<Torus>>> trimmed_tori_;
+  std::vector<Instance<Trimmed<SplinePatch>>> trimmed_patches_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
   Bvh bvh_;                       // every visible bounded shape but triangles

@@ -11,9 +11,11 @@
 #include "tessera/geometry/sdf_primitives.hpp"
 #include "tessera/geometry/sphere.hpp"
 #include "tessera/geometry/sphere_tracing.hpp"
+#include "tessera/geometry/spline_patch.hpp"
 #include "tessera/geometry/torus.hpp"
 #include "tessera/geometry/triangle.hpp"
 #include "tessera/geometry/triangle_attributes.hpp"
+#include "tessera/geometry/trimmed_face.hpp"
 #include "tessera/render/camera.hpp"
 #include "tessera/render/material.hpp"
 #include "tessera/scene/scene_features.hpp"
@@ -31,6 +33,10 @@ namespace tessera {
 // type has its own flat array and primitive type, but they all share one ShapeBit,
 // kShapeInstance: a bit per instanced type would double the masks for nothing, since the
 // compiled shape classes (pipeline_features.hpp) put every non-trivial shape in "all".
+// Patches (kShapePatch) hold their transform baked into the control points. Trimmed faces
+// (kShapeTrimmed) are always instances (identity when untransformed): a trim region is in
+// the surface's own uv, which most baked transforms would change, and one stored form per
+// surface type keeps the primitive types at 28 of the 32 the tag bits hold.
 enum class PrimitiveType : std::uint32_t {
   kSphere = 0,
   kQuad,
@@ -51,10 +57,19 @@ enum class PrimitiveType : std::uint32_t {
   kSdfBoxInstance,
   kSdfTorusInstance,
   kSdfCapsuleInstance,
+  kSplinePatch,
+  kTrimmedPlane,
+  kTrimmedDisk,
+  kTrimmedQuad,
+  kTrimmedSphere,
+  kTrimmedCylinder,
+  kTrimmedCone,
+  kTrimmedTorus,
+  kTrimmedPatch,
 };
 inline constexpr std::uint32_t kPrimitiveTypeShift = 27;
 inline constexpr std::uint32_t kPrimitiveIndexMask = (1u << kPrimitiveTypeShift) - 1u;
-static_assert(static_cast<std::uint32_t>(PrimitiveType::kSdfCapsuleInstance) <
+static_assert(static_cast<std::uint32_t>(PrimitiveType::kTrimmedPatch) <
                   (1u << (32 - kPrimitiveTypeShift)),
               "primitive types must fit the tag bits");
 
@@ -108,6 +123,17 @@ struct SceneShapes {
   const Instance<SdfBox>* sdf_box_instances = nullptr;
   const Instance<SdfTorus>* sdf_torus_instances = nullptr;
   const Instance<SdfCapsule>* sdf_capsule_instances = nullptr;
+  // Patches and trimmed faces point into pools (Bézier pieces, trim loops) that live as
+  // long as these arrays.
+  const SplinePatch* patches = nullptr;
+  const Instance<Trimmed<Plane>>* trimmed_planes = nullptr;
+  const Instance<Trimmed<Disk>>* trimmed_disks = nullptr;
+  const Instance<Trimmed<Quad>>* trimmed_quads = nullptr;
+  const Instance<Trimmed<Sphere>>* trimmed_spheres = nullptr;
+  const Instance<Trimmed<Cylinder>>* trimmed_cylinders = nullptr;
+  const Instance<Trimmed<Cone>>* trimmed_cones = nullptr;
+  const Instance<Trimmed<Torus>>* trimmed_tori = nullptr;
+  const Instance<Trimmed<SplinePatch>>* trimmed_patches = nullptr;
 };
 
 // Read-only view of the render scene: plain pointers into arrays that live for the job,
@@ -129,6 +155,7 @@ template <unsigned kShapes, typename R, typename Fn>
 TESSERA_HD R dispatch(const SceneShapes& s, std::uint32_t primitive, R fallback, Fn&& fn) {
   const std::uint32_t i = primitive_index(primitive);
   constexpr bool kInstances = (kShapes & kShapeInstance) != 0;
+  constexpr bool kTrimmed = (kShapes & kShapeTrimmed) != 0;
   switch (primitive_type(primitive)) {
     case PrimitiveType::kSphere:
       if constexpr ((kShapes & kShapeSphere) != 0) return fn(s.spheres[i]);
@@ -186,6 +213,33 @@ TESSERA_HD R dispatch(const SceneShapes& s, std::uint32_t primitive, R fallback,
       break;
     case PrimitiveType::kSdfCapsuleInstance:
       if constexpr (kInstances) return fn(s.sdf_capsule_instances[i]);
+      break;
+    case PrimitiveType::kSplinePatch:
+      if constexpr ((kShapes & kShapePatch) != 0) return fn(s.patches[i]);
+      break;
+    case PrimitiveType::kTrimmedPlane:
+      if constexpr (kTrimmed) return fn(s.trimmed_planes[i]);
+      break;
+    case PrimitiveType::kTrimmedDisk:
+      if constexpr (kTrimmed) return fn(s.trimmed_disks[i]);
+      break;
+    case PrimitiveType::kTrimmedQuad:
+      if constexpr (kTrimmed) return fn(s.trimmed_quads[i]);
+      break;
+    case PrimitiveType::kTrimmedSphere:
+      if constexpr (kTrimmed) return fn(s.trimmed_spheres[i]);
+      break;
+    case PrimitiveType::kTrimmedCylinder:
+      if constexpr (kTrimmed) return fn(s.trimmed_cylinders[i]);
+      break;
+    case PrimitiveType::kTrimmedCone:
+      if constexpr (kTrimmed) return fn(s.trimmed_cones[i]);
+      break;
+    case PrimitiveType::kTrimmedTorus:
+      if constexpr (kTrimmed) return fn(s.trimmed_tori[i]);
+      break;
+    case PrimitiveType::kTrimmedPatch:
+      if constexpr (kTrimmed) return fn(s.trimmed_patches[i]);
       break;
   }
   return fallback;

@@ -19,10 +19,12 @@ enum ShapeBit : unsigned {
   kShapeTorus = 1u << 7,
   kShapeSdf = 1u << 8,       // signed-distance box, rounded box, torus, capsule
   kShapeInstance = 1u << 9,  // any shape under a transform its own type cannot hold
+  kShapePatch = 1u << 10,    // bicubic B-spline/NURBS patches (transforms baked in)
+  kShapeTrimmed = 1u << 11,  // trimmed faces of any surface type, each an instance
 };
 inline constexpr unsigned kAllShapes = kShapeSphere | kShapeQuad | kShapeTriangle | kShapePlane |
                                        kShapeDisk | kShapeCylinder | kShapeCone | kShapeTorus |
-                                       kShapeSdf | kShapeInstance;
+                                       kShapeSdf | kShapeInstance | kShapePatch | kShapeTrimmed;
 
 // True when a curved shape under `transform` stays a shape of its own type (translate,
 // rotate and uniform scale: a similarity), so the renderer bakes the transform into its
