@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <functional>
 #include <optional>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace tessera {
@@ -35,6 +37,74 @@ v1::Material material_to_proto(const MaterialDesc& m) {
 bool is_single_inline_triangle(const TriangleMeshDesc& mesh) {
   return mesh.source_file.empty() && mesh.positions.size() == 3 && mesh.indices.size() == 3 &&
          mesh.indices[0] == 0 && mesh.indices[1] == 1 && mesh.indices[2] == 2;
+}
+
+void write_patch(const SplinePatchDesc& p, v1::SplinePatch* out) {
+  out->set_count_u(p.count_u);
+  out->set_count_v(p.count_v);
+  out->mutable_control_points()->Reserve(static_cast<int>(p.control_points.size() * 3));
+  for (const glm::dvec3& point : p.control_points) {
+    out->add_control_points(point.x);
+    out->add_control_points(point.y);
+    out->add_control_points(point.z);
+  }
+  out->mutable_weights()->Add(p.weights.begin(), p.weights.end());
+  out->mutable_knots_u()->Add(p.knots_u.begin(), p.knots_u.end());
+  out->mutable_knots_v()->Add(p.knots_v.begin(), p.knots_v.end());
+}
+
+void write_trimmed_face(const TrimmedFaceDesc& f, v1::TrimmedFace* out) {
+  std::visit(
+      [&](const auto& surface) {
+        using S = std::decay_t<decltype(surface)>;
+        if constexpr (std::is_same_v<S, PlaneDesc>) {
+          set_vec3(out->mutable_plane()->mutable_point(), surface.point);
+          set_vec3(out->mutable_plane()->mutable_normal(), surface.normal);
+        } else if constexpr (std::is_same_v<S, DiskDesc>) {
+          v1::Disk* d = out->mutable_disk();
+          set_vec3(d->mutable_center(), surface.center);
+          set_vec3(d->mutable_normal(), surface.normal);
+          d->set_radius(surface.radius);
+          d->set_inner_radius(surface.inner_radius);
+        } else if constexpr (std::is_same_v<S, QuadDesc>) {
+          v1::Rectangle* r = out->mutable_rectangle();
+          set_vec3(r->mutable_corner(), surface.corner);
+          set_vec3(r->mutable_u(), surface.u);
+          set_vec3(r->mutable_v(), surface.v);
+        } else if constexpr (std::is_same_v<S, SphereDesc>) {
+          set_vec3(out->mutable_sphere()->mutable_center(), surface.center);
+          out->mutable_sphere()->set_radius(surface.radius);
+        } else if constexpr (std::is_same_v<S, CylinderDesc>) {
+          v1::Cylinder* c = out->mutable_cylinder();
+          set_vec3(c->mutable_base(), surface.base);
+          set_vec3(c->mutable_axis(), surface.axis);
+          c->set_radius(surface.radius);
+          c->set_height(surface.height);
+        } else if constexpr (std::is_same_v<S, ConeDesc>) {
+          v1::Cone* c = out->mutable_cone();
+          set_vec3(c->mutable_base(), surface.base);
+          set_vec3(c->mutable_axis(), surface.axis);
+          c->set_base_radius(surface.base_radius);
+          c->set_top_radius(surface.top_radius);
+          c->set_height(surface.height);
+        } else if constexpr (std::is_same_v<S, TorusDesc>) {
+          v1::Torus* t = out->mutable_torus();
+          set_vec3(t->mutable_center(), surface.center);
+          set_vec3(t->mutable_axis(), surface.axis);
+          t->set_major_radius(surface.major_radius);
+          t->set_minor_radius(surface.minor_radius);
+        } else {
+          write_patch(surface, out->mutable_patch());
+        }
+      },
+      f.surface);
+  for (const auto& loop : f.loops) {
+    v1::UvLoop* out_loop = out->add_loops();
+    for (const glm::dvec2& uv : loop) {
+      out_loop->add_uv(uv.x);
+      out_loop->add_uv(uv.y);
+    }
+  }
 }
 
 // One shape of the description and how to write it into the proto's single geometry
@@ -196,6 +266,12 @@ v1::Scene scene_to_proto(const SceneDescription& scene) {
     set_vec3(out_capsule->mutable_a(), c.a);
     set_vec3(out_capsule->mutable_b(), c.b);
     out_capsule->set_radius(c.radius);
+  });
+  collect(scene.patches, [](const SplinePatchDesc& p, v1::Geometry* g) {
+    write_patch(p, g->mutable_spline_patch());
+  });
+  collect(scene.trimmed_faces, [](const TrimmedFaceDesc& f, v1::Geometry* g) {
+    write_trimmed_face(f, g->mutable_trimmed_face());
   });
   // Stable: shapes of one kind keep their relative order even if indices repeat.
   std::stable_sort(order.begin(), order.end(), [](const GeometryRef& a, const GeometryRef& b) {

@@ -201,6 +201,141 @@ std::optional<TransformDesc> convert_transform(const v1::Geometry& g, const std:
   return t;
 }
 
+// The shape fields of each message (the Geometry's fields are filled by the caller); `at`
+// is the message's path ending in '.'. Ranges (positive radii, non-zero axes) are
+// validate_scene's, shared with YAML.
+SphereDesc convert(const v1::Sphere& in, const std::string& at, ProtoChecker& check) {
+  SphereDesc s;
+  s.center = check.vec3(at + "center", in.center());
+  s.radius = check.number(at + "radius", in.radius());
+  return s;
+}
+QuadDesc convert(const v1::Rectangle& in, const std::string& at, ProtoChecker& check) {
+  QuadDesc q;
+  q.corner = check.vec3(at + "corner", in.corner());
+  q.u = check.vec3(at + "u", in.u());
+  q.v = check.vec3(at + "v", in.v());
+  return q;
+}
+PlaneDesc convert(const v1::Plane& in, const std::string& at, ProtoChecker& check) {
+  PlaneDesc p;
+  p.point = check.vec3(at + "point", in.point());
+  p.normal = check.vec3(at + "normal", in.normal());
+  return p;
+}
+DiskDesc convert(const v1::Disk& in, const std::string& at, ProtoChecker& check) {
+  DiskDesc d;
+  d.center = check.vec3(at + "center", in.center());
+  d.normal = check.vec3(at + "normal", in.normal());
+  d.radius = check.number(at + "radius", in.radius());
+  d.inner_radius = check.number(at + "inner_radius", in.inner_radius());
+  return d;
+}
+CylinderDesc convert(const v1::Cylinder& in, const std::string& at, ProtoChecker& check) {
+  CylinderDesc c;
+  c.base = check.vec3(at + "base", in.base());
+  c.axis = check.vec3(at + "axis", in.axis());
+  c.radius = check.number(at + "radius", in.radius());
+  c.height = check.number(at + "height", in.height());
+  c.caps = in.caps();
+  return c;
+}
+ConeDesc convert(const v1::Cone& in, const std::string& at, ProtoChecker& check) {
+  ConeDesc c;
+  c.base = check.vec3(at + "base", in.base());
+  c.axis = check.vec3(at + "axis", in.axis());
+  c.base_radius = check.number(at + "base_radius", in.base_radius());
+  c.top_radius = check.number(at + "top_radius", in.top_radius());
+  c.height = check.number(at + "height", in.height());
+  c.caps = in.caps();
+  return c;
+}
+TorusDesc convert(const v1::Torus& in, const std::string& at, ProtoChecker& check) {
+  TorusDesc t;
+  t.center = check.vec3(at + "center", in.center());
+  t.axis = check.vec3(at + "axis", in.axis());
+  t.major_radius = check.number(at + "major_radius", in.major_radius());
+  t.minor_radius = check.number(at + "minor_radius", in.minor_radius());
+  return t;
+}
+std::vector<double> convert_numbers(const google::protobuf::RepeatedField<double>& in,
+                                    const std::string& field, ProtoChecker& check) {
+  std::vector<double> out(in.begin(), in.end());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(out[i])) {
+      check.number(indexed(field, i), out[i]);
+      break;
+    }
+  return out;
+}
+SplinePatchDesc convert(const v1::SplinePatch& in, const std::string& at, ProtoChecker& check) {
+  SplinePatchDesc p;
+  p.count_u = in.count_u();
+  p.count_v = in.count_v();
+  const std::vector<double> xyz =
+      convert_numbers(in.control_points(), at + "control_points", check);
+  if (xyz.size() % 3 != 0)
+    check.fail(at + "control_points",
+               "must hold x, y, z of each point (a multiple of 3 values), got " +
+                   std::to_string(xyz.size()));
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
+    p.control_points.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+  p.weights = convert_numbers(in.weights(), at + "weights", check);
+  p.knots_u = convert_numbers(in.knots_u(), at + "knots_u", check);
+  p.knots_v = convert_numbers(in.knots_v(), at + "knots_v", check);
+  return p;
+}
+TrimmedFaceDesc convert(const v1::TrimmedFace& in, const std::string& at, ProtoChecker& check) {
+  TrimmedFaceDesc f;
+  switch (in.surface_case()) {
+    case v1::TrimmedFace::kPlane:
+      f.surface = convert(in.plane(), at + "plane.", check);
+      break;
+    case v1::TrimmedFace::kDisk:
+      f.surface = convert(in.disk(), at + "disk.", check);
+      break;
+    case v1::TrimmedFace::kRectangle:
+      f.surface = convert(in.rectangle(), at + "rectangle.", check);
+      break;
+    case v1::TrimmedFace::kSphere:
+      f.surface = convert(in.sphere(), at + "sphere.", check);
+      break;
+    case v1::TrimmedFace::kCylinder: {
+      CylinderDesc c = convert(in.cylinder(), at + "cylinder.", check);
+      c.caps = false;  // a face is the side only
+      f.surface = c;
+      break;
+    }
+    case v1::TrimmedFace::kCone: {
+      ConeDesc c = convert(in.cone(), at + "cone.", check);
+      c.caps = false;
+      f.surface = c;
+      break;
+    }
+    case v1::TrimmedFace::kTorus:
+      f.surface = convert(in.torus(), at + "torus.", check);
+      break;
+    case v1::TrimmedFace::kPatch:
+      f.surface = convert(in.patch(), at + "patch.", check);
+      break;
+    case v1::TrimmedFace::SURFACE_NOT_SET:
+      check.fail(at + "surface",
+                 "is required: set one of plane, disk, rectangle, sphere, cylinder, cone, torus "
+                 "or patch");
+      break;
+  }
+  for (int k = 0; k < in.loops_size(); ++k) {
+    const std::string field = indexed(at + "loops", static_cast<std::size_t>(k));
+    const std::vector<double> uv = convert_numbers(in.loops(k).uv(), field + ".uv", check);
+    if (uv.size() % 2 != 0)
+      check.fail(field + ".uv", "must hold u, v of each point (an even number of values), got " +
+                                    std::to_string(uv.size()));
+    std::vector<glm::dvec2>& loop = f.loops.emplace_back();
+    for (std::size_t i = 0; i + 1 < uv.size(); i += 2) loop.emplace_back(uv[i], uv[i + 1]);
+  }
+  return f;
+}
+
 void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription& scene) {
   for (int i = 0; i < in.geometry_size(); ++i) {
     const v1::Geometry& g = in.geometry(i);
@@ -227,20 +362,16 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
     };
     switch (g.shape_case()) {
       case v1::Geometry::kSphere: {
-        SphereDesc s;
-        s.center = check.vec3(path + ".sphere.center", g.sphere().center());
-        s.radius = check.number(path + ".sphere.radius", g.sphere().radius());
-        if (std::isfinite(s.radius) && !(s.radius > 0.0))
-          check.fail(path + ".sphere.radius", "must be positive, got " + format_number(s.radius));
-        common(s);
-        scene.spheres.push_back(s);
+        SphereDesc sphere = convert(g.sphere(), path + ".sphere.", check);
+        if (std::isfinite(sphere.radius) && !(sphere.radius > 0.0))
+          check.fail(path + ".sphere.radius",
+                     "must be positive, got " + format_number(sphere.radius));
+        common(sphere);
+        scene.spheres.push_back(sphere);
         break;
       }
       case v1::Geometry::kRectangle: {
-        QuadDesc q;
-        q.corner = check.vec3(path + ".rectangle.corner", g.rectangle().corner());
-        q.u = check.vec3(path + ".rectangle.u", g.rectangle().u());
-        q.v = check.vec3(path + ".rectangle.v", g.rectangle().v());
+        QuadDesc q = convert(g.rectangle(), path + ".rectangle.", check);
         common(q);
         scene.quads.push_back(q);
         break;
@@ -262,65 +393,46 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
         scene.meshes.push_back(std::move(mesh));
         break;
       }
-      // Ranges (positive radii, non-zero axes) are validate_scene's, shared with YAML.
       case v1::Geometry::kPlane: {
-        const std::string at = path + ".plane.";
-        PlaneDesc p;
-        p.point = check.vec3(at + "point", g.plane().point());
-        p.normal = check.vec3(at + "normal", g.plane().normal());
+        PlaneDesc p = convert(g.plane(), path + ".plane.", check);
         common(p);
         scene.planes.push_back(p);
         break;
       }
       case v1::Geometry::kDisk: {
-        const std::string at = path + ".disk.";
-        const v1::Disk& in = g.disk();
-        DiskDesc d;
-        d.center = check.vec3(at + "center", in.center());
-        d.normal = check.vec3(at + "normal", in.normal());
-        d.radius = check.number(at + "radius", in.radius());
-        d.inner_radius = check.number(at + "inner_radius", in.inner_radius());
+        DiskDesc d = convert(g.disk(), path + ".disk.", check);
         common(d);
         scene.disks.push_back(d);
         break;
       }
       case v1::Geometry::kCylinder: {
-        const std::string at = path + ".cylinder.";
-        const v1::Cylinder& in = g.cylinder();
-        CylinderDesc c;
-        c.base = check.vec3(at + "base", in.base());
-        c.axis = check.vec3(at + "axis", in.axis());
-        c.radius = check.number(at + "radius", in.radius());
-        c.height = check.number(at + "height", in.height());
-        c.caps = in.caps();
+        CylinderDesc c = convert(g.cylinder(), path + ".cylinder.", check);
         common(c);
         scene.cylinders.push_back(c);
         break;
       }
       case v1::Geometry::kCone: {
-        const std::string at = path + ".cone.";
-        const v1::Cone& in = g.cone();
-        ConeDesc c;
-        c.base = check.vec3(at + "base", in.base());
-        c.axis = check.vec3(at + "axis", in.axis());
-        c.base_radius = check.number(at + "base_radius", in.base_radius());
-        c.top_radius = check.number(at + "top_radius", in.top_radius());
-        c.height = check.number(at + "height", in.height());
-        c.caps = in.caps();
+        ConeDesc c = convert(g.cone(), path + ".cone.", check);
         common(c);
         scene.cones.push_back(c);
         break;
       }
       case v1::Geometry::kTorus: {
-        const std::string at = path + ".torus.";
-        const v1::Torus& in = g.torus();
-        TorusDesc t;
-        t.center = check.vec3(at + "center", in.center());
-        t.axis = check.vec3(at + "axis", in.axis());
-        t.major_radius = check.number(at + "major_radius", in.major_radius());
-        t.minor_radius = check.number(at + "minor_radius", in.minor_radius());
+        TorusDesc t = convert(g.torus(), path + ".torus.", check);
         common(t);
         scene.tori.push_back(t);
+        break;
+      }
+      case v1::Geometry::kSplinePatch: {
+        SplinePatchDesc p = convert(g.spline_patch(), path + ".spline_patch.", check);
+        common(p);
+        scene.patches.push_back(std::move(p));
+        break;
+      }
+      case v1::Geometry::kTrimmedFace: {
+        TrimmedFaceDesc f = convert(g.trimmed_face(), path + ".trimmed_face.", check);
+        common(f);
+        scene.trimmed_faces.push_back(std::move(f));
         break;
       }
       case v1::Geometry::kSdfBox: {
@@ -360,7 +472,8 @@ void convert_geometry(const v1::Scene& in, ProtoChecker& check, SceneDescription
       case v1::Geometry::SHAPE_NOT_SET:
         check.fail(path + ".shape",
                    "is required: set one of sphere, rectangle, triangle, mesh, plane, disk, "
-                   "cylinder, cone, torus, sdf_box, sdf_torus or sdf_capsule");
+                   "cylinder, cone, torus, sdf_box, sdf_torus, sdf_capsule, spline_patch or "
+                   "trimmed_face");
         break;
     }
   }
@@ -418,6 +531,20 @@ std::string proto_field(const std::string& core_field, const v1::Scene& scene) {
       return head + "sdf_torus." + rest;
     case v1::Geometry::kSdfCapsule:
       return head + "sdf_capsule." + rest;
+    case v1::Geometry::kSplinePatch:
+      return head + "spline_patch." + rest;
+    case v1::Geometry::kTrimmedFace: {
+      // geometry[i].surface.x names the field x of the face's surface message.
+      constexpr std::string_view kSurface = "surface.";
+      if (rest.rfind(kSurface, 0) == 0) {
+        static constexpr const char* kMessages[] = {"",           "plane.",  "disk.",
+                                                    "rectangle.", "sphere.", "cylinder.",
+                                                    "cone.",      "torus.",  "patch."};
+        const int which = static_cast<int>(scene.geometry(index).trimmed_face().surface_case());
+        return head + "trimmed_face." + kMessages[which] + rest.substr(kSurface.size());
+      }
+      return head + "trimmed_face." + rest;
+    }
     case v1::Geometry::SHAPE_NOT_SET:
       break;
   }

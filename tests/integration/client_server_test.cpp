@@ -381,6 +381,7 @@ TEST_F(CliAgainstDaemonTest, RemoteIntegratorsAndAovsMatchLocalRendering) {
 }
 
 const std::string kShapes = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/shapes.yaml";
+const std::string kPatches = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/patches.yaml";
 
 // Every shape type, every kind of transform, a mesh with normals and uvs: the client's
 // conversion followed by the server's gives back the description exactly.
@@ -415,11 +416,70 @@ TEST(ProtoRoundTrip, SceneToProtoThenSceneFromProtoIsTheIdentity) {
   EXPECT_TRUE(d.sdf_boxes == scene.sdf_boxes);
   EXPECT_TRUE(d.sdf_tori == scene.sdf_tori);
   EXPECT_TRUE(d.sdf_capsules == scene.sdf_capsules);
+  EXPECT_TRUE(d.patches == scene.patches);
+  EXPECT_TRUE(d.trimmed_faces == scene.trimmed_faces);
   EXPECT_TRUE(d == scene);
 }
 
 // examples/scenes/shapes.yaml through the daemon and locally: the same image bit for bit,
 // and not an empty one.
+TEST(ProtoRoundTrip, PatchesAndTrimmedFacesSurviveTheRoundTrip) {
+  SceneDescription scene = load_scene_file(kPatches).scene;
+  ASSERT_FALSE(scene.patches.empty());
+  ASSERT_FALSE(scene.trimmed_faces.empty());
+  // Explicit knots, and one trimmed face of every other surface kind.
+  scene.patches[0].knots_v = {-1, -1, -1, -1, 2, 2, 2, 2};
+  TrimmedFaceDesc face = scene.trimmed_faces[0];
+  auto index = static_cast<std::uint32_t>(scene.analytic_shape_count() + scene.meshes.size());
+  PlaneDesc plane;
+  plane.normal = {0.1, 1, 0};
+  DiskDesc disk;
+  disk.inner_radius = 0.2;
+  CylinderDesc cylinder;
+  cylinder.axis = {0, 0, 1};
+  ConeDesc cone;
+  cone.top_radius = 0.3;
+  TorusDesc torus;
+  torus.minor_radius = 0.3;
+  for (const TrimmedSurfaceDesc& surface :
+       {TrimmedSurfaceDesc(plane), TrimmedSurfaceDesc(disk), TrimmedSurfaceDesc(cylinder),
+        TrimmedSurfaceDesc(cone), TrimmedSurfaceDesc(torus)}) {
+    face.surface = surface;
+    face.source_index = index++;
+    face.loops = {{{0.1, 0.1}, {0.4, 0.1}, {0.4, 0.3}}};
+    scene.trimmed_faces.push_back(face);
+  }
+  ASSERT_TRUE(validate_scene(scene).empty());
+
+  const server::SceneConversion back =
+      server::scene_from_proto(scene_to_proto(scene), render_settings_to_proto(scene.render));
+  ASSERT_TRUE(back.ok()) << server::describe_issues(back.issues);
+  EXPECT_TRUE(back.scene->patches == scene.patches);
+  EXPECT_TRUE(back.scene->trimmed_faces == scene.trimmed_faces);
+  EXPECT_TRUE(*back.scene == scene);
+}
+
+TEST_F(CliAgainstDaemonTest, PatchesSceneRendersThroughTheDaemonAsLocally) {
+  CliCommand remote = render_command();
+  remote.scene_path = kPatches;
+  remote.preview_png.clear();
+  remote.overrides.samples_per_pixel = 1;
+  remote.output_exr = (dir_ / "remote.exr").string();
+  CliCommand local = remote;
+  local.local = true;
+  local.output_exr = (dir_ / "local.exr").string();
+  const CliRun remote_run = run_cli(remote);
+  ASSERT_EQ(remote_run.exit_code, kExitOk) << remote_run.err;
+  const CliRun local_run = run_cli(local);
+  ASSERT_EQ(local_run.exit_code, kExitOk) << local_run.err;
+  const RgbaImage a = read_image(remote.output_exr);
+  const RgbaImage b = read_image(local.output_exr);
+  EXPECT_TRUE(bit_equal(a.pixels, b.pixels));
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.pixels.size(); i += 4) sum += a.pixels[i] + a.pixels[i + 2];
+  EXPECT_GT(sum, 0.0);
+}
+
 TEST_F(CliAgainstDaemonTest, ShapesSceneRendersThroughTheDaemonAsLocally) {
   CliCommand remote = render_command();
   remote.scene_path = kShapes;
