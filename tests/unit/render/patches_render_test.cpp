@@ -317,6 +317,42 @@ TEST(PatchesRender, TrimmedSphereUnderATransformKeepsItsUvRegion) {
   EXPECT_GT(c.hits, 100);
 }
 
+TEST(PatchesRender, ManyPatchesAndATrimmedPatchShareTheirPools) {
+  // Several patches, so the piece pool grows (and moves) while the scene is built, then a
+  // planar patch trimmed to a diamond in its knot domain [0, 1]^2, above them.
+  SceneDescription scene = base_scene();
+  for (int k = 0; k < 5; ++k) {
+    SplinePatchDesc p = planar_patch({-3.0 + 1.2 * k, -0.5, -2}, {1.0, 0, 0}, {0, 0, 4});
+    p.source_index = static_cast<std::uint32_t>(k);
+    scene.patches.push_back(p);
+  }
+  TrimmedFaceDesc face;
+  face.surface = planar_patch({-2, 0.5, -2}, {4, 0, 0}, {0, 0, 4});
+  const std::vector<glm::dvec2> diamond = {{0.5, 0.0}, {1.0, 0.5}, {0.5, 1.0}, {0.0, 0.5}};
+  face.loops = {diamond};
+  face.source_index = 5;
+  scene.trimmed_faces.push_back(face);
+  const Comparison c = compare_depth(
+      scene,
+      [&](const dvec3& o, const dvec3& d) -> std::optional<double> {
+        if (const auto t = plane_y(o, d, 0.5)) {
+          const dvec3 p = o + *t * d;
+          // The patch's (u, v) is ((x + 2) / 4, (z + 2) / 4).
+          if (inside_polygon(diamond, glm::dvec2((p.x + 2.0) / 4.0, (p.z + 2.0) / 4.0))) return t;
+        }
+        if (const auto t = plane_y(o, d, -0.5)) {
+          const dvec3 p = o + *t * d;
+          for (int k = 0; k < 5; ++k) {
+            const double x0 = -3.0 + 1.2 * k;
+            if (p.x >= x0 && p.x <= x0 + 1.0 && std::fabs(p.z) <= 2.0) return t;
+          }
+        }
+        return std::nullopt;
+      },
+      1e-5, 3);  // rays within rounding of an edge may go either way
+  EXPECT_GT(c.hits, 400);
+}
+
 TEST(PatchesRender, PatchesAndTrimmedFacesUseTheirOwnShapeBits) {
   SceneDescription scene = base_scene();
   scene.patches.push_back(planar_patch({-1, 0, -1}, {2, 0, 0}, {0, 0, 2}));
