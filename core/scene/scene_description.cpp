@@ -436,14 +436,15 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
       return;
     }
     const std::size_t count = std::size_t{p.count_u} * p.count_v;
-    control_points += count;
-    if (control_points > limits.max_patch_control_points) return;  // reported below
     if (p.control_points.size() != count) {
       check.fail(base + ".control_points",
                  "must have count_u * count_v = " + std::to_string(count) + " points, got " +
                      std::to_string(p.control_points.size()));
       return;
     }
+    // Counted from the points actually given, so the limit bounds what building allocates.
+    control_points += count;
+    if (control_points > limits.max_patch_control_points) return;  // reported below
     SplinePatchPool pool;
     SplinePatch patch;
     const std::string error =

@@ -99,6 +99,14 @@ TEST(PatchesFromProto, BadWeightAndRaggedPointsAreNamed) {
   fill_grid(patch);
   patch->add_control_points(1.0);
   expect_first_issue(scene, "geometry[2].spline_patch.control_points", "multiple of 3");
+
+  // Counts that do not match the points sent are refused before anything is built.
+  scene = tiny_scene();
+  patch = add_geometry(scene)->mutable_spline_patch();
+  fill_grid(patch);
+  patch->set_count_u(100000);
+  expect_first_issue(scene, "geometry[2].spline_patch.control_points",
+                     "must have count_u * count_v = 400000 points, got 16");
 }
 
 TEST(PatchesFromProto, LoopsAndSurfacesOfTrimmedFacesAreNamed) {
