@@ -142,17 +142,26 @@ SplinePatchDescription to_spline_patch_description(const SplinePatchDesc& desc, 
   return out;
 }
 
+// The geometry module's own answer (uv_periodicity of the surface type), so validation
+// unwraps loops exactly as the renderer's build does.
 UvPeriodicity trimmed_surface_periodicity(const TrimmedSurfaceDesc& surface) {
   switch (surface.index()) {
-    case 1:  // disk
-    case 3:  // sphere
-    case 4:  // cylinder
-    case 5:  // cone
-      return {true, false};
-    case 6:  // torus
-      return {true, true};
+    case 0:
+      return uv_periodicity(Plane{});
+    case 1:
+      return uv_periodicity(Disk{});
+    case 2:
+      return uv_periodicity(Quad{});
+    case 3:
+      return uv_periodicity(Sphere{});
+    case 4:
+      return uv_periodicity(Cylinder{});
+    case 5:
+      return uv_periodicity(Cone{});
+    case 6:
+      return uv_periodicity(Torus{});
     default:
-      return {false, false};
+      return uv_periodicity(SplinePatch{});
   }
 }
 

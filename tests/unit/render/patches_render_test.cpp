@@ -353,6 +353,48 @@ TEST(PatchesRender, ManyPatchesAndATrimmedPatchShareTheirPools) {
   EXPECT_GT(c.hits, 400);
 }
 
+TEST(PatchesRender, TrimmedCylinderBandAcrossTheSeam) {
+  // A cylinder (axis +y, so u = atan2(-z, x) / 2 pi wrapped to [0, 1), v = y / height)
+  // trimmed to u in [0.7, 1.25] (across the seam at +x; steps over half a turn need a
+  // point between) and v in [0.1, 0.9].
+  constexpr double kRadius = 1.0, kHeight = 1.5;
+  SceneDescription scene = base_scene();
+  CylinderDesc cylinder;
+  cylinder.radius = kRadius;
+  cylinder.height = kHeight;
+  TrimmedFaceDesc face;
+  face.surface = cylinder;
+  face.loops = {{{0.7, 0.1}, {1.0, 0.1}, {0.25, 0.1}, {0.25, 0.9}, {0.0, 0.9}, {0.7, 0.9}}};
+  scene.trimmed_faces.push_back(face);
+  int inside_of_band = 0;
+  const Comparison c = compare_depth(
+      scene,
+      [&](const dvec3& o, const dvec3& d) -> std::optional<double> {
+        const double a = d.x * d.x + d.z * d.z;
+        const double b = o.x * d.x + o.z * d.z;
+        const double cc = o.x * o.x + o.z * o.z - kRadius * kRadius;
+        const double disc = b * b - a * cc;
+        if (a == 0.0 || disc < 0.0) return std::nullopt;
+        const double q = -(b + std::copysign(std::sqrt(disc), b));
+        double roots[2] = {q / a, cc / q};
+        if (roots[0] > roots[1]) std::swap(roots[0], roots[1]);
+        for (int k = 0; k < 2; ++k) {
+          const dvec3 p = o + roots[k] * d;
+          double u = std::atan2(-p.z, p.x) / (2.0 * 3.14159265358979);
+          if (u < 0.0) u += 1.0;
+          const double v = p.y / kHeight;
+          if (roots[k] > 0.0 && (u >= 0.7 || u <= 0.25) && v >= 0.1 && v <= 0.9) {
+            inside_of_band += k;  // the far crossing: seen through the open side
+            return roots[k];
+          }
+        }
+        return std::nullopt;
+      },
+      1e-4, 4);
+  EXPECT_GT(c.hits, 60);
+  EXPECT_GT(inside_of_band, 10);
+}
+
 TEST(PatchesRender, PatchesAndTrimmedFacesUseTheirOwnShapeBits) {
   SceneDescription scene = base_scene();
   scene.patches.push_back(planar_patch({-1, 0, -1}, {2, 0, 0}, {0, 0, 2}));

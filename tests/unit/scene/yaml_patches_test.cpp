@@ -211,6 +211,24 @@ TEST(YamlPatches, DegenerateOuterLoopAndBadSurfaceAreRefused) {
   EXPECT_EQ(issue.field, "geometry[1].surface.type");
 }
 
+TEST(YamlPatches, LoopsGoingAllTheWayRoundAWrappingDirectionAreRefused) {
+  // u wraps on a cylinder: 0 -> 0.4 -> 0.8 -> 0.2 (taken as 1.2) does not close.
+  const std::string loop = "    loops: [[[0, 0.2], [0.4, 0.2], [0.8, 0.2], [0.2, 0.8]]]\n";
+  const SceneIssue issue = load_error(
+      with_geometry("  - type: trimmed\n"
+                    "    material: white\n"
+                    "    surface: { type: cylinder, base: [0, 0, 0], radius: 1, height: 2 }\n" +
+                    loop));
+  EXPECT_EQ(issue.field, "geometry[1].loops[0]");
+  EXPECT_NE(issue.message.find("all the way round"), std::string::npos) << issue.message;
+  // The same loop on a rectangle, whose uv does not wrap, is an ordinary quadrilateral.
+  EXPECT_NO_THROW(load(with_geometry(
+      "  - type: trimmed\n"
+      "    material: white\n"
+      "    surface: { type: rectangle, corner: [0, 0, 0], u: [1, 0, 0], v: [0, 1, 0] }\n" +
+      loop)));
+}
+
 TEST(YamlPatches, PatchSizesAreBoundedByTheLimits) {
   SceneLoadOptions options;
   options.limits.max_patch_control_points = 20;
