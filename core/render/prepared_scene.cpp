@@ -58,35 +58,38 @@ Instance<Shape> make_instance(const Shape& shape, const std::optional<TransformD
   return instance;
 }
 
-// The surfaces a trimmed face cuts, in their own space (the face's transform goes into the
-// instance), carrying the face's material.
-Plane object_surface(const PlaneDesc& p, std::uint32_t material) {
-  return Plane::make(to_float(p.point), vec3(glm::normalize(p.normal)), material);
-}
-Disk object_surface(const DiskDesc& d, std::uint32_t material) {
-  return Disk::make(to_float(d.center), vec3(glm::normalize(d.normal)),
-                    static_cast<float>(d.radius), material, static_cast<float>(d.inner_radius));
-}
-Quad object_surface(const QuadDesc& q, std::uint32_t material) {
-  return Quad::make(to_float(q.corner), to_float(q.u), to_float(q.v), material);
-}
-Sphere object_surface(const SphereDesc& s, std::uint32_t material) {
-  return Sphere{to_float(s.center), static_cast<float>(s.radius), material};
-}
-Cylinder object_surface(const CylinderDesc& c, std::uint32_t material) {
-  return Cylinder::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.radius),
-                        static_cast<float>(c.height), c.caps, material);
-}
-Cone object_surface(const ConeDesc& c, std::uint32_t material) {
-  return Cone::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.base_radius),
-                    static_cast<float>(c.top_radius), static_cast<float>(c.height), c.caps,
-                    material);
-}
-Torus object_surface(const TorusDesc& t, std::uint32_t material) {
-  return Torus::make(to_float(t.center), to_float(t.axis), static_cast<float>(t.major_radius),
-                     static_cast<float>(t.minor_radius), material);
-}
+// Each surface type built from its description where `at` puts it: the identity placement
+// gives the surface in its own space (for instances and trimmed faces); a similarity gives
+// the baked world shape (lengths scale by |s|, axes rotate, normals by the inverse
+// transpose). `material` is the entry's own, or the face's for a trimmed surface.
+const Placement kObjectSpace{std::nullopt};
 
+Plane placed_surface(const PlaneDesc& p, const Placement& at, std::uint32_t material) {
+  return Plane::make(at.point(p.point), at.normal(p.normal), material);
+}
+Disk placed_surface(const DiskDesc& d, const Placement& at, std::uint32_t material) {
+  return Disk::make(at.point(d.center), at.direction(d.normal), at.length(d.radius), material,
+                    at.length(d.inner_radius));
+}
+Quad placed_surface(const QuadDesc& q, const Placement& at, std::uint32_t material) {
+  // A parallelogram stays one under any affine map.
+  return Quad::make(at.point(q.corner), at.vector(q.u), at.vector(q.v), material);
+}
+Sphere placed_surface(const SphereDesc& s, const Placement& at, std::uint32_t material) {
+  return Sphere{at.point(s.center), at.length(s.radius), material};
+}
+Cylinder placed_surface(const CylinderDesc& c, const Placement& at, std::uint32_t material) {
+  return Cylinder::make(at.point(c.base), at.direction(c.axis), at.length(c.radius),
+                        at.length(c.height), c.caps, material);
+}
+Cone placed_surface(const ConeDesc& c, const Placement& at, std::uint32_t material) {
+  return Cone::make(at.point(c.base), at.direction(c.axis), at.length(c.base_radius),
+                    at.length(c.top_radius), at.length(c.height), c.caps, material);
+}
+Torus placed_surface(const TorusDesc& t, const Placement& at, std::uint32_t material) {
+  return Torus::make(at.point(t.center), at.direction(t.axis), at.length(t.major_radius),
+                     at.length(t.minor_radius), material);
+}
 // Build errors were reported by validate_scene already; one here means a caller skipped it.
 void require_built(const std::string& error) {
   if (!error.empty())
@@ -170,22 +173,24 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
         has_light_sampler(type) ? surface_area(shape) : 0.0f);
   };
 
-  for (const auto& s : description.spheres) {
-    const Placement at(s.transform);
-    const Sphere object{to_float(s.center), static_cast<float>(s.radius), s.material};
-    if (transform_bakes_into_shape(s.transform))
-      place(scene->spheres_, PrimitiveType::kSphere,
-            Sphere{at.point(s.center), at.length(s.radius), s.material}, s.visible, s.material);
+  // Curved shapes are baked when the transform is a similarity (they stay the same shape
+  // type) and instanced otherwise (non-uniform scale).
+  const auto place_curved = [&](const auto& desc, auto& baked, PrimitiveType baked_type,
+                                auto& instances, PrimitiveType instance_type) {
+    if (transform_bakes_into_shape(desc.transform))
+      place(baked, baked_type, placed_surface(desc, Placement(desc.transform), desc.material),
+            desc.visible, desc.material);
     else
-      place(scene->sphere_instances_, PrimitiveType::kSphereInstance,
-            make_instance(object, s.transform), s.visible, s.material);
-  }
-  for (const auto& q : description.quads) {
-    const Placement at(q.transform);  // a parallelogram stays one under any affine map
+      place(instances, instance_type,
+            make_instance(placed_surface(desc, kObjectSpace, desc.material), desc.transform),
+            desc.visible, desc.material);
+  };
+  for (const auto& s : description.spheres)
+    place_curved(s, scene->spheres_, PrimitiveType::kSphere, scene->sphere_instances_,
+                 PrimitiveType::kSphereInstance);
+  for (const auto& q : description.quads)
     place(scene->quads_, PrimitiveType::kQuad,
-          Quad::make(at.point(q.corner), at.vector(q.u), at.vector(q.v), q.material), q.visible,
-          q.material);
-  }
+          placed_surface(q, Placement(q.transform), q.material), q.visible, q.material);
   // Shading attributes are stored only when some mesh has normals or uvs; the others then
   // get zero normals (shade flat) and the uvs that reproduce barycentric uvs.
   const bool attributes =
@@ -221,100 +226,48 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   }
   for (const auto& p : description.planes) {
     if (!p.visible) continue;  // planes never emit, so a hidden one does nothing
-    const Placement at(p.transform);
-    scene->planes_.push_back(Plane::make(at.point(p.point), at.normal(p.normal), p.material));
+    scene->planes_.push_back(placed_surface(p, Placement(p.transform), p.material));
   }
-  for (const auto& d : description.disks) {
-    const Placement at(d.transform);
-    if (transform_bakes_into_shape(d.transform))
-      place(scene->disks_, PrimitiveType::kDisk,
-            Disk::make(at.point(d.center), at.direction(d.normal), at.length(d.radius), d.material,
-                       at.length(d.inner_radius)),
-            d.visible, d.material);
-    else
-      place(scene->disk_instances_, PrimitiveType::kDiskInstance,
-            make_instance(
-                Disk::make(to_float(d.center), to_float(d.normal), static_cast<float>(d.radius),
-                           d.material, static_cast<float>(d.inner_radius)),
-                d.transform),
-            d.visible, d.material);
-  }
-  for (const auto& c : description.cylinders) {
-    const Placement at(c.transform);
-    if (transform_bakes_into_shape(c.transform))
-      place(scene->cylinders_, PrimitiveType::kCylinder,
-            Cylinder::make(at.point(c.base), at.direction(c.axis), at.length(c.radius),
-                           at.length(c.height), c.caps, c.material),
-            c.visible, c.material);
-    else
-      place(scene->cylinder_instances_, PrimitiveType::kCylinderInstance,
-            make_instance(
-                Cylinder::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.radius),
-                               static_cast<float>(c.height), c.caps, c.material),
-                c.transform),
-            c.visible, c.material);
-  }
-  for (const auto& c : description.cones) {
-    const Placement at(c.transform);
-    if (transform_bakes_into_shape(c.transform))
-      place(scene->cones_, PrimitiveType::kCone,
-            Cone::make(at.point(c.base), at.direction(c.axis), at.length(c.base_radius),
-                       at.length(c.top_radius), at.length(c.height), c.caps, c.material),
-            c.visible, c.material);
-    else
-      place(scene->cone_instances_, PrimitiveType::kConeInstance,
-            make_instance(
-                Cone::make(to_float(c.base), to_float(c.axis), static_cast<float>(c.base_radius),
-                           static_cast<float>(c.top_radius), static_cast<float>(c.height), c.caps,
-                           c.material),
-                c.transform),
-            c.visible, c.material);
-  }
-  for (const auto& t : description.tori) {
-    const Placement at(t.transform);
-    if (transform_bakes_into_shape(t.transform))
-      place(scene->tori_, PrimitiveType::kTorus,
-            Torus::make(at.point(t.center), at.direction(t.axis), at.length(t.major_radius),
-                        at.length(t.minor_radius), t.material),
-            t.visible, t.material);
-    else
-      place(scene->torus_instances_, PrimitiveType::kTorusInstance,
-            make_instance(Torus::make(to_float(t.center), to_float(t.axis),
-                                      static_cast<float>(t.major_radius),
-                                      static_cast<float>(t.minor_radius), t.material),
-                          t.transform),
-            t.visible, t.material);
-  }
+  for (const auto& d : description.disks)
+    place_curved(d, scene->disks_, PrimitiveType::kDisk, scene->disk_instances_,
+                 PrimitiveType::kDiskInstance);
+  for (const auto& c : description.cylinders)
+    place_curved(c, scene->cylinders_, PrimitiveType::kCylinder, scene->cylinder_instances_,
+                 PrimitiveType::kCylinderInstance);
+  for (const auto& c : description.cones)
+    place_curved(c, scene->cones_, PrimitiveType::kCone, scene->cone_instances_,
+                 PrimitiveType::kConeInstance);
+  for (const auto& t : description.tori)
+    place_curved(t, scene->tori_, PrimitiveType::kTorus, scene->torus_instances_,
+                 PrimitiveType::kTorusInstance);
   // Signed-distance shapes: the box is axis-aligned in its own space, so a rotation needs an
   // instance anyway; every transformed one is instanced to keep one rule.
-  for (const auto& b : description.sdf_boxes) {
-    const SdfBox box{to_float(b.center), to_float(b.half_extent), static_cast<float>(b.rounding),
-                     b.material};
-    if (!b.transform)
-      place(scene->sdf_boxes_, PrimitiveType::kSdfBox, box, b.visible, b.material);
+  const auto place_sdf = [&](const auto& desc, const auto& shape, auto& plain,
+                             PrimitiveType plain_type, auto& instances,
+                             PrimitiveType instance_type) {
+    if (!desc.transform)
+      place(plain, plain_type, shape, desc.visible, desc.material);
     else
-      place(scene->sdf_box_instances_, PrimitiveType::kSdfBoxInstance,
-            make_instance(box, b.transform), b.visible, b.material);
-  }
-  for (const auto& t : description.sdf_tori) {
-    const SdfTorus torus{to_float(t.center), vec3(glm::normalize(t.axis)),
-                         static_cast<float>(t.major_radius), static_cast<float>(t.minor_radius),
-                         t.material};
-    if (!t.transform)
-      place(scene->sdf_tori_, PrimitiveType::kSdfTorus, torus, t.visible, t.material);
-    else
-      place(scene->sdf_torus_instances_, PrimitiveType::kSdfTorusInstance,
-            make_instance(torus, t.transform), t.visible, t.material);
-  }
-  for (const auto& c : description.sdf_capsules) {
-    const SdfCapsule capsule{to_float(c.a), to_float(c.b), static_cast<float>(c.radius),
-                             c.material};
-    if (!c.transform)
-      place(scene->sdf_capsules_, PrimitiveType::kSdfCapsule, capsule, c.visible, c.material);
-    else
-      place(scene->sdf_capsule_instances_, PrimitiveType::kSdfCapsuleInstance,
-            make_instance(capsule, c.transform), c.visible, c.material);
-  }
+      place(instances, instance_type, make_instance(shape, desc.transform), desc.visible,
+            desc.material);
+  };
+  for (const auto& b : description.sdf_boxes)
+    place_sdf(b,
+              SdfBox{to_float(b.center), to_float(b.half_extent), static_cast<float>(b.rounding),
+                     b.material},
+              scene->sdf_boxes_, PrimitiveType::kSdfBox, scene->sdf_box_instances_,
+              PrimitiveType::kSdfBoxInstance);
+  for (const auto& t : description.sdf_tori)
+    place_sdf(t,
+              SdfTorus{to_float(t.center), vec3(glm::normalize(t.axis)),
+                       static_cast<float>(t.major_radius), static_cast<float>(t.minor_radius),
+                       t.material},
+              scene->sdf_tori_, PrimitiveType::kSdfTorus, scene->sdf_torus_instances_,
+              PrimitiveType::kSdfTorusInstance);
+  for (const auto& c : description.sdf_capsules)
+    place_sdf(c, SdfCapsule{to_float(c.a), to_float(c.b), static_cast<float>(c.radius), c.material},
+              scene->sdf_capsules_, PrimitiveType::kSdfCapsule, scene->sdf_capsule_instances_,
+              PrimitiveType::kSdfCapsuleInstance);
 
   // Patches: the transform is baked into the control points (exact: B-splines are affine
   // invariant), so the patch is stored as it stands in the world.
@@ -348,7 +301,7 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
                                              scene->patch_pool_, patch, field + ".surface"));
             store(scene->trimmed_patches_, PrimitiveType::kTrimmedPatch, patch);
           } else {
-            const auto surface = object_surface(desc, f.material);
+            const auto surface = placed_surface(desc, kObjectSpace, f.material);
             using S = std::decay_t<decltype(surface)>;
             if constexpr (std::is_same_v<S, Plane>)
               store(scene->trimmed_planes_, PrimitiveType::kTrimmedPlane, surface);
