@@ -566,7 +566,7 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
       const WideBvhNode& node = view.nodes[child];
       std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, entry);
       if (mask == 0) goto pop;
-      prefetch_children(view, node, mask);
+      if (view.prefetch) prefetch_children(view, node, mask);
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
       mask &= mask - 1;
       if (mask == 0) {

@@ -61,7 +61,16 @@ struct WideTriangleView {
   const WideBvhNode* nodes = nullptr;  // null for brute force
   const TriangleBlock4* blocks = nullptr;
   std::uint32_t block_count = 0;
+  // Request each entered child's memory as soon as its parent is tested: pays where the
+  // structure is larger than the caches, costs where it is not (see kPrefetchMinBytes).
+  bool prefetch = false;
 };
+
+// Structures of at least this many bytes (nodes and blocks; an L2 cache) are walked with
+// prefetching. Measured (bench/accel/README.md, random soups and meshes): -5 to -10% from 64
+// to 4,096 triangles (up to 200 kB), +3% at 16,384 (800 kB), +9% at 65,536 (3 MB), +5% on
+// diffuse rays over a million triangles (50 MB).
+inline constexpr std::size_t kPrefetchMinBytes = std::size_t{512} << 10;
 
 namespace accel_detail {
 // One compiled kernel per query, per structure and per instruction set, chosen when the
@@ -114,7 +123,8 @@ class TriangleAccel {
  private:
   WideTriangleView view() const {
     return WideTriangleView{wide_.nodes.empty() ? nullptr : wide_.nodes.data(), blocks_.data(),
-                            static_cast<std::uint32_t>(blocks_.size())};
+                            static_cast<std::uint32_t>(blocks_.size()),
+                            stats_.bytes >= kPrefetchMinBytes};
   }
 
   AccelStats stats_;
