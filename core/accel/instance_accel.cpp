@@ -1,5 +1,6 @@
 #include "tessera/accel/instance_accel.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "tessera/accel/bvh_traversal.hpp"
@@ -29,7 +30,8 @@ InstanceAccel::InstanceAccel(std::vector<MeshInstance> instances) {
       throw std::invalid_argument("InstanceAccel: instance without a mesh");
     if (glm::determinant(glm::mat3(instance.world_from_object)) == 0.0f)
       throw std::invalid_argument("InstanceAccel: instance transform is not invertible");
-    instances_.push_back(Placed{instance.mesh, glm::inverse(instance.world_from_object)});
+    instances_.push_back(
+        Placed{instance.mesh, glm::inverse(instance.world_from_object), instance.primitive_base});
     // The box of the transformed object box holds the transformed triangles.
     boxes.push_back(transform_box(instance.world_from_object, instance.mesh->bounds()));
     references.push_back(static_cast<std::uint32_t>(i));
@@ -58,6 +60,50 @@ bool InstanceAccel::closest(const Ray& ray, InstanceHit& hit) const {
       });
   if (found) hit = InstanceHit{best, instance};
   return found;
+}
+
+bool InstanceAccel::closest(const Ray& ray, HitRecord& hit) const {
+  InstanceHit found;
+  if (!closest(ray, found)) return false;
+  hit = found.hit;
+  hit.primitive += instances_[found.instance].primitive_base;
+  return true;
+}
+
+std::uint32_t InstanceAccel::all_hits(const Ray& ray, HitRecord* hits,
+                                      std::uint32_t capacity) const {
+  capacity = std::min(capacity, kInstanceAllHitsMax);
+  if (capacity == 0) return 0;
+  std::uint32_t count = 0;
+  HitRecord bound;  // the farthest kept hit once the list is full: farther instances are culled
+  bound.t = ray.t_max;
+  traverse_bvh<false>(top_.view(), ray, bound,
+                      [&](std::uint32_t index, const Ray& r, float t_max, HitRecord& b) {
+                        const Placed& placed = instances_[index];
+                        Ray object = to_object(placed, r);
+                        object.t_max = t_max;
+                        HitRecord found[kInstanceAllHitsMax];
+                        const std::uint32_t n = placed.mesh->all_hits(object, found, capacity);
+                        for (std::uint32_t k = 0; k < n; ++k) {
+                          HitRecord h = found[k];
+                          h.primitive += placed.primitive_base;
+                          std::uint32_t i;
+                          if (count == capacity) {
+                            if (!(h.t < hits[capacity - 1].t)) continue;
+                            i = capacity - 1;
+                          } else {
+                            i = count++;
+                          }
+                          while (i > 0 && h.t < hits[i - 1].t) {
+                            hits[i] = hits[i - 1];
+                            --i;
+                          }
+                          hits[i] = h;
+                        }
+                        if (count == capacity) b.t = hits[capacity - 1].t;
+                        return false;  // the bound was tightened by hand; the walk must not stop
+                      });
+  return count;
 }
 
 bool InstanceAccel::occluded(const Ray& ray) const {

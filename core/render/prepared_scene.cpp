@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "tessera/scene/spline_geometry.hpp"
 
@@ -94,6 +95,70 @@ Torus placed_surface(const TorusDesc& t, const Placement& at, std::uint32_t mate
 void require_built(const std::string& error) {
   if (!error.empty())
     throw std::invalid_argument(error + " (validate_scene rejects such scenes before rendering)");
+}
+
+// Per-vertex shading data of one mesh triangle; meshes without normals get zero normals
+// (they shade flat), without uvs the uvs that reproduce barycentric uvs.
+TriangleAttributes mesh_attributes(const TriangleMeshDesc& mesh, std::uint32_t a, std::uint32_t b,
+                                   std::uint32_t c) {
+  TriangleAttributes shading{vec3(0.0f), vec3(0.0f),       vec3(0.0f),
+                             vec2(0.0f), vec2(1.0f, 0.0f), vec2(0.0f, 1.0f)};
+  if (mesh.normals.size() == mesh.positions.size()) {
+    shading.n0 = to_float(mesh.normals[a]);
+    shading.n1 = to_float(mesh.normals[b]);
+    shading.n2 = to_float(mesh.normals[c]);
+  }
+  if (mesh.uvs.size() == mesh.positions.size()) {
+    shading.uv0 = vec2(mesh.uvs[a]);
+    shading.uv1 = vec2(mesh.uvs[b]);
+    shading.uv2 = vec2(mesh.uvs[c]);
+  }
+  return shading;
+}
+
+bool same_geometry(const TriangleMeshDesc& a, const TriangleMeshDesc& b) {
+  return a.indices == b.indices && a.positions == b.positions && a.normals == b.normals &&
+         a.uvs == b.uvs;
+}
+
+// FNV-1a over the geometry's bytes: equal meshes hash alike (same_geometry confirms).
+std::uint64_t geometry_hash(const TriangleMeshDesc& mesh) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  mix(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
+  mix(mesh.positions.data(), mesh.positions.size() * sizeof(glm::dvec3));
+  mix(mesh.normals.data(), mesh.normals.size() * sizeof(glm::dvec3));
+  mix(mesh.uvs.data(), mesh.uvs.size() * sizeof(glm::dvec2));
+  return h;
+}
+
+// Mesh entries (indices into description.meshes) that share one geometry, for every
+// geometry placed two or more times by visible, non-emitting entries. Found by content, so
+// scenes that arrive over the API share as well as those whose loader shared the file.
+// Emitters stay baked: lights are sampled per world triangle.
+std::vector<std::vector<std::size_t>> shared_geometry_groups(
+    const SceneDescription& description, const std::vector<Material>& materials) {
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> by_hash;  // into `groups`
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t m = 0; m < description.meshes.size(); ++m) {
+    const TriangleMeshDesc& mesh = description.meshes[m];
+    if (!mesh.visible || mesh.indices.size() < 3 || materials[mesh.material].emissive()) continue;
+    auto& candidates = by_hash[geometry_hash(mesh)];
+    const auto same = std::find_if(candidates.begin(), candidates.end(), [&](std::size_t g) {
+      return same_geometry(description.meshes[groups[g].front()], mesh);
+    });
+    if (same != candidates.end()) {
+      groups[*same].push_back(m);
+    } else {
+      candidates.push_back(groups.size());
+      groups.push_back({m});
+    }
+  }
+  std::erase_if(groups, [](const auto& group) { return group.size() < 2; });
+  return groups;
 }
 
 }  // namespace
@@ -196,33 +261,71 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   const bool attributes =
       std::any_of(description.meshes.begin(), description.meshes.end(),
                   [](const TriangleMeshDesc& m) { return !m.normals.empty() || !m.uvs.empty(); });
-  for (const auto& source : description.meshes) {
+  std::vector<bool> shared(description.meshes.size(), false);
+  const std::vector<std::vector<std::size_t>> groups =
+      options.instancing ? shared_geometry_groups(description, scene->materials_)
+                         : std::vector<std::vector<std::size_t>>{};
+  for (const auto& group : groups)
+    for (const std::size_t m : group) shared[m] = true;
+  for (std::size_t m = 0; m < description.meshes.size(); ++m) {
+    if (shared[m]) continue;
+    const TriangleMeshDesc& source = description.meshes[m];
     const TriangleMeshDesc mesh =
         source.transform ? transformed_mesh(source, *source.transform) : TriangleMeshDesc{};
     const TriangleMeshDesc& placed = source.transform ? mesh : source;
-    const bool normals = placed.normals.size() == placed.positions.size();
-    const bool uvs = placed.uvs.size() == placed.positions.size();
     for (std::size_t i = 0; i + 2 < placed.indices.size(); i += 3) {
       const std::uint32_t a = placed.indices[i], b = placed.indices[i + 1],
                           c = placed.indices[i + 2];
       const Triangle tri{to_float(placed.positions[a]), to_float(placed.positions[b]),
                          to_float(placed.positions[c]), placed.material};
       place(scene->triangles_, PrimitiveType::kTriangle, tri, placed.visible, placed.material);
-      if (!attributes) continue;
-      TriangleAttributes shading{vec3(0.0f), vec3(0.0f),       vec3(0.0f),
-                                 vec2(0.0f), vec2(1.0f, 0.0f), vec2(0.0f, 1.0f)};
-      if (normals) {
-        shading.n0 = to_float(placed.normals[a]);
-        shading.n1 = to_float(placed.normals[b]);
-        shading.n2 = to_float(placed.normals[c]);
-      }
-      if (uvs) {
-        shading.uv0 = vec2(placed.uvs[a]);
-        shading.uv1 = vec2(placed.uvs[b]);
-        shading.uv2 = vec2(placed.uvs[c]);
-      }
-      scene->triangle_attributes_.push_back(shading);
+      if (attributes) scene->triangle_attributes_.push_back(mesh_attributes(placed, a, b, c));
     }
+  }
+  // Shared geometry: built once in object space, each placement an instance with its own
+  // range of virtual triangle ids.
+  scene->shared_meshes_.reserve(groups.size());  // the instances point into it
+  std::vector<MeshInstance> instances;
+  std::uint64_t next_id = 0;
+  for (const auto& group : groups) {
+    const TriangleMeshDesc& geometry = description.meshes[group.front()];
+    const auto first_triangle = static_cast<std::uint32_t>(scene->instanced_triangles_.size());
+    for (std::size_t i = 0; i + 2 < geometry.indices.size(); i += 3) {
+      const std::uint32_t a = geometry.indices[i], b = geometry.indices[i + 1],
+                          c = geometry.indices[i + 2];
+      scene->instanced_triangles_.push_back(Triangle{to_float(geometry.positions[a]),
+                                                     to_float(geometry.positions[b]),
+                                                     to_float(geometry.positions[c]), 0});
+      if (attributes) scene->instanced_attributes_.push_back(mesh_attributes(geometry, a, b, c));
+    }
+    const std::span<const Triangle> object(scene->instanced_triangles_.data() + first_triangle,
+                                           scene->instanced_triangles_.size() - first_triangle);
+    scene->shared_meshes_.push_back(TriangleAccel::build(object));
+    for (const std::size_t m : group) {
+      const TriangleMeshDesc& entry = description.meshes[m];
+      if (next_id + object.size() > std::uint64_t{kPrimitiveIndexMask} + 1)
+        throw std::invalid_argument(
+            "geometry[" + std::to_string(entry.source_index) +
+            "]: placements of shared meshes exceed 2^27 triangles in all (the reference's "
+            "index bits)");
+      MeshPlacement placement;
+      placement.first_id = static_cast<std::uint32_t>(next_id);
+      placement.first_triangle = first_triangle;
+      placement.material = entry.material;
+      placement.object_to_world = Placement(entry.transform).affine;
+      placement.world_to_object = placement.object_to_world.inverse();
+      scene->mesh_placements_.push_back(placement);
+      instances.push_back(
+          MeshInstance{&scene->shared_meshes_.back(),
+                       entry.transform ? glm::mat4(entry.transform->matrix()) : glm::mat4(1.0f),
+                       make_primitive_ref(PrimitiveType::kInstancedTriangle, placement.first_id)});
+      next_id += object.size();
+    }
+  }
+  if (!instances.empty()) {
+    scene->instance_accel_ = InstanceAccel(std::move(instances));
+    spdlog::info("{} mesh placements share {} geometries (two-level)",
+                 scene->mesh_placements_.size(), scene->shared_meshes_.size());
   }
   for (const auto& p : description.planes) {
     if (!p.visible) continue;  // planes never emit, so a hidden one does nothing
@@ -418,9 +521,25 @@ SceneView PreparedScene::view() const {
   v.light_count = static_cast<std::uint32_t>(lights_.size());
   v.bvh = bvh_.view();
   if (triangle_accel_.stats().triangles > 0) v.bvh.triangles = &triangle_accel_;
+  v.instanced_triangles = instanced_triangles_.data();
+  v.instanced_attributes = instanced_attributes_.empty() ? nullptr : instanced_attributes_.data();
+  v.mesh_placements = mesh_placements_.data();
+  v.mesh_placement_count = static_cast<std::uint32_t>(mesh_placements_.size());
+  if (!mesh_placements_.empty()) v.bvh.instances = &instance_accel_;
   v.camera = camera_;
   v.background = background_;
   return v;
+}
+
+std::size_t PreparedScene::triangle_bytes() const {
+  std::size_t bytes = triangles_.size() * sizeof(Triangle) +
+                      triangle_attributes_.size() * sizeof(TriangleAttributes) +
+                      triangle_accel_.stats().bytes +
+                      instanced_triangles_.size() * sizeof(Triangle) +
+                      instanced_attributes_.size() * sizeof(TriangleAttributes) +
+                      mesh_placements_.size() * sizeof(MeshPlacement) + instance_accel_.bytes();
+  for (const auto& mesh : shared_meshes_) bytes += mesh.stats().bytes;
+  return bytes;
 }
 
 TileStats PreparedScene::render_tile(const TileRect& tile, std::span<float> rgba) const {

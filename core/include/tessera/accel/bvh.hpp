@@ -25,6 +25,7 @@ static_assert(sizeof(BvhNode) == 32);
 inline constexpr std::uint32_t kMaxBvhDepth = 64;
 
 class TriangleAccel;
+class InstanceAccel;
 
 struct BvhView {
   const BvhNode* nodes = nullptr;
@@ -34,6 +35,9 @@ struct BvhView {
   // (BvhTracer) trace them as well. Device code never reads it, so a GPU upload must put
   // those triangles into the BVH it uploads.
   const TriangleAccel* triangles = nullptr;
+  // Host only, likewise: placements of shared mesh geometry (two-level), traced by CPU
+  // tracers besides `triangles`; its hits name their triangles with the placement's ids.
+  const InstanceAccel* instances = nullptr;
 };
 
 struct Bvh {

@@ -4,6 +4,7 @@
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/pipeline/concepts.hpp"
 #if !defined(__CUDACC__)
+#include "tessera/accel/instance_accel.hpp"
 #include "tessera/accel/triangle_accel.hpp"
 #endif
 
@@ -13,7 +14,8 @@ namespace tessera {
 // Closest-hit, any-hit and all-hits are separate instantiations of the traversal, so a
 // shadow ray's early exit is compiled in, not tested per node. On the CPU, triangles may
 // live in the SIMD structure BvhView::triangles instead of the BVH; each query then asks
-// it first (one call per ray) and walks the BVH for the other shapes. nvcc never sees
+// it first (one call per ray) and walks the BVH for the other shapes; placements of shared
+// mesh geometry (BvhView::instances, two-level) are asked the same way. nvcc never sees
 // that structure (its kernels are x86 code): device code walks the BVH alone. Shapes no
 // box can hold (infinite planes) stay outside the BVH: an intersection program with
 // kHasUnbounded tests them per ray through its *_unbounded functions.
@@ -33,6 +35,11 @@ class BvhTracer {
     bool found = false;
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr) found = bvh_.triangles->closest(ray, hit);
+    if (bvh_.instances != nullptr) {
+      Ray nearer = ray;
+      nearer.t_max = hit.t;
+      found = bvh_.instances->closest(nearer, hit) || found;
+    }
 #endif
     found = traverse_bvh<false>(
                 bvh_, ray, hit,
@@ -50,6 +57,7 @@ class BvhTracer {
     hit.t = ray.t_max;
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr && bvh_.triangles->closest(ray, hit)) return true;
+    if (bvh_.instances != nullptr && bvh_.instances->closest(ray, hit)) return true;
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.intersect_unbounded(ray, hit)) return true;
@@ -62,6 +70,7 @@ class BvhTracer {
   TESSERA_HD bool occluded(const Ray& ray) const {
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr && bvh_.triangles->occluded(ray)) return true;
+    if (bvh_.instances != nullptr && bvh_.instances->occluded(ray)) return true;
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.occluded_unbounded(ray)) return true;
@@ -84,6 +93,14 @@ class BvhTracer {
     if (bvh_.triangles != nullptr) {
       HitRecord found[kMaxHits];
       const std::uint32_t n = bvh_.triangles->all_hits(ray, found, kMaxHits);
+      for (std::uint32_t i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
+      if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
+    }
+    if (bvh_.instances != nullptr) {
+      HitRecord found[kMaxHits];
+      Ray nearer = ray;
+      nearer.t_max = bound.t;
+      const std::uint32_t n = bvh_.instances->all_hits(nearer, found, kMaxHits);
       for (std::uint32_t i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
       if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
     }

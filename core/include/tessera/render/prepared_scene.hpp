@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tessera/accel/bvh.hpp"
+#include "tessera/accel/instance_accel.hpp"
 #include "tessera/accel/triangle_accel.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
@@ -29,6 +30,9 @@ struct PrepareOptions {
   // Use the variant compiled with every feature instead of the smallest cover (tests and
   // benchmarks compare the two).
   bool all_features = false;
+  // Meshes placed two or more times share one object-space structure (two-level); false
+  // bakes every placement into world triangles (tests and benchmarks compare the two).
+  bool instancing = true;
 };
 
 // The render-ready scene of one job: float arrays per shape type, materials, lights, the
@@ -54,6 +58,13 @@ class PreparedScene {
   SceneView view() const;
   double build_seconds() const { return build_seconds_; }
   std::uint32_t bvh_depth() const { return bvh_.depth; }
+  // Bytes of triangle storage: triangles, their attributes and acceleration structures,
+  // baked and shared (the scene description's own copy is not counted).
+  std::size_t triangle_bytes() const;
+  // Placements of shared mesh geometry and the geometries they share (0 when every mesh
+  // was baked).
+  std::size_t shared_mesh_placements() const { return mesh_placements_.size(); }
+  std::size_t shared_mesh_geometries() const { return shared_meshes_.size(); }
 
  private:
   PreparedScene() = default;
@@ -95,6 +106,13 @@ class PreparedScene {
   std::vector<LightSource> lights_;
   Bvh bvh_;                       // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;  // visible triangles, named by their tagged references
+  // Shared mesh geometry: object-space triangles (and attributes when stored) of every
+  // geometry back to back, one structure per geometry, the placements and their top level.
+  std::vector<Triangle> instanced_triangles_;
+  std::vector<TriangleAttributes> instanced_attributes_;
+  std::vector<TriangleAccel> shared_meshes_;  // sized before instance_accel_ points into it
+  std::vector<MeshPlacement> mesh_placements_;
+  InstanceAccel instance_accel_;
   Camera camera_{};
   vec3 background_{0.0f};
   RenderSettings settings_;

@@ -66,10 +66,15 @@ enum class PrimitiveType : std::uint32_t {
   kTrimmedCone,
   kTrimmedTorus,
   kTrimmedPatch,
+  // A triangle of a mesh geometry shared by several placements (two-level: InstanceAccel
+  // over one object-space TriangleAccel per geometry). The index is virtual: placement p
+  // names its triangles first_id .. first_id + count - 1 (MeshPlacement), so HitRecord
+  // stays one tagged reference. Traced on the CPU only, like BvhView::triangles.
+  kInstancedTriangle,
 };
 inline constexpr std::uint32_t kPrimitiveTypeShift = 27;
 inline constexpr std::uint32_t kPrimitiveIndexMask = (1u << kPrimitiveTypeShift) - 1u;
-static_assert(static_cast<std::uint32_t>(PrimitiveType::kTrimmedPatch) <
+static_assert(static_cast<std::uint32_t>(PrimitiveType::kInstancedTriangle) <
                   (1u << (32 - kPrimitiveTypeShift)),
               "primitive types must fit the tag bits");
 
@@ -91,6 +96,17 @@ TESSERA_HD TESSERA_INLINE bool has_light_sampler(PrimitiveType type) {
   return type == PrimitiveType::kSphere || type == PrimitiveType::kQuad ||
          type == PrimitiveType::kTriangle || type == PrimitiveType::kDisk;
 }
+
+// One placement of a shared mesh geometry: its virtual triangle ids start at first_id,
+// its object-space triangles (and attributes, when stored) at first_triangle in
+// SceneShapes::instanced_triangles. Placements are sorted by first_id.
+struct MeshPlacement {
+  std::uint32_t first_id = 0;
+  std::uint32_t first_triangle = 0;
+  std::uint32_t material = 0;
+  AffineTransform object_to_world;
+  AffineTransform world_to_object;
+};
 
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
@@ -134,7 +150,64 @@ struct SceneShapes {
   const Instance<Trimmed<Cone>>* trimmed_cones = nullptr;
   const Instance<Trimmed<Torus>>* trimmed_tori = nullptr;
   const Instance<Trimmed<SplinePatch>>* trimmed_patches = nullptr;
+  // Shared mesh geometry (PrimitiveType::kInstancedTriangle): object-space triangles of
+  // every shared geometry back to back, their attributes (null when no mesh has any) and
+  // the placements.
+  const Triangle* instanced_triangles = nullptr;
+  const TriangleAttributes* instanced_attributes = nullptr;
+  const MeshPlacement* mesh_placements = nullptr;
+  std::uint32_t mesh_placement_count = 0;
 };
+
+// The surface of a shared-geometry triangle hit, in world space: the placement holding the
+// virtual id is found by binary search, the object-space ray gives the mesh triangle's
+// surface (shading normal and uv interpolated when stored), and position and normals go
+// back by the placement (normals by the inverse transpose).
+TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShapes& s,
+                                                                const Ray& ray,
+                                                                const HitRecord& hit) {
+  const std::uint32_t id = primitive_index(hit.primitive);
+  std::uint32_t lo = 0, hi = s.mesh_placement_count;  // last placement with first_id <= id
+  while (hi - lo > 1) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    if (s.mesh_placements[mid].first_id <= id)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  const MeshPlacement& placement = s.mesh_placements[lo];
+  const std::uint32_t triangle = placement.first_triangle + (id - placement.first_id);
+  Instance<Triangle> instance{s.instanced_triangles[triangle], placement.object_to_world,
+                              placement.world_to_object};
+  const Ray object = to_float_ray(to_object_ray(instance, ray));
+  SurfaceInteraction si = surface_at(instance.shape, object, hit);
+  si.position = vec3(placement.object_to_world.point(dvec3(si.position)));
+  const glm::dmat3 normal_matrix = glm::transpose(placement.world_to_object.linear);
+  si.geometric_normal = vec3(glm::normalize(normal_matrix * dvec3(si.geometric_normal)));
+  si.shading_normal = si.geometric_normal;
+  if (s.instanced_attributes != nullptr) {
+    // Vertex normals go to world space one by one (renormalised) before they are
+    // interpolated, as baking them does, so both give the same shading.
+    const TriangleAttributes& a = s.instanced_attributes[triangle];
+    const auto world_normal = [&](const vec3& n) {
+      const dvec3 w = normal_matrix * dvec3(n);
+      const double len2 = glm::dot(w, w);
+      return len2 > 0.0 ? vec3(w / std::sqrt(len2)) : vec3(0.0f);
+    };
+    const float b0 = 1.0f - hit.u - hit.v;
+    const vec3 n =
+        b0 * world_normal(a.n0) + hit.u * world_normal(a.n1) + hit.v * world_normal(a.n2);
+    const float len2 = glm::dot(n, n);
+    if (len2 > 0.0f && std::isfinite(len2)) {
+      vec3 shading = n / std::sqrt(len2);
+      if (glm::dot(shading, si.geometric_normal) < 0.0f) shading = -shading;
+      si.shading_normal = shading;
+    }
+    si.uv = b0 * a.uv0 + hit.u * a.uv1 + hit.v * a.uv2;
+  }
+  si.material = placement.material;
+  return si;
+}
 
 // Read-only view of the render scene: plain pointers into arrays that live for the job,
 // valid on the host or, once uploaded, on a device.
@@ -241,6 +314,8 @@ TESSERA_HD R dispatch(const SceneShapes& s, std::uint32_t primitive, R fallback,
     case PrimitiveType::kTrimmedPatch:
       if constexpr (kTrimmed) return fn(s.trimmed_patches[i]);
       break;
+    case PrimitiveType::kInstancedTriangle:
+      break;  // never in the BVH; surface_at handles it
   }
   return fallback;
 }
@@ -318,6 +393,8 @@ TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray,
       const std::uint32_t i = primitive_index(hit.primitive);
       return surface_at(scene.triangles[i], scene.triangle_attributes[i], ray, hit);
     }
+    if (primitive_type(hit.primitive) == PrimitiveType::kInstancedTriangle)
+      return instanced_triangle_surface(scene, ray, hit);
   }
   return scene_detail::dispatch<kShapes>(
       scene, hit.primitive, SurfaceInteraction{},
