@@ -145,6 +145,7 @@ class SceneBuilder {
 
   // Field path -> YAML node, for the line numbers of semantic errors found after parsing.
   const std::map<std::string, YAML::Node>& locations() const { return locations_; }
+  std::size_t mesh_files_read() const { return mesh_cache_.size(); }
 
  private:
   YAML::Node map_at(const YAML::Node& node, const std::string& path) {
@@ -343,8 +344,9 @@ class SceneBuilder {
         const std::uint32_t material = material_ref(g, path);
         const YAML::Node file_node = in_.required(g, "file", path);
         const std::string file = in_.string(file_node, path + ".file");
-        // RayON's placement (scale, then move) is baked into the vertices here, through the
-        // same path as a transform so that normals follow (inverse transpose).
+        // RayON's placement (scale, then move) becomes the entry's transform (composed
+        // under an explicit one), so that entries placing one file keep identical vertices
+        // and the renderer can share them (prepared_scene.cpp).
         TransformDesc placement;
         optional(g, "position", path,
                  [&](auto& n, auto& f) { placement.translate = in_.vec3(n, f); });
@@ -354,11 +356,21 @@ class SceneBuilder {
             in_.fail(n, f, "components must not be zero");
         });
         TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
-        if (placement != TransformDesc{}) mesh = transformed_mesh(mesh, placement);
         mesh.material = material;
         mesh.visible = visible;
         mesh.source_index = index;
         mesh.transform = read_transform(g, path);
+        if (placement != TransformDesc{}) {
+          if (!mesh.transform) {
+            mesh.transform = placement;
+          } else {
+            // T * translate(p) * scale(s) = translate(T(p)) * R * (S_T * s): still one
+            // translate-rotate-scale, because the two diagonal scales commute.
+            TransformDesc& t = *mesh.transform;
+            t.translate = glm::dvec3(t.matrix() * glm::dvec4(placement.translate, 1.0));
+            t.scale *= placement.scale;
+          }
+        }
         scene_.meshes.push_back(std::move(mesh));
       } else if (type == "plane") {
         in_.check_keys(g, path, {"type", "material", "point", "normal", "visible", "transform"});
@@ -639,8 +651,15 @@ class SceneBuilder {
     if (path.is_relative()) path = base_directory_ / path;
     if (!options_.allowed_roots.empty() && !path_is_within(path, options_.allowed_roots))
       in_.fail(node, field, "'" + file + "' is outside the directories this server may read");
+    // Each file is parsed once per scene: entries that place it again copy the cached mesh
+    // (the renderer then shares one structure between them, prepared_scene.cpp).
+    std::error_code ec;
+    std::filesystem::path key = std::filesystem::weakly_canonical(path, ec);
+    if (ec) key = path.lexically_normal();
+    if (const auto cached = mesh_cache_.find(key.string()); cached != mesh_cache_.end())
+      return cached->second;
     try {
-      return load_mesh_file(path);
+      return mesh_cache_.emplace(key.string(), load_mesh_file(path)).first->second;
     } catch (const SceneError& e) {
       in_.fail(node, field,
                "cannot load mesh '" + path.lexically_normal().string() + "': " + e.issue().message);
@@ -692,6 +711,7 @@ class SceneBuilder {
   const SceneLoadOptions& options_;
   SceneDescription scene_;
   std::map<std::string, YAML::Node> locations_;
+  std::map<std::string, TriangleMeshDesc> mesh_cache_;  // by canonical path
 };
 
 // The deepest recorded YAML node whose path is a prefix of `field`.
@@ -726,6 +746,7 @@ LoadedScene load_scene_yaml(std::string_view text, const std::string& display_na
   SceneBuilder builder(reader, base_directory, options);
   try {
     result.scene = builder.build(root);
+    result.mesh_files_read = builder.mesh_files_read();
   } catch (const YAML::Exception& e) {  // conversions inside yaml-cpp
     throw SceneError(SceneIssue{display_name, e.mark.is_null() ? 0 : e.mark.line + 1, "", e.msg});
   }

@@ -232,7 +232,47 @@ TEST(YamlLoader, MeshFilesOutsideAllowedRootsAreRefused) {
   const SceneDescription s = load_scene_yaml(moved, "scene.yaml", dir / "inside").scene;
   ASSERT_EQ(s.meshes.size(), 1u);
   EXPECT_EQ(s.meshes[0].indices.size(), 3u);
-  EXPECT_EQ(s.meshes[0].positions[1], glm::dvec3(3, 0, 0));
+  EXPECT_EQ(s.meshes[0].positions[1], glm::dvec3(1, 0, 0));  // as in the file
+  ASSERT_TRUE(s.meshes[0].transform.has_value());
+  EXPECT_EQ(transformed_mesh(s.meshes[0], *s.meshes[0].transform).positions[1],
+            glm::dvec3(3, 0, 0));
+  std::filesystem::remove_all(dir);
+}
+
+// Entries placing one file read it once and keep its vertices as the file has them, the
+// placement (RayON's position and scale, composed under a transform) in the transform.
+TEST(YamlLoader, EntriesOfOneMeshFileReadItOnce) {
+  const auto dir = std::filesystem::temp_directory_path() / "tessera_yaml_shared_mesh";
+  std::filesystem::create_directories(dir / "models");
+  {
+    std::ofstream obj(dir / "models" / "tri.obj");
+    obj << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::ofstream other(dir / "other.obj");
+    other << "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n";
+  }
+  const std::string text =
+      "materials:\n  - { name: white, type: lambertian }\ngeometry:\n"
+      "  - { type: obj, material: white, file: models/tri.obj }\n"
+      "  - { type: obj, material: white, file: ./models/../models/tri.obj, position: [1, 2, 3] }\n"
+      "  - { type: mesh, material: white, file: models/tri.obj, position: [1, 0, 0], scale: 2,\n"
+      "      transform: { translate: [0, 0, 5], rotate: { axis: [0, 0, 1], degrees: 90 } } }\n"
+      "  - { type: obj, material: white, file: other.obj }\n";
+  const LoadedScene loaded = load_scene_yaml(text, "scene.yaml", dir);
+  EXPECT_EQ(loaded.mesh_files_read, 2u);
+  const auto& meshes = loaded.scene.meshes;
+  ASSERT_EQ(meshes.size(), 4u);
+  EXPECT_EQ(meshes[1].positions, meshes[0].positions);
+  EXPECT_EQ(meshes[2].positions, meshes[0].positions);
+  EXPECT_FALSE(meshes[0].transform.has_value());
+  ASSERT_TRUE(meshes[1].transform.has_value());
+  EXPECT_EQ(meshes[1].transform->translate, glm::dvec3(1, 2, 3));
+  // rotate 90 degrees about z after scale 2 and move by (1, 0, 0): (1, 0, 0) -> (3, 0, 0)
+  // -> (0, 3, 0), then up by 5.
+  ASSERT_TRUE(meshes[2].transform.has_value());
+  const glm::dvec3 p = transformed_mesh(meshes[2], *meshes[2].transform).positions[1];
+  EXPECT_NEAR(p.x, 0.0, 1e-12);
+  EXPECT_NEAR(p.y, 3.0, 1e-12);
+  EXPECT_NEAR(p.z, 5.0, 1e-12);
   std::filesystem::remove_all(dir);
 }
 

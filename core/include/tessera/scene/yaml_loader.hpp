@@ -19,6 +19,7 @@ struct SceneLoadOptions {
 struct LoadedScene {
   SceneDescription scene;
   std::vector<SceneIssue> warnings;  // unknown keys, approximated features
+  std::size_t mesh_files_read = 0;   // distinct mesh files parsed: each once per scene
 };
 
 // Reads Tessera's YAML scene format, a superset of RayON's. Throws SceneError naming the
