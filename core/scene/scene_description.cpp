@@ -555,6 +555,12 @@ std::vector<SceneIssue> validate_scene(const SceneDescription& scene, const Scen
     check.fail("geometry", "scene has " + std::to_string(triangles) +
                                " triangles, more than the limit of " +
                                std::to_string(limits.max_triangles));
+  // The renderer names triangles (baked, or each placement's of shared geometry) with the
+  // 27 index bits of a primitive reference, whatever limit a server configures.
+  constexpr std::size_t kNamedTriangles = std::size_t{1} << 27;
+  if (triangles > kNamedTriangles)
+    check.fail("geometry", "scene has " + std::to_string(triangles) +
+                               " triangles, more than the renderer can name (2^27)");
   const std::size_t per_type[] = {
       scene.spheres.size(),      scene.quads.size(),     scene.planes.size(),
       scene.disks.size(),        scene.cylinders.size(), scene.cones.size(),
