@@ -62,6 +62,10 @@ SceneDescription grid_scene(const TriangleMeshDesc& mesh, const Options& o) {
   return scene;
 }
 
+std::size_t image_pixels(const Options& o) {
+  return static_cast<std::size_t>(o.width) * o.height;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -76,13 +80,14 @@ int run(const Options& o) {
   const SceneDescription scene = grid_scene(mesh, o);
   std::printf("%d placements of %s (%zu triangles each), %ux%u path %u spp, one thread\n",
               o.placements, o.mesh.c_str(), mesh.indices.size() / 3, o.width, o.height, o.spp);
-  std::printf("%-9s %10s %12s %10s %14s\n", "mode", "build s", "triangle MB", "render s",
-              "placements");
+  std::printf("%-9s %10s %12s %10s %11s %10s %10s\n", "mode", "build s", "triangle MB", "render s",
+              "placements", "covered", "mean");
   for (const bool instancing : {true, false}) {
     PrepareOptions options;
     options.instancing = instancing;
     double best_build = 1e30, best_render = 1e30;
-    std::size_t bytes = 0, shared = 0;
+    std::size_t bytes = 0, shared = 0, covered = 0;
+    double mean = 0.0;  // the two modes must render the same image
     for (int r = 0; r < o.repeats; ++r) {
       auto start = std::chrono::steady_clock::now();
       const auto prepared = PreparedScene::build(scene, options);
@@ -92,9 +97,18 @@ int run(const Options& o) {
       start = std::chrono::steady_clock::now();
       const std::vector<float> image = render_image(*prepared);
       best_render = std::min(best_render, seconds_since(start));
+      covered = 0;
+      mean = 0.0;
+      for (std::size_t p = 0; p < image.size(); p += 4) {
+        covered += image[p] + image[p + 1] + image[p + 2] > 0.0f ? 1 : 0;
+        mean += (image[p] + image[p + 1] + image[p + 2]) / 3.0;
+      }
+      mean /= static_cast<double>(image.size() / 4);
     }
-    std::printf("%-9s %10.3f %12.1f %10.3f %14zu\n", instancing ? "instanced" : "baked", best_build,
-                static_cast<double>(bytes) / (1024.0 * 1024.0), best_render, shared);
+    std::printf("%-9s %10.3f %12.1f %10.3f %11zu %9.1f%% %10.5f\n",
+                instancing ? "instanced" : "baked", best_build,
+                static_cast<double>(bytes) / (1024.0 * 1024.0), best_render, shared,
+                100.0 * static_cast<double>(covered) / static_cast<double>(image_pixels(o)), mean);
   }
   return 0;
 }

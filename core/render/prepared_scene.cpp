@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -121,12 +122,20 @@ bool same_geometry(const TriangleMeshDesc& a, const TriangleMeshDesc& b) {
          a.uvs == b.uvs;
 }
 
-// FNV-1a over the geometry's bytes: equal meshes hash alike (same_geometry confirms).
+// FNV-1a over the geometry's 8-byte words (every array holds whole words but the
+// indices, whose odd tail is mixed alone): equal meshes hash alike, same_geometry confirms.
+// Word-wise, it costs about as much as reading the mesh once.
 std::uint64_t geometry_hash(const TriangleMeshDesc& mesh) {
   std::uint64_t h = 1469598103934665603ull;
   const auto mix = [&h](const void* data, std::size_t bytes) {
     const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    std::size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, p + i, 8);
+      h = (h ^ word) * 1099511628211ull;
+    }
+    for (; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
   };
   mix(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
   mix(mesh.positions.data(), mesh.positions.size() * sizeof(glm::dvec3));
