@@ -108,7 +108,9 @@ TEST(InstanceAccel, FlatClosestAndAllHitsMatchBruteForce) {
     if (n == kCapacity) ++full;
     for (std::uint32_t k = 0; k < n; ++k) {
       EXPECT_NEAR(got[k].t, expected[k].t, 1e-4f * expected[k].t) << "ray " << r << " hit " << k;
-      if (k > 0) EXPECT_LE(got[k - 1].t, got[k].t);
+      if (k > 0) {
+        EXPECT_LE(got[k - 1].t, got[k].t);
+      }
     }
     HitRecord closest;
     ASSERT_EQ(instanced.closest(ray, closest), n > 0);
