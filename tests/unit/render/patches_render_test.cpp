@@ -9,7 +9,7 @@
 #include <functional>
 #include <optional>
 
-#include "tessera/math/rng.hpp"
+#include "first_hit_scene.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/scene_error.hpp"
 #include "tessera/scene/scene_features.hpp"
@@ -21,28 +21,15 @@ constexpr std::uint32_t kWidth = 48;
 constexpr std::uint32_t kHeight = 36;
 
 SceneDescription base_scene() {
-  SceneDescription scene;
-  scene.camera.position = {1.5, 3.0, 6.0};
-  scene.camera.look_at = {0.0, 0.3, 0.0};
-  scene.camera.fov_degrees = 45.0;
-  MaterialDesc white;
-  white.name = "white";
-  scene.materials.push_back(white);
-  scene.render.width = kWidth;
-  scene.render.height = kHeight;
-  scene.render.samples_per_pixel = 1;
-  scene.render.tile_size = 16;
-  scene.render.integrator = IntegratorKind::kDepth;
-  scene.render.seed = 5;
-  return scene;
+  CameraDesc camera;
+  camera.position = {1.5, 3.0, 6.0};
+  camera.look_at = {0.0, 0.3, 0.0};
+  camera.fov_degrees = 45.0;
+  return test::first_hit_scene(camera, kWidth, kHeight, IntegratorKind::kDepth, 5);
 }
 
 Ray camera_ray(const SceneDescription& scene, std::uint32_t x, std::uint32_t y) {
-  const Camera camera = Camera::from_description(scene.camera, kWidth, kHeight);
-  SampleStream samples(scene.render.seed, x, y, 0);
-  const float jx = samples.next();
-  const float jy = samples.next();
-  return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+  return test::first_sample_camera_ray(scene, x, y);
 }
 
 std::vector<float> render_depth(const SceneDescription& scene) {

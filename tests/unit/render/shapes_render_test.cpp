@@ -8,7 +8,7 @@
 #include <functional>
 #include <optional>
 
-#include "tessera/math/rng.hpp"
+#include "first_hit_scene.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/scene_features.hpp"
 
@@ -19,29 +19,15 @@ constexpr std::uint32_t kWidth = 40;
 constexpr std::uint32_t kHeight = 30;
 
 SceneDescription base_scene(IntegratorKind integrator = IntegratorKind::kDepth) {
-  SceneDescription scene;
-  scene.camera.position = {0.3, 2.0, 6.0};
-  scene.camera.look_at = {0.0, 0.5, 0.0};
-  scene.camera.fov_degrees = 45.0;
-  MaterialDesc white;
-  white.name = "white";
-  scene.materials.push_back(white);
-  scene.render.width = kWidth;
-  scene.render.height = kHeight;
-  scene.render.samples_per_pixel = 1;
-  scene.render.tile_size = 16;
-  scene.render.integrator = integrator;
-  scene.render.seed = 11;
-  return scene;
+  CameraDesc camera;
+  camera.position = {0.3, 2.0, 6.0};
+  camera.look_at = {0.0, 0.5, 0.0};
+  camera.fov_degrees = 45.0;
+  return test::first_hit_scene(camera, kWidth, kHeight, integrator, 11);
 }
 
-// The camera ray the first-hit integrators shoot for pixel (x, y) with one sample.
 Ray camera_ray(const SceneDescription& scene, std::uint32_t x, std::uint32_t y) {
-  const Camera camera = Camera::from_description(scene.camera, kWidth, kHeight);
-  SampleStream samples(scene.render.seed, x, y, 0);
-  const float jx = samples.next();
-  const float jy = samples.next();
-  return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+  return test::first_sample_camera_ray(scene, x, y);
 }
 
 using DepthReference = std::function<std::optional<double>(const Ray&)>;
