@@ -87,20 +87,8 @@ std::uint32_t InstanceAccel::all_hits(const Ray& ray, HitRecord* hits,
                         for (std::uint32_t k = 0; k < n; ++k) {
                           HitRecord h = found[k];
                           h.primitive += placed.primitive_base;
-                          std::uint32_t i;
-                          if (count == capacity) {
-                            if (!(h.t < hits[capacity - 1].t)) continue;
-                            i = capacity - 1;
-                          } else {
-                            i = count++;
-                          }
-                          while (i > 0 && h.t < hits[i - 1].t) {
-                            hits[i] = hits[i - 1];
-                            --i;
-                          }
-                          hits[i] = h;
+                          if (insert_nearest(hits, count, capacity, h)) b.t = hits[capacity - 1].t;
                         }
-                        if (count == capacity) b.t = hits[capacity - 1].t;
                         return false;  // the bound was tightened by hand; the walk must not stop
                       });
   return count;

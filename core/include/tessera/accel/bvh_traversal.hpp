@@ -1,5 +1,6 @@
 #pragma once
 #include "tessera/accel/bvh.hpp"
+#include "tessera/accel/nearest_hits.hpp"
 
 namespace tessera {
 
@@ -85,13 +86,7 @@ TESSERA_HD std::uint32_t traverse_bvh_all(const BvhView& bvh, const Ray& ray, Hi
       for (std::uint32_t i = 0; i < node.count; ++i) {
         HitRecord hit;
         if (!intersect_primitive(bvh.primitives[node.offset + i], ray, t_max, hit)) continue;
-        std::uint32_t at = count < capacity ? count++ : capacity - 1;
-        while (at > 0 && hits[at - 1].t > hit.t) {
-          hits[at] = hits[at - 1];
-          --at;
-        }
-        hits[at] = hit;
-        if (count == capacity) t_max = hits[capacity - 1].t;
+        if (insert_nearest(hits, count, capacity, hit)) t_max = hits[capacity - 1].t;
       }
     } else {
       const std::uint32_t left = node_index + 1;

@@ -13,14 +13,13 @@ struct TriangleAttributes {
   vec2 uv0, uv1, uv2;
 };
 
-// surface_at with interpolated shading normal and uv. The geometric normal stays the
-// triangle's own (faced against the ray); the shading normal is flipped into the same
+// Sets the interpolated shading normal and uv of a triangle hit. The geometric normal stays
+// the triangle's own (faced against the ray); the shading normal is flipped into the same
 // hemisphere, because interpolated normals can point away from the viewer near
 // silhouettes and shading must not see light from behind the surface.
-TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri,
-                                                        const TriangleAttributes& attributes,
-                                                        const Ray& ray, const HitRecord& hit) {
-  SurfaceInteraction si = surface_at(tri, ray, hit);
+TESSERA_HD TESSERA_INLINE void apply_attributes(SurfaceInteraction& si,
+                                                const TriangleAttributes& attributes,
+                                                const HitRecord& hit) {
   const float b0 = 1.0f - hit.u - hit.v;
   const vec3 n = b0 * attributes.n0 + hit.u * attributes.n1 + hit.v * attributes.n2;
   const float len2 = glm::dot(n, n);
@@ -30,6 +29,14 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri,
     si.shading_normal = shading;
   }
   si.uv = b0 * attributes.uv0 + hit.u * attributes.uv1 + hit.v * attributes.uv2;
+}
+
+// surface_at with interpolated shading normal and uv.
+TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri,
+                                                        const TriangleAttributes& attributes,
+                                                        const Ray& ray, const HitRecord& hit) {
+  SurfaceInteraction si = surface_at(tri, ray, hit);
+  apply_attributes(si, attributes, hit);
   return si;
 }
 

@@ -2,6 +2,7 @@
 #include <cstdint>
 
 #include "tessera/accel/bvh_traversal.hpp"
+#include "tessera/accel/nearest_hits.hpp"
 #include "tessera/pipeline/concepts.hpp"
 #if !defined(__CUDACC__)
 #include "tessera/accel/instance_accel.hpp"
@@ -86,33 +87,31 @@ class BvhTracer {
   // farthest entry are culled, so the cost stays close to a closest-hit query for small N.
   template <int kMaxHits>
   TESSERA_HD int trace_all(const Ray& ray, HitRecord (&hits)[kMaxHits]) const {
-    int count = 0;
+    std::uint32_t count = 0;
     HitRecord bound;
     bound.t = ray.t_max;
+    // Every source adds its hits through `keep`, which narrows the bound once the list is full.
+    const auto keep = [&](const HitRecord& h) {
+      if (insert_nearest(hits, count, kMaxHits, h)) bound.t = hits[kMaxHits - 1].t;
+    };
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr) {
       HitRecord found[kMaxHits];
       const std::uint32_t n = bvh_.triangles->all_hits(ray, found, kMaxHits);
-      for (std::uint32_t i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
-      if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
+      for (std::uint32_t i = 0; i < n; ++i) keep(found[i]);
     }
     if (bvh_.instances != nullptr) {
       HitRecord found[kMaxHits];
       Ray nearer = ray;
       nearer.t_max = bound.t;
       const std::uint32_t n = bvh_.instances->all_hits(nearer, found, kMaxHits);
-      for (std::uint32_t i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
-      if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
+      for (std::uint32_t i = 0; i < n; ++i) keep(found[i]);
     }
 #endif
-    if constexpr (HasUnboundedShapes<Intersection>) {
-      intersection_.intersect_all_unbounded(ray, bound.t, [&](const HitRecord& h) {
-        insert_sorted(hits, count, h);
-        if (count == kMaxHits) bound.t = hits[kMaxHits - 1].t;
-      });
-    }
+    if constexpr (HasUnboundedShapes<Intersection>)
+      intersection_.intersect_all_unbounded(ray, bound.t, keep);
     traverse_bvh<false>(bvh_, ray, bound,
-                        [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& b) {
+                        [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord&) {
                           HitRecord found[4];  // a torus is crossed up to four times
                           int n;
                           if constexpr (HasIntersectAll<Intersection>) {
@@ -120,31 +119,15 @@ class BvhTracer {
                           } else {
                             n = intersection_.intersect(primitive, r, t_max, found[0]) ? 1 : 0;
                           }
-                          for (int i = 0; i < n; ++i) insert_sorted(hits, count, found[i]);
-                          if (count == kMaxHits) b.t = hits[kMaxHits - 1].t;
-                          return false;  // the bound was tightened by hand; the walk must not stop
+                          for (int i = 0; i < n; ++i) keep(found[i]);
+                          // `keep` tightened the walk's bound (it is `bound`); the walk must not
+                          // stop.
+                          return false;
                         });
-    return count;
+    return static_cast<int>(count);
   }
 
  private:
-  template <int kMaxHits>
-  TESSERA_HD static void insert_sorted(HitRecord (&hits)[kMaxHits], int& count,
-                                       const HitRecord& hit) {
-    int i;
-    if (count == kMaxHits) {
-      if (!(hit.t < hits[kMaxHits - 1].t)) return;  // no nearer than the farthest kept
-      i = kMaxHits - 1;                             // replaces it
-    } else {
-      i = count++;
-    }
-    while (i > 0 && hit.t < hits[i - 1].t) {
-      hits[i] = hits[i - 1];
-      --i;
-    }
-    hits[i] = hit;
-  }
-
   BvhView bvh_;
   Intersection intersection_;
 };

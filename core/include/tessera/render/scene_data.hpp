@@ -194,16 +194,10 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
       const double len2 = glm::dot(w, w);
       return len2 > 0.0 ? vec3(w / std::sqrt(len2)) : vec3(0.0f);
     };
-    const float b0 = 1.0f - hit.u - hit.v;
-    const vec3 n =
-        b0 * world_normal(a.n0) + hit.u * world_normal(a.n1) + hit.v * world_normal(a.n2);
-    const float len2 = glm::dot(n, n);
-    if (len2 > 0.0f && std::isfinite(len2)) {
-      vec3 shading = n / std::sqrt(len2);
-      if (glm::dot(shading, si.geometric_normal) < 0.0f) shading = -shading;
-      si.shading_normal = shading;
-    }
-    si.uv = b0 * a.uv0 + hit.u * a.uv1 + hit.v * a.uv2;
+    apply_attributes(si,
+                     TriangleAttributes{world_normal(a.n0), world_normal(a.n1), world_normal(a.n2),
+                                        a.uv0, a.uv1, a.uv2},
+                     hit);
   }
   si.material = placement.material;
   return si;
