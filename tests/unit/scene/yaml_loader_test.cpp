@@ -1,4 +1,5 @@
 #include "tessera/scene/yaml_loader.hpp"
+#include "scene_error_of.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,13 +28,7 @@ LoadedScene load(const std::string& text) {
 
 // Loads `text` expecting an error; returns it.
 SceneIssue load_error(const std::string& text) {
-  try {
-    load(text);
-  } catch (const SceneError& e) {
-    return e.issue();
-  }
-  ADD_FAILURE() << "expected a SceneError for:\n" << text;
-  return {};
+  return test::scene_error_of([&] { load(text); }, text);
 }
 
 std::string with_geometry(const std::string& entry) {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "scene_error_of.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {
@@ -14,13 +15,7 @@ LoadedScene load(const std::string& text) {
 }
 
 SceneIssue load_error(const std::string& text) {
-  try {
-    load(text);
-  } catch (const SceneError& e) {
-    return e.issue();
-  }
-  ADD_FAILURE() << "expected a SceneError for:\n" << text;
-  return {};
+  return test::scene_error_of([&] { load(text); }, text);
 }
 
 // A 4 x 4 planar grid over [0, 3]^2 in z = 0, written row by row (rows along u).

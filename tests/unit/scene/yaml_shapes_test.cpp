@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "scene_error_of.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {
@@ -17,13 +18,7 @@ LoadedScene load(const std::string& text) {
 }
 
 SceneIssue load_error(const std::string& text) {
-  try {
-    load(text);
-  } catch (const SceneError& e) {
-    return e.issue();
-  }
-  ADD_FAILURE() << "expected a SceneError for:\n" << text;
-  return {};
+  return test::scene_error_of([&] { load(text); }, text);
 }
 
 // The entry is on line 5 of the text this returns.
