@@ -129,6 +129,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->needs(local);
   render->add_option("--name", cmd.name, "job name (default: the scene file's name)");
   render->add_option("--priority", cmd.priority, "higher runs first");
+  render->add_flag("--lenient", cmd.lenient, "unknown scene keys are warnings, not errors");
   add_server_option(*render, cmd.server);
 
   CLI::App* submit =
@@ -137,6 +138,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   OverrideOptions submit_overrides(*submit);
   submit->add_option("--name", cmd.name, "job name (default: the scene file's name)");
   submit->add_option("--priority", cmd.priority, "higher runs first");
+  submit->add_flag("--lenient", cmd.lenient, "unknown scene keys are warnings, not errors");
   add_server_option(*submit, cmd.server);
 
   CLI::App* watch =

@@ -33,6 +33,7 @@ struct CliCommand {
   unsigned threads = 0;  // --local worker threads; 0: all hardware threads
   std::string name;      // job name; empty: the scene file's stem
   std::int32_t priority = 0;
+  bool lenient = false;  // unknown scene keys are warnings instead of errors
 };
 
 struct ParsedCommandLine {

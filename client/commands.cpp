@@ -17,8 +17,8 @@
 #include "client/client.hpp"
 #include "client/local_render.hpp"
 #include "client/progress.hpp"
-#include "client/scene_to_proto.hpp"
 #include "client/tile_assembler.hpp"
+#include "convert/scene_proto.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
@@ -174,7 +174,9 @@ void apply_overrides(RenderSettings& settings, const RenderOverrides& o) {
 SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
   LoadedScene loaded;
   try {
-    loaded = load_scene_file(cmd.scene_path);
+    SceneLoadOptions options;
+    options.lenient = cmd.lenient;
+    loaded = load_scene_file(cmd.scene_path, options);
   } catch (const SceneError& e) {
     throw CommandFailure{kExitUsage, e.what()};
   }

@@ -1,6 +1,6 @@
 #include "server/job_proto.hpp"
 
-#include "server/scene_from_proto.hpp"
+#include "convert/scene_proto.hpp"
 
 namespace tessera::server {
 

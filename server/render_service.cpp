@@ -2,8 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "convert/scene_proto.hpp"
 #include "server/job_proto.hpp"
-#include "server/scene_from_proto.hpp"
 
 namespace tessera::server {
 namespace {

@@ -8,9 +8,13 @@
 #include <functional>
 #include <initializer_list>
 #include <map>
+#include <span>
 #include <sstream>
+#include <unordered_map>
 
 #include "tessera/scene/mesh_loader.hpp"
+#include "tessera/scene/schema/kinds.hpp"
+#include "tessera/scene/schema/suggest.hpp"
 
 namespace tessera {
 namespace {
@@ -35,17 +39,28 @@ class YamlReader {
   }
   const std::string& file() const { return file_; }
 
-  // Warns about keys of `map` not in `known`.
+  // Keys of `map` that `known` does not list are errors naming the key and the closest known
+  // one (warnings with `lenient`); keys in `ignored` are RayON's, read and not used: a
+  // warning says so.
   void check_keys(const YAML::Node& map, const std::string& path,
-                  std::initializer_list<const char*> known) const {
+                  std::span<const std::string_view> known,
+                  std::span<const schema::IgnoredKey> ignored = {}) const {
     for (const auto& entry : map) {
       const std::string key = entry.first.Scalar();
-      bool found = false;
-      for (const char* k : known)
-        if (key == k) found = true;
-      if (!found) warn(entry.first, join(path, key), "unknown key, ignored");
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      const auto rayon = std::find_if(ignored.begin(), ignored.end(),
+                                      [&](const schema::IgnoredKey& k) { return k.name == key; });
+      if (rayon != ignored.end()) {
+        warn(entry.first, join(path, key),
+             "RayON key read but not used: " + std::string(rayon->reason));
+        continue;
+      }
+      const std::string message = "unknown key '" + key + "'" + schema::did_you_mean(key, known);
+      if (!lenient_) fail(entry.first, join(path, key), message);
+      warn(entry.first, join(path, key), message + ", ignored");
     }
   }
+  void set_lenient(bool lenient) { lenient_ = lenient; }
   static std::string join(const std::string& path, const std::string& key) {
     return path.empty() ? key : path + "." + key;
   }
@@ -119,7 +134,18 @@ class YamlReader {
  private:
   std::string file_;
   std::vector<SceneIssue>& warnings_;
+  bool lenient_ = false;
 };
+
+// The YAML keys of a kind's declared fields (their RayON spelling where it differs).
+template <typename Fields>
+std::vector<std::string_view> yaml_keys(const Fields& fields,
+                                        std::initializer_list<std::string_view> extra = {}) {
+  std::vector<std::string_view> keys(extra);
+  for (const auto& field : fields)
+    if (field.on_yaml()) keys.push_back(field.key(true));
+  return keys;
+}
 
 class SceneBuilder {
  public:
@@ -130,10 +156,11 @@ class SceneBuilder {
   SceneDescription build(const YAML::Node& root) {
     if (!root.IsMap())
       in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
-    in_.check_keys(root, "",
-                   {"camera", "settings", "materials", "geometry", "geometries", "render"});
-    if (root["camera"]) read_camera(root["camera"]);
-    if (root["settings"]) read_settings(root["settings"]);
+    static constexpr std::string_view kSections[] = {"camera",   "settings", "materials",
+                                                     "geometry", "render",   "geometries"};
+    in_.check_keys(root, "", kSections);
+    if (root["camera"]) section<schema::CameraKind>(root["camera"], scene_.camera);
+    if (root["settings"]) section<schema::BackgroundKind>(root["settings"], scene_.background);
     if (root["materials"]) read_materials(root["materials"]);
     const char* geometry_key = root["geometry"] ? "geometry" : "geometries";  // RayON accepts both
     if (root["geometry"] && root["geometries"])
@@ -155,81 +182,83 @@ class SceneBuilder {
     return node;
   }
   template <typename Fn>
-  void optional(const YAML::Node& map, const char* key, const std::string& path, Fn&& read) {
-    const YAML::Node node = map[key];
+  void optional(const YAML::Node& map, std::string_view key, const std::string& path, Fn&& read) {
+    const YAML::Node node = map[std::string(key)];
     if (!node.IsDefined()) return;
-    const std::string field = YamlReader::join(path, key);
+    const std::string field = YamlReader::join(path, std::string(key));
     locations_[field] = node;
     read(node, field);
   }
 
-  void read_camera(const YAML::Node& node) {
-    map_at(node, "camera");
-    in_.check_keys(node, "camera", {"position", "look_at", "up", "fov"});
-    auto& cam = scene_.camera;
-    optional(node, "position", "camera", [&](auto& n, auto& f) { cam.position = in_.vec3(n, f); });
-    optional(node, "look_at", "camera", [&](auto& n, auto& f) { cam.look_at = in_.vec3(n, f); });
-    optional(node, "up", "camera", [&](auto& n, auto& f) { cam.up = in_.vec3(n, f); });
-    optional(node, "fov", "camera", [&](auto& n, auto& f) { cam.fov_degrees = in_.number(n, f); });
+  // One value of a declared field, by the member's type.
+  void read_value(const YAML::Node& n, const std::string& f, bool grey, double& out) {
+    (void)grey;
+    out = in_.number(n, f);
+  }
+  void read_value(const YAML::Node& n, const std::string& f, bool grey, glm::dvec3& out) {
+    out = grey ? in_.color(n, f) : in_.vec3(n, f);
+  }
+  void read_value(const YAML::Node& n, const std::string& f, bool, bool& out) {
+    out = in_.boolean(n, f);
+  }
+  void read_value(const YAML::Node& n, const std::string& f, bool, std::uint32_t& out) {
+    out = in_.unsigned_int(n, f);
+  }
+  void read_value(const YAML::Node& n, const std::string& f, bool, std::string& out) {
+    out = in_.string(n, f);
   }
 
-  void read_settings(const YAML::Node& node) {
-    map_at(node, "settings");
-    in_.check_keys(node, "settings",
-                   {"background_color", "background_intensity", "ambient_light", "use_bvh",
-                    "adaptive_sampling"});
-    auto& bg = scene_.background;
-    optional(node, "background_color", "settings",
-             [&](auto& n, auto& f) { bg.color = in_.color(n, f); });
-    optional(node, "background_intensity", "settings",
-             [&](auto& n, auto& f) { bg.intensity = in_.number(n, f); });
-    optional(node, "ambient_light", "settings", [&](auto& n, auto& f) {
-      if (in_.number(n, f) != 0.0) in_.warn(n, f, "RayON's ambient term is not supported; ignored");
-    });
-    // RayON renderer switches; Tessera always picks its own acceleration and sampling.
-    optional(node, "use_bvh", "settings", [&](auto& n, auto& f) { in_.boolean(n, f); });
-    optional(node, "adaptive_sampling", "settings", [&](auto& n, auto& f) { in_.boolean(n, f); });
+  // Every declared field with a member: read when given, "required" when missing.
+  template <typename Desc, typename Fields>
+  void read_fields(const YAML::Node& map, const Fields& fields, Desc& desc,
+                   const std::string& path) {
+    for (const schema::Field<Desc>& field : fields) {
+      if (!field.on_yaml()) continue;
+      std::visit(
+          [&](auto member) {
+            if constexpr (!std::is_same_v<decltype(member), std::monostate>) {
+              const std::string key(field.key(true));
+              if (field.presence == schema::Presence::kRequired)
+                in_.required(map, key.c_str(), path);
+              optional(map, key, path, [&](const YAML::Node& n, const std::string& f) {
+                read_value(n, f, field.grey_scalar, desc.*member);
+              });
+            }
+          },
+          field.member);
+    }
+  }
+
+  template <typename Kind>
+  void section(const YAML::Node& node, typename Kind::Desc& desc) {
+    const std::string path(Kind::yaml_section);
+    map_at(node, path);
+    in_.check_keys(node, path, yaml_keys(Kind::fields), Kind::ignored);
+    read_fields(node, Kind::fields, desc, path);
   }
 
   void read_materials(const YAML::Node& node) {
     if (!node.IsSequence())
       in_.fail(node, "materials", std::string("must be a list, got a ") + YamlReader::kind(node));
+    static const std::vector<std::string_view> kKeys = yaml_keys(schema::MaterialKind::fields);
     for (std::size_t i = 0; i < node.size(); ++i) {
       const std::string path = "materials[" + std::to_string(i) + "]";
       const YAML::Node m = map_at(node[i], path);
-      in_.check_keys(
-          m, path,
-          {"name", "type", "albedo", "emission", "roughness", "refractive_index", "metallic",
-           "transmission", "anisotropy", "preset", "film_thickness", "film_ior"});
+      in_.check_keys(m, path, kKeys, schema::MaterialKind::ignored);
       MaterialDesc mat;
-      mat.name = in_.string(in_.required(m, "name", path), path + ".name");
       const std::string type_field = path + ".type";
       const std::string type = in_.string(in_.required(m, "type", path), type_field);
       const auto parsed = material_type_from_string(type);
       if (!parsed)
         in_.fail(m["type"], type_field,
-                 "unknown material type '" + type +
-                     "' (expected lambertian, light, metal, rough_mirror, glass, "
-                     "anisotropic_metal, clear_coat or "
-                     "thin_film)");
+                 "unknown material type '" + type + "'" +
+                     schema::did_you_mean(type, material_type_names()) + " (expected " +
+                     joined(material_type_names()) + ")");
       mat.type = *parsed;
-      if (mat.type == MaterialType::kLight) mat.albedo = glm::dvec3(1.0);
-      optional(m, "albedo", path, [&](auto& n, auto& f) { mat.albedo = in_.color(n, f); });
-      optional(m, "emission", path, [&](auto& n, auto& f) { mat.emission = in_.color(n, f); });
-      optional(m, "roughness", path, [&](auto& n, auto& f) { mat.roughness = in_.number(n, f); });
-      optional(m, "refractive_index", path,
-               [&](auto& n, auto& f) { mat.refractive_index = in_.number(n, f); });
-      optional(m, "metallic", path, [&](auto& n, auto& f) { mat.metallic = in_.number(n, f); });
-      optional(m, "transmission", path,
-               [&](auto& n, auto& f) { mat.transmission = in_.number(n, f); });
-      optional(m, "anisotropy", path, [&](auto& n, auto& f) { mat.anisotropy = in_.number(n, f); });
-      optional(m, "preset", path, [&](auto& n, auto& f) { mat.preset = in_.string(n, f); });
-      optional(m, "film_thickness", path,
-               [&](auto& n, auto& f) { mat.film_thickness = in_.number(n, f); });
-      optional(m, "film_ior", path, [&](auto& n, auto& f) { mat.film_ior = in_.number(n, f); });
-      if (mat.type == MaterialType::kLight && !m["emission"])
-        in_.fail(m, path + ".emission", "is required for a light material");
-      if (scene_.find_material(mat.name))
+      apply_type_defaults(mat);
+      read_fields(m, schema::MaterialKind::fields, mat, path);
+      // Names are checked here as well as in validate_scene, so geometry can refer to them.
+      if (!material_index_.emplace(mat.name, scene_.materials.size()).second)
         in_.fail(m["name"], path + ".name", "duplicate material name '" + mat.name + "'");
       scene_.materials.push_back(std::move(mat));
     }
@@ -239,41 +268,17 @@ class SceneBuilder {
     const std::string field = path + ".material";
     const YAML::Node node = in_.required(g, "material", path);
     const std::string name = in_.string(node, field);
-    const auto index = scene_.find_material(name);
-    if (!index) in_.fail(node, field, "unknown material '" + name + "'");
-    return *index;
+    const auto found = material_index_.find(name);
+    if (found == material_index_.end()) {
+      std::vector<std::string_view> names;
+      if (scene_.materials.size() <= 1000)  // suggestions only where they are cheap
+        for (const auto& m : scene_.materials) names.push_back(m.name);
+      in_.fail(node, field, "unknown material '" + name + "'" + schema::did_you_mean(name, names));
+    }
+    locations_[field] = node;
+    return static_cast<std::uint32_t>(found->second);
   }
 
-  // A number the semantic checks may complain about later: its node is remembered so the
-  // error carries its line.
-  double number_at(const YAML::Node& g, const char* key, const std::string& path) {
-    const std::string field = YamlReader::join(path, key);
-    const YAML::Node node = in_.required(g, key, path);
-    locations_[field] = node;
-    return in_.number(node, field);
-  }
-  double number_or(const YAML::Node& g, const char* key, const std::string& path, double fallback) {
-    double value = fallback;
-    optional(g, key, path, [&](auto& n, auto& f) { value = in_.number(n, f); });
-    return value;
-  }
-  glm::dvec3 vec3_at(const YAML::Node& g, const char* key, const std::string& path) {
-    const std::string field = YamlReader::join(path, key);
-    const YAML::Node node = in_.required(g, key, path);
-    locations_[field] = node;
-    return in_.vec3(node, field);
-  }
-  glm::dvec3 vec3_or(const YAML::Node& g, const char* key, const std::string& path,
-                     const glm::dvec3& fallback) {
-    glm::dvec3 value = fallback;
-    optional(g, key, path, [&](auto& n, auto& f) { value = in_.vec3(n, f); });
-    return value;
-  }
-  bool bool_or(const YAML::Node& g, const char* key, const std::string& path, bool fallback) {
-    bool value = fallback;
-    optional(g, key, path, [&](auto& n, auto& f) { value = in_.boolean(n, f); });
-    return value;
-  }
   // A scale: one number (uniform) or three.
   glm::dvec3 scale_of(const YAML::Node& n, const std::string& f) {
     return n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
@@ -284,16 +289,17 @@ class SceneBuilder {
     std::optional<TransformDesc> result;
     optional(g, "transform", path, [&](const YAML::Node& n, const std::string& f) {
       map_at(n, f);
-      in_.check_keys(n, f, {"translate", "rotate", "scale"});
+      static const std::vector<std::string_view> kKeys = yaml_keys(schema::TransformKind::fields);
+      in_.check_keys(n, f, kKeys);
       TransformDesc t;
-      optional(n, "translate", f, [&](auto& v, auto& vf) { t.translate = in_.vec3(v, vf); });
+      read_fields(n, schema::TransformKind::fields, t, f);
       optional(n, "rotate", f, [&](const YAML::Node& r, const std::string& rf) {
         map_at(r, rf);
-        in_.check_keys(r, rf, {"axis", "degrees"});
-        t.rotate_axis = vec3_at(r, "axis", rf);
-        t.rotate_degrees = number_at(r, "degrees", rf);
+        static const std::vector<std::string_view> kRotateKeys =
+            yaml_keys(schema::RotationKind::fields);
+        in_.check_keys(r, rf, kRotateKeys);
+        read_fields(r, schema::RotationKind::fields, t, rf);
       });
-      optional(n, "scale", f, [&](auto& v, auto& vf) { t.scale = scale_of(v, vf); });
       result = t;
     });
     return result;
@@ -309,6 +315,70 @@ class SceneBuilder {
     desc.transform = read_transform(g, path);
   }
 
+  // The keys a shape entry may have: the Geometry's own and the kind's fields.
+  template <typename Kind>
+  static std::span<const std::string_view> shape_keys() {
+    static const std::vector<std::string_view> keys = [] {
+      std::vector<std::string_view> all(std::begin(schema::GeometryCommon::fields),
+                                        std::end(schema::GeometryCommon::fields));
+      for (std::string_view key : yaml_keys(Kind::fields)) all.push_back(key);
+      return all;
+    }();
+    return keys;
+  }
+  // The keys of a trimmed face's `surface`: the kind's fields without caps.
+  template <typename Kind>
+  static std::span<const std::string_view> surface_keys() {
+    static const std::vector<std::string_view> keys = [] {
+      std::vector<std::string_view> all{"type"};
+      for (std::string_view key : yaml_keys(Kind::fields))
+        if (key != "caps") all.push_back(key);
+      return all;
+    }();
+    return keys;
+  }
+
+  static std::span<const std::string_view> shape_type_names() {
+    static const std::vector<std::string_view> names = [] {
+      std::vector<std::string_view> all;
+      schema::for_each_kind<schema::ShapeKinds>([&](auto kind) {
+        using Kind = decltype(kind);
+        all.push_back(Kind::name);
+        for (const auto& alias : Kind::aliases) all.push_back(alias.name);
+      });
+      return all;
+    }();
+    return names;
+  }
+  static std::span<const std::string_view> surface_type_names() {
+    static const std::vector<std::string_view> names = [] {
+      std::vector<std::string_view> all;
+      schema::for_each_kind<schema::SurfaceKinds>([&](auto kind) {
+        using Kind = decltype(kind);
+        all.push_back(Kind::name);
+        for (const auto& alias : Kind::aliases) all.push_back(alias.name);
+      });
+      return all;
+    }();
+    return names;
+  }
+
+  template <typename Kind>
+  static bool answers_to(const std::string& type) {
+    if (type == Kind::name) return true;
+    for (const auto& alias : Kind::aliases)
+      if (type == alias.name) return true;
+    return false;
+  }
+
+  // An alias may make a field required (sdf_rounded_box: rounding).
+  template <typename Kind>
+  void alias_requirements(const YAML::Node& g, const std::string& type, const std::string& path) {
+    for (const auto& alias : Kind::aliases)
+      if (type == alias.name && !alias.requires_field.empty())
+        in_.required(g, std::string(alias.requires_field).c_str(), path);
+  }
+
   void read_geometry(const YAML::Node& node, const char* key) {
     if (!node.IsSequence())
       in_.fail(node, key, std::string("must be a list, got a ") + YamlReader::kind(node));
@@ -317,206 +387,88 @@ class SceneBuilder {
       const YAML::Node g = map_at(node[i], path);
       const std::string type = in_.string(in_.required(g, "type", path), path + ".type");
       const auto index = static_cast<std::uint32_t>(i);
-      bool visible = true;
-      optional(g, "visible", path, [&](auto& n, auto& f) { visible = in_.boolean(n, f); });
-      if (type == "sphere") {
-        in_.check_keys(g, path, {"type", "material", "center", "radius", "visible", "transform"});
-        SphereDesc s = sphere_fields(g, path);
-        common(s, g, path, index, visible);
-        scene_.spheres.push_back(s);
-      } else if (type == "rectangle" || type == "quad") {
-        in_.check_keys(g, path, {"type", "material", "corner", "u", "v", "visible", "transform"});
-        QuadDesc q = quad_fields(g, path);
-        common(q, g, path, index, visible);
-        scene_.quads.push_back(q);
-      } else if (type == "triangle") {
-        in_.check_keys(g, path, {"type", "material", "v0", "v1", "v2", "visible", "transform"});
-        TriangleMeshDesc mesh;
-        common(mesh, g, path, index, visible);
-        mesh.positions = {in_.vec3(in_.required(g, "v0", path), path + ".v0"),
-                          in_.vec3(in_.required(g, "v1", path), path + ".v1"),
-                          in_.vec3(in_.required(g, "v2", path), path + ".v2")};
-        mesh.indices = {0, 1, 2};
-        scene_.meshes.push_back(std::move(mesh));
-      } else if (type == "obj" || type == "mesh") {
-        in_.check_keys(g, path,
-                       {"type", "material", "file", "position", "scale", "visible", "transform"});
-        const std::uint32_t material = material_ref(g, path);
-        const YAML::Node file_node = in_.required(g, "file", path);
-        const std::string file = in_.string(file_node, path + ".file");
-        // RayON's placement (scale, then move) becomes the entry's transform (composed
-        // under an explicit one), so that entries placing one file keep identical vertices
-        // and the renderer can share them (prepared_scene.cpp).
-        TransformDesc placement;
-        optional(g, "position", path,
-                 [&](auto& n, auto& f) { placement.translate = in_.vec3(n, f); });
-        optional(g, "scale", path, [&](auto& n, auto& f) {
-          placement.scale = scale_of(n, f);
-          if (placement.scale.x == 0.0 || placement.scale.y == 0.0 || placement.scale.z == 0.0)
-            in_.fail(n, f, "components must not be zero");
-        });
-        TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
-        mesh.material = material;
-        mesh.visible = visible;
-        mesh.source_index = index;
-        mesh.transform = read_transform(g, path);
-        if (placement != TransformDesc{}) {
-          if (!mesh.transform) {
-            mesh.transform = placement;
-          } else {
-            // T * translate(p) * scale(s) = translate(T(p)) * R * (S_T * s): still one
-            // translate-rotate-scale, because the two diagonal scales commute.
-            TransformDesc& t = *mesh.transform;
-            t.translate = glm::dvec3(t.matrix() * glm::dvec4(placement.translate, 1.0));
-            t.scale *= placement.scale;
-          }
-        }
-        scene_.meshes.push_back(std::move(mesh));
-      } else if (type == "plane") {
-        in_.check_keys(g, path, {"type", "material", "point", "normal", "visible", "transform"});
-        PlaneDesc p = plane_fields(g, path);
-        common(p, g, path, index, visible);
-        scene_.planes.push_back(p);
-      } else if (type == "disk") {
-        in_.check_keys(g, path,
-                       {"type", "material", "center", "normal", "radius", "inner_radius", "visible",
-                        "transform"});
-        DiskDesc d = disk_fields(g, path);
-        common(d, g, path, index, visible);
-        scene_.disks.push_back(d);
-      } else if (type == "cylinder") {
-        in_.check_keys(g, path,
-                       {"type", "material", "base", "axis", "radius", "height", "caps", "visible",
-                        "transform"});
-        CylinderDesc c = cylinder_fields(g, path);
-        common(c, g, path, index, visible);
-        scene_.cylinders.push_back(c);
-      } else if (type == "cone") {
-        in_.check_keys(g, path,
-                       {"type", "material", "base", "axis", "base_radius", "top_radius", "height",
-                        "caps", "visible", "transform"});
-        ConeDesc c = cone_fields(g, path);
-        common(c, g, path, index, visible);
-        scene_.cones.push_back(c);
-      } else if (type == "torus" || type == "sdf_torus") {
-        in_.check_keys(g, path,
-                       {"type", "material", "center", "axis", "major_radius", "minor_radius",
-                        "visible", "transform"});
-        TorusDesc t = torus_fields(g, path);
-        common(t, g, path, index, visible);
-        if (type == "torus") {
-          scene_.tori.push_back(t);
-        } else {
-          scene_.sdf_tori.push_back(SdfTorusDesc{t.center, t.axis, t.major_radius, t.minor_radius,
-                                                 t.material, t.visible, t.source_index,
-                                                 t.transform});
-        }
-      } else if (type == "sdf_box" || type == "sdf_rounded_box") {
-        const bool rounded = type == "sdf_rounded_box";
-        if (rounded)
-          in_.check_keys(
-              g, path,
-              {"type", "material", "center", "half_extent", "rounding", "visible", "transform"});
-        else
-          in_.check_keys(g, path,
-                         {"type", "material", "center", "half_extent", "visible", "transform"});
-        SdfBoxDesc b;
-        common(b, g, path, index, visible);
-        b.center = vec3_or(g, "center", path, glm::dvec3(0.0));
-        b.half_extent = vec3_at(g, "half_extent", path);
-        if (rounded) b.rounding = number_at(g, "rounding", path);
-        scene_.sdf_boxes.push_back(b);
-      } else if (type == "sdf_capsule") {
-        in_.check_keys(g, path, {"type", "material", "a", "b", "radius", "visible", "transform"});
-        SdfCapsuleDesc c;
-        common(c, g, path, index, visible);
-        c.a = vec3_at(g, "a", path);
-        c.b = vec3_at(g, "b", path);
-        c.radius = number_at(g, "radius", path);
-        scene_.sdf_capsules.push_back(c);
-      } else if (type == "bspline_patch") {
-        in_.check_keys(g, path,
-                       {"type", "material", "control_points", "weights", "knots_u", "knots_v",
-                        "visible", "transform"});
-        SplinePatchDesc p = patch_fields(g, path);
-        common(p, g, path, index, visible);
-        scene_.patches.push_back(std::move(p));
-      } else if (type == "trimmed") {
-        in_.check_keys(g, path, {"type", "material", "surface", "loops", "visible", "transform"});
-        TrimmedFaceDesc f;
-        common(f, g, path, index, visible);
-        f.surface = surface_fields(g, path);
-        f.loops = loops_field(g, path);
-        scene_.trimmed_faces.push_back(std::move(f));
-      } else {
+      bool found = false;
+      schema::for_each_kind<schema::ShapeKinds>([&](auto kind) {
+        using Kind = decltype(kind);
+        if (found || !answers_to<Kind>(type)) return;
+        found = true;
+        in_.check_keys(g, path, shape_keys<Kind>());
+        alias_requirements<Kind>(g, type, path);
+        bool visible = true;
+        optional(g, "visible", path, [&](auto& n, auto& f) { visible = in_.boolean(n, f); });
+        read_shape<Kind>(g, path, index, visible);
+      });
+      if (!found)
         in_.fail(g["type"], path + ".type",
-                 "unknown geometry type '" + type +
-                     "' (expected sphere, rectangle, quad, triangle, obj, mesh, plane, disk, "
-                     "cylinder, cone, torus, sdf_box, sdf_rounded_box, sdf_torus, sdf_capsule, "
-                     "bspline_patch or trimmed)");
-      }
+                 "unknown geometry type '" + type + "'" +
+                     schema::did_you_mean(type, shape_type_names()) + " (expected " +
+                     joined(shape_type_names()) + ")");
     }
   }
 
-  // The shape fields of each type (material, visible and transform are common()'s), shared
-  // by top-level entries and the `surface` of a trimmed face.
-  SphereDesc sphere_fields(const YAML::Node& g, const std::string& path) {
-    SphereDesc s;
-    s.center = in_.vec3(in_.required(g, "center", path), path + ".center");
-    s.radius = in_.number(in_.required(g, "radius", path), path + ".radius");
-    locations_[path + ".radius"] = g["radius"];
-    if (!(s.radius > 0.0))
-      in_.fail(g["radius"], path + ".radius", "must be positive, got " + g["radius"].Scalar());
-    return s;
+  template <typename Kind>
+  void read_shape(const YAML::Node& g, const std::string& path, std::uint32_t index, bool visible) {
+    if constexpr (schema::PlainShapeKind<Kind>) {
+      typename Kind::Desc desc;
+      read_fields(g, Kind::fields, desc, path);
+      common(desc, g, path, index, visible);
+      (scene_.*Kind::list).push_back(std::move(desc));
+    } else if constexpr (std::is_same_v<Kind, schema::TriangleKind>) {
+      TriangleMeshDesc mesh;
+      common(mesh, g, path, index, visible);
+      mesh.positions = {in_.vec3(in_.required(g, "v0", path), path + ".v0"),
+                        in_.vec3(in_.required(g, "v1", path), path + ".v1"),
+                        in_.vec3(in_.required(g, "v2", path), path + ".v2")};
+      mesh.indices = {0, 1, 2};
+      scene_.meshes.push_back(std::move(mesh));
+    } else if constexpr (std::is_same_v<Kind, schema::MeshKind>) {
+      read_mesh_entry(g, path, index, visible);
+    } else if constexpr (std::is_same_v<Kind, schema::SplinePatchKind>) {
+      SplinePatchDesc p = patch_fields(g, path);
+      common(p, g, path, index, visible);
+      scene_.patches.push_back(std::move(p));
+    } else {
+      static_assert(std::is_same_v<Kind, schema::TrimmedFaceKind>);
+      TrimmedFaceDesc f;
+      common(f, g, path, index, visible);
+      f.surface = surface_fields(g, path);
+      f.loops = loops_field(g, path);
+      scene_.trimmed_faces.push_back(std::move(f));
+    }
   }
-  QuadDesc quad_fields(const YAML::Node& g, const std::string& path) {
-    QuadDesc q;
-    q.corner = in_.vec3(in_.required(g, "corner", path), path + ".corner");
-    q.u = in_.vec3(in_.required(g, "u", path), path + ".u");
-    q.v = in_.vec3(in_.required(g, "v", path), path + ".v");
-    locations_[path + ".v"] = g["v"];
-    return q;
-  }
-  PlaneDesc plane_fields(const YAML::Node& g, const std::string& path) {
-    PlaneDesc p;
-    p.point = vec3_or(g, "point", path, glm::dvec3(0.0));
-    p.normal = vec3_at(g, "normal", path);
-    return p;
-  }
-  DiskDesc disk_fields(const YAML::Node& g, const std::string& path) {
-    DiskDesc d;
-    d.center = vec3_at(g, "center", path);
-    d.normal = vec3_at(g, "normal", path);
-    d.radius = number_at(g, "radius", path);
-    d.inner_radius = number_or(g, "inner_radius", path, 0.0);
-    return d;
-  }
-  CylinderDesc cylinder_fields(const YAML::Node& g, const std::string& path) {
-    CylinderDesc c;
-    c.base = vec3_at(g, "base", path);
-    c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-    c.radius = number_at(g, "radius", path);
-    c.height = number_at(g, "height", path);
-    c.caps = bool_or(g, "caps", path, false);
-    return c;
-  }
-  ConeDesc cone_fields(const YAML::Node& g, const std::string& path) {
-    ConeDesc c;
-    c.base = vec3_at(g, "base", path);
-    c.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-    c.base_radius = number_at(g, "base_radius", path);
-    c.top_radius = number_or(g, "top_radius", path, 0.0);
-    c.height = number_at(g, "height", path);
-    c.caps = bool_or(g, "caps", path, false);
-    return c;
-  }
-  TorusDesc torus_fields(const YAML::Node& g, const std::string& path) {
-    TorusDesc t;
-    t.center = vec3_at(g, "center", path);
-    t.axis = vec3_or(g, "axis", path, glm::dvec3(0.0, 1.0, 0.0));
-    t.major_radius = number_at(g, "major_radius", path);
-    t.minor_radius = number_at(g, "minor_radius", path);
-    return t;
+
+  void read_mesh_entry(const YAML::Node& g, const std::string& path, std::uint32_t index,
+                       bool visible) {
+    const std::uint32_t material = material_ref(g, path);
+    const YAML::Node file_node = in_.required(g, "file", path);
+    const std::string file = in_.string(file_node, path + ".file");
+    // RayON's placement (scale, then move) becomes the entry's transform (composed under an
+    // explicit one), so that entries placing one file keep identical vertices and the
+    // renderer can share them (prepared_scene.cpp).
+    TransformDesc placement;
+    optional(g, "position", path, [&](auto& n, auto& f) { placement.translate = in_.vec3(n, f); });
+    optional(g, "scale", path, [&](auto& n, auto& f) {
+      placement.scale = scale_of(n, f);
+      if (placement.scale.x == 0.0 || placement.scale.y == 0.0 || placement.scale.z == 0.0)
+        in_.fail(n, f, "components must not be zero");
+    });
+    TriangleMeshDesc mesh = load_mesh(file_node, path + ".file", file);
+    mesh.material = material;
+    mesh.visible = visible;
+    mesh.source_index = index;
+    mesh.transform = read_transform(g, path);
+    if (placement != TransformDesc{}) {
+      if (!mesh.transform) {
+        mesh.transform = placement;
+      } else {
+        // T * translate(p) * scale(s) = translate(T(p)) * R * (S_T * s): still one
+        // translate-rotate-scale, because the two diagonal scales commute.
+        TransformDesc& t = *mesh.transform;
+        t.translate = glm::dvec3(t.matrix() * glm::dvec4(placement.translate, 1.0));
+        t.scale *= placement.scale;
+      }
+    }
+    scene_.meshes.push_back(std::move(mesh));
   }
 
   // A list of numbers; each element's node is remembered for the semantic checks' lines.
@@ -585,37 +537,27 @@ class SceneBuilder {
   TrimmedSurfaceDesc surface_fields(const YAML::Node& g, const std::string& face_path) {
     const std::string path = face_path + ".surface";
     const YAML::Node s = map_at(in_.required(g, "surface", face_path), path);
-    locations_[path] = s;
     const std::string type = in_.string(in_.required(s, "type", path), path + ".type");
-    if (type == "sphere") {
-      in_.check_keys(s, path, {"type", "center", "radius"});
-      return sphere_fields(s, path);
-    } else if (type == "rectangle" || type == "quad") {
-      in_.check_keys(s, path, {"type", "corner", "u", "v"});
-      return quad_fields(s, path);
-    } else if (type == "plane") {
-      in_.check_keys(s, path, {"type", "point", "normal"});
-      return plane_fields(s, path);
-    } else if (type == "disk") {
-      in_.check_keys(s, path, {"type", "center", "normal", "radius", "inner_radius"});
-      return disk_fields(s, path);
-    } else if (type == "cylinder") {
-      in_.check_keys(s, path, {"type", "base", "axis", "radius", "height"});
-      return cylinder_fields(s, path);
-    } else if (type == "cone") {
-      in_.check_keys(s, path, {"type", "base", "axis", "base_radius", "top_radius", "height"});
-      return cone_fields(s, path);
-    } else if (type == "torus") {
-      in_.check_keys(s, path, {"type", "center", "axis", "major_radius", "minor_radius"});
-      return torus_fields(s, path);
-    } else if (type == "bspline_patch") {
-      in_.check_keys(s, path, {"type", "control_points", "weights", "knots_u", "knots_v"});
-      return patch_fields(s, path);
-    }
-    in_.fail(s["type"], path + ".type",
-             "unknown surface type '" + type +
-                 "' for a trimmed face (expected plane, disk, rectangle, quad, sphere, cylinder, "
-                 "cone, torus or bspline_patch)");
+    std::optional<TrimmedSurfaceDesc> surface;
+    schema::for_each_kind<schema::SurfaceKinds>([&](auto kind) {
+      using Kind = decltype(kind);
+      if (surface || !answers_to<Kind>(type)) return;
+      in_.check_keys(s, path, surface_keys<Kind>());
+      if constexpr (schema::PlainShapeKind<Kind>) {
+        typename Kind::Desc desc;
+        read_fields(s, Kind::fields, desc, path);
+        if constexpr (requires { desc.caps; }) desc.caps = false;  // a face is the side only
+        surface = desc;
+      } else {
+        surface = patch_fields(s, path);
+      }
+    });
+    if (!surface)
+      in_.fail(s["type"], path + ".type",
+               "unknown surface type '" + type + "' for a trimmed face" +
+                   schema::did_you_mean(type, surface_type_names()) + " (expected " +
+                   joined(surface_type_names()) + ")");
+    return *surface;
   }
 
   // loops: [[[u, v], ...], ...]: the outer loop, then holes.
@@ -667,40 +609,33 @@ class SceneBuilder {
   }
 
   void read_render(const YAML::Node& node) {
-    map_at(node, "render");
-    in_.check_keys(
-        node, "render",
-        {"width", "height", "spp", "max_depth", "tile_size", "seed", "integrator", "aovs"});
+    const std::string path(schema::RenderKind::yaml_section);
+    map_at(node, path);
+    in_.check_keys(node, path, yaml_keys(schema::RenderKind::fields));
     auto& r = scene_.render;
-    optional(node, "width", "render", [&](auto& n, auto& f) { r.width = in_.unsigned_int(n, f); });
-    optional(node, "height", "render",
-             [&](auto& n, auto& f) { r.height = in_.unsigned_int(n, f); });
-    optional(node, "spp", "render",
-             [&](auto& n, auto& f) { r.samples_per_pixel = in_.unsigned_int(n, f); });
-    optional(node, "max_depth", "render",
-             [&](auto& n, auto& f) { r.max_depth = in_.unsigned_int(n, f); });
-    optional(node, "tile_size", "render",
-             [&](auto& n, auto& f) { r.tile_size = in_.unsigned_int(n, f); });
-    optional(node, "seed", "render", [&](auto& n, auto& f) { r.seed = in_.seed(n, f); });
-    optional(node, "integrator", "render", [&](auto& n, auto& f) {
+    read_fields(node, schema::RenderKind::fields, r, path);
+    optional(node, "seed", path, [&](auto& n, auto& f) { r.seed = in_.seed(n, f); });
+    optional(node, "integrator", path, [&](auto& n, auto& f) {
       const std::string name = in_.string(n, f);
       const auto kind = integrator_from_string(name);
       if (!kind)
         in_.fail(n, f,
-                 "unknown integrator '" + name +
-                     "' (expected path, normals, shadow, transparency, albedo or depth)");
+                 "unknown integrator '" + name + "'" +
+                     schema::did_you_mean(name, integrator_names()) + " (expected " +
+                     joined(integrator_names()) + ")");
       r.integrator = *kind;
     });
-    optional(node, "aovs", "render", [&](auto& n, auto& f) {
+    optional(node, "aovs", path, [&](auto& n, auto& f) {
       if (!n.IsSequence())
-        in_.fail(n, f, "must be a list of AOV names (albedo, normal, depth, primitive_id)");
+        in_.fail(n, f, "must be a list of AOV names (" + joined(aov_names()) + ")");
       for (std::size_t i = 0; i < n.size(); ++i) {
         const std::string item = f + "[" + std::to_string(i) + "]";
         const std::string name = in_.string(n[i], item);
         const auto bit = aov_from_string(name);
         if (!bit)
           in_.fail(n[i], item,
-                   "unknown AOV '" + name + "' (expected albedo, normal, depth or primitive_id)");
+                   "unknown AOV '" + name + "'" + schema::did_you_mean(name, aov_names()) +
+                       " (expected " + joined(aov_names()) + ")");
         r.aovs |= *bit;
       }
     });
@@ -710,6 +645,7 @@ class SceneBuilder {
   std::filesystem::path base_directory_;
   const SceneLoadOptions& options_;
   SceneDescription scene_;
+  std::unordered_map<std::string, std::size_t> material_index_;  // name -> index, O(1) lookups
   std::map<std::string, YAML::Node> locations_;
   std::map<std::string, TriangleMeshDesc> mesh_cache_;  // by canonical path
 };
@@ -734,6 +670,7 @@ LoadedScene load_scene_yaml(std::string_view text, const std::string& display_na
                             const SceneLoadOptions& options) {
   LoadedScene result;
   YamlReader reader(display_name, result.warnings);
+  reader.set_lenient(options.lenient);
   YAML::Node root;
   try {
     root = YAML::Load(std::string(text));

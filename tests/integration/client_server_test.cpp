@@ -14,9 +14,8 @@
 
 #include "client/client.hpp"
 #include "client/commands.hpp"
-#include "client/scene_to_proto.hpp"
+#include "convert/scene_proto.hpp"
 #include "server/daemon.hpp"
-#include "server/scene_from_proto.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
@@ -401,9 +400,9 @@ TEST(ProtoRoundTrip, SceneToProtoThenSceneFromProtoIsTheIdentity) {
   scene.tori.back().transform = TransformDesc{{0, 0, 0}, {1, 0, 0}, 90.0, {1, 1, 3}};
   ASSERT_TRUE(validate_scene(scene).empty());
 
-  const server::SceneConversion back =
-      server::scene_from_proto(scene_to_proto(scene), render_settings_to_proto(scene.render));
-  ASSERT_TRUE(back.ok()) << server::describe_issues(back.issues);
+  const SceneConversion back =
+      scene_from_proto(scene_to_proto(scene), settings_to_proto(scene.render));
+  ASSERT_TRUE(back.ok()) << describe_issues(back.issues);
   const SceneDescription& d = *back.scene;
   EXPECT_TRUE(d.spheres == scene.spheres);
   EXPECT_TRUE(d.quads == scene.quads);
@@ -451,9 +450,9 @@ TEST(ProtoRoundTrip, PatchesAndTrimmedFacesSurviveTheRoundTrip) {
   }
   ASSERT_TRUE(validate_scene(scene).empty());
 
-  const server::SceneConversion back =
-      server::scene_from_proto(scene_to_proto(scene), render_settings_to_proto(scene.render));
-  ASSERT_TRUE(back.ok()) << server::describe_issues(back.issues);
+  const SceneConversion back =
+      scene_from_proto(scene_to_proto(scene), settings_to_proto(scene.render));
+  ASSERT_TRUE(back.ok()) << describe_issues(back.issues);
   EXPECT_TRUE(back.scene->patches == scene.patches);
   EXPECT_TRUE(back.scene->trimmed_faces == scene.trimmed_faces);
   EXPECT_TRUE(*back.scene == scene);

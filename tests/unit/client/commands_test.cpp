@@ -76,7 +76,7 @@ TEST_F(CommandsTest, SceneErrorPrintsTheLoaderMessageAndExitsTwo) {
     const CommandRun r = run(command);
     EXPECT_EQ(r.exit_code, kExitUsage);
     EXPECT_EQ(r.err,
-              "tessera: " + scene.string() + ":5: geometry[1].radius: must be positive, got -2\n");
+              "tessera: " + scene.string() + ":5: geometry[1].radius: must be > 0, got -2\n");
     EXPECT_FALSE(std::filesystem::exists(command.output_exr));
   }
   command.kind = CommandKind::kSubmit;

@@ -81,14 +81,13 @@ geometries:
   EXPECT_EQ(s.materials[0].albedo, glm::dvec3(0.5));
 }
 
-TEST(YamlLoader, UnknownKeysAreWarningsWithLine) {
-  const LoadedScene loaded = load("camera:\n  fov: 30\n  zoom: 2\nextra: 1\n");
-  ASSERT_EQ(loaded.warnings.size(), 2u);
-  EXPECT_EQ(loaded.warnings[0].field, "camera.zoom");
-  EXPECT_EQ(loaded.warnings[0].line, 3);
-  EXPECT_EQ(loaded.warnings[1].field, "extra");
-  EXPECT_EQ(loaded.warnings[1].line, 4);
-  EXPECT_EQ(loaded.warnings[0].to_string(), "scene.yaml:3: camera.zoom: unknown key, ignored");
+TEST(YamlLoader, UnknownKeysAreErrorsWithLine) {
+  // Top-level keys are checked before the sections, so a misspelled section is named first.
+  const SceneIssue extra = load_error("camera:\n  fov: 30\n  zoom: 2\nextra: 1\n");
+  EXPECT_EQ(extra.field, "extra");
+  EXPECT_EQ(extra.line, 4);
+  const SceneIssue zoom = load_error("camera:\n  fov: 30\n  zoom: 2\n");
+  EXPECT_EQ(zoom.to_string(), "scene.yaml:3: camera.zoom: unknown key 'zoom'");
 }
 
 TEST(YamlLoader, SyntaxErrorNamesLine) {
@@ -125,7 +124,7 @@ TEST(YamlLoader, NegativeRadius) {
       load_error(with_geometry("{ type: sphere, material: white, center: [0, 0, 0], radius: -1 }"));
   EXPECT_EQ(issue.field, "geometry[0].radius");
   EXPECT_EQ(issue.line, 4);
-  EXPECT_EQ(issue.to_string(), "scene.yaml:4: geometry[0].radius: must be positive, got -1");
+  EXPECT_EQ(issue.to_string(), "scene.yaml:4: geometry[0].radius: must be > 0, got -1");
 }
 
 TEST(YamlLoader, NanAndInfinityAreRejected) {

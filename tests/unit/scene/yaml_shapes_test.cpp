@@ -187,10 +187,15 @@ geometry:
       << issue.to_string();
 }
 
-TEST(YamlShapes, UnknownKeysOfNewShapesAreWarned) {
-  const LoadedScene loaded = load(with_geometry(
+TEST(YamlShapes, UnknownKeysOfNewShapesAreErrorsOrLenientWarnings) {
+  const std::string text = with_geometry(
       "{ type: disk, material: white, center: [0, 0, 0], normal: [0, 1, 0], radius: 1, "
-      "height: 3, transform: { shear: 1 } }"));
+      "height: 3, transform: { shear: 1 } }");
+  const SceneIssue issue = test::scene_error_of([&] { load(text); }, text);
+  EXPECT_EQ(issue.field, "geometry[0].height");
+  SceneLoadOptions lenient;
+  lenient.lenient = true;
+  const LoadedScene loaded = load_scene_yaml(text, "shapes.yaml", ".", lenient);
   ASSERT_EQ(loaded.warnings.size(), 2u);
   EXPECT_EQ(loaded.warnings[0].field, "geometry[0].height");
   EXPECT_EQ(loaded.warnings[1].field, "geometry[0].transform.shear");

@@ -175,7 +175,7 @@ TEST_F(DaemonTest, AnInvalidSceneIsInvalidArgumentNamingTheField) {
   request.mutable_scene()->mutable_geometry(0)->mutable_sphere()->set_radius(-1);
   const grpc::Status status = submit(request);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_EQ(status.error_message(), "geometry[0].sphere.radius: must be positive, got -1");
+  EXPECT_EQ(status.error_message(), "geometry[0].sphere.radius: must be > 0, got -1");
 
   const grpc::Status missing = submit(v1::SubmitJobRequest());
   EXPECT_EQ(missing.error_code(), grpc::StatusCode::INVALID_ARGUMENT);

@@ -2,7 +2,7 @@
 // description, and bad grids, knots, weights and loops are named by their protobuf path.
 #include <gtest/gtest.h>
 
-#include "server/scene_from_proto.hpp"
+#include "convert/scene_proto.hpp"
 #include "test_scenes.hpp"
 
 namespace tessera::server {
@@ -119,7 +119,8 @@ TEST(PatchesFromProto, LoopsAndSurfacesOfTrimmedFacesAreNamed) {
 
   scene = tiny_scene();
   face = add_geometry(scene)->mutable_trimmed_face();
-  face->mutable_torus()->set_major_radius(1.0);  // axis left unset: the zero vector
+  face->mutable_torus()->mutable_axis();  // set, all zero (unset would be the default +y)
+  face->mutable_torus()->set_major_radius(1.0);
   face->mutable_torus()->set_minor_radius(0.2);
   add_loop(face, {0, 0.1, 0.5, 0.1, 0.5, 0.9});
   expect_first_issue(scene, "geometry[2].trimmed_face.torus.axis", "zero vector");

@@ -1,4 +1,4 @@
-#include "server/scene_from_proto.hpp"
+#include "convert/scene_proto.hpp"
 
 #include <gtest/gtest.h>
 
@@ -168,14 +168,13 @@ TEST(SceneFromProto, NegativeRadiusGivesTheExactMessage) {
   scene.mutable_geometry(3)->mutable_sphere()->set_radius(-1);
   const SceneConversion conversion = scene_from_proto(scene, tiny_settings());
   ASSERT_EQ(conversion.issues.size(), 1u);
-  EXPECT_EQ(describe_issues(conversion.issues),
-            "geometry[3].sphere.radius: must be positive, got -1");
+  EXPECT_EQ(describe_issues(conversion.issues), "geometry[3].sphere.radius: must be > 0, got -1");
 }
 
 TEST(SceneFromProto, ZeroRadiusIsRejected) {
   v1::Scene scene = tiny_scene();
   scene.mutable_geometry(0)->mutable_sphere()->clear_radius();
-  expect_single_issue(scene, "geometry[0].sphere.radius", "must be positive, got 0");
+  expect_single_issue(scene, "geometry[0].sphere.radius", "must be > 0, got 0");
 }
 
 TEST(SceneFromProto, NonFiniteNumbersNameTheComponent) {
@@ -315,7 +314,7 @@ TEST(SceneFromProto, ReportsEveryStructuralIssue) {
   EXPECT_EQ(conversion.issues[2].field, "geometry[1].material");
   EXPECT_EQ(issues_text(conversion),
             "materials[0].type: must be set (got MATERIAL_TYPE_UNSPECIFIED); "
-            "geometry[0].sphere.radius: must be positive, got -2; "
+            "geometry[0].sphere.radius: must be > 0, got -2; "
             "geometry[1].material: unknown material 'missing'");
 }
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "server/scene_from_proto.hpp"
+#include "convert/scene_proto.hpp"
 #include "test_scenes.hpp"
 
 namespace tessera::server {
@@ -127,6 +127,7 @@ TEST(ShapesFromProto, RangeErrorsUseTheShapesProtobufPath) {
                       }),
                       "geometry[2].cylinder.radius", "must be > 0, got -1");
   expect_single_issue(with_shape([](v1::Geometry* g) {
+                        g->mutable_cylinder()->mutable_axis();  // set to (0, 0, 0)
                         g->mutable_cylinder()->set_radius(1);
                         g->mutable_cylinder()->set_height(1);
                       }),
@@ -151,6 +152,11 @@ TEST(ShapesFromProto, RangeErrorsUseTheShapesProtobufPath) {
   expect_single_issue(with_shape([](v1::Geometry* g) {
                         set_vec3(g->mutable_sdf_box()->mutable_half_extent(), 1, 1, 1);
                         g->mutable_sdf_box()->set_rounding(-0.1);
+                      }),
+                      "geometry[2].sdf_box.rounding", "must be >= 0, got -0.1");
+  expect_single_issue(with_shape([](v1::Geometry* g) {
+                        set_vec3(g->mutable_sdf_box()->mutable_half_extent(), 1, 0.5, 1);
+                        g->mutable_sdf_box()->set_rounding(0.6);
                       }),
                       "geometry[2].sdf_box.rounding", "smallest half extent");
   expect_single_issue(with_shape([](v1::Geometry* g) { g->mutable_sdf_capsule(); }),

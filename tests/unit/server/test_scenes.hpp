@@ -1,7 +1,7 @@
 #pragma once
 // Tiny scenes shared by the server tests: a lit sphere seen by a camera, small enough that
 // a whole job renders in milliseconds.
-#include "server/scene_from_proto.hpp"
+#include "convert/scene_proto.hpp"
 #include "tessera/v1/render.pb.h"
 #include "tessera/v1/scene.pb.h"
 

@@ -1,11 +1,15 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "tessera/scene/schema/path_style.hpp"
 
 namespace tessera {
 
@@ -41,6 +45,7 @@ enum class MaterialType {
 
 const char* to_string(MaterialType type);
 std::optional<MaterialType> material_type_from_string(const std::string& name);
+std::span<const std::string_view> material_type_names();  // in MaterialType order
 
 struct MaterialDesc {
   std::string name;
@@ -58,6 +63,10 @@ struct MaterialDesc {
 
   friend bool operator==(const MaterialDesc&, const MaterialDesc&) = default;
 };
+
+// Defaults that depend on the type, applied before the fields are read: a light's albedo
+// is 1 (its emission is what it shows).
+void apply_type_defaults(MaterialDesc& material);
 
 // Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,
 // then rotate by `rotate_degrees` around `rotate_axis` (right-handed), then translate.
@@ -293,6 +302,7 @@ enum class IntegratorKind {
 };
 const char* to_string(IntegratorKind kind);
 std::optional<IntegratorKind> integrator_from_string(const std::string& name);
+std::span<const std::string_view> integrator_names();  // in IntegratorKind order
 
 // Arbitrary output variables a job may ask for besides the beauty pass.
 enum AovBit : std::uint32_t {
@@ -304,6 +314,10 @@ enum AovBit : std::uint32_t {
 inline constexpr std::uint32_t kAllAovs = kAovAlbedo | kAovNormal | kAovDepth | kAovPrimitiveId;
 inline constexpr const char* kAovNames[] = {"albedo", "normal", "depth", "primitive_id"};
 std::optional<AovBit> aov_from_string(const std::string& name);
+std::span<const std::string_view> aov_names();  // bit i is aov_names()[i]
+
+// "a, b, c or d", for messages that list the accepted values.
+std::string joined(std::span<const std::string_view> names);
 
 struct RenderSettings {
   std::uint32_t width = 320;
@@ -362,10 +376,13 @@ struct SceneLimits {
   std::size_t max_trim_points = 4'000'000;
 };
 
-// Semantic checks shared by every loader (finite numbers, positive radii, valid material
-// references, render settings in range). Returns every issue found, field paths filled,
-// file and line left empty for the caller to add.
+// Semantic checks shared by every loader, from the kind declarations (scene/schema/kinds.hpp):
+// finite numbers, positive radii, valid material references, render settings in range.
+// Returns every issue found in input order, field paths in `style` (the YAML file's or the
+// protobuf request's terms), file and line left empty for the caller to add. Linear in the
+// scene's size.
 std::vector<struct SceneIssue> validate_scene(const SceneDescription& scene,
-                                              const SceneLimits& limits = {});
+                                              const SceneLimits& limits = {},
+                                              schema::PathStyle style = schema::PathStyle::kYaml);
 
 }  // namespace tessera

@@ -14,7 +14,7 @@ struct SceneIssue {
   std::string field;  // path such as `materials[2].roughness`; empty for whole-file problems
   std::string message;
 
-  // `scene.yaml:12: geometry[3].radius: must be positive, got -1`
+  // `scene.yaml:12: geometry[3].radius: must be > 0, got -1`
   std::string to_string() const;
 };
 

@@ -14,6 +14,8 @@ struct SceneLoadOptions {
   // process can read (the CLI on a user's own machine); the daemon always sets it.
   std::vector<std::filesystem::path> allowed_roots;
   SceneLimits limits;
+  // Unknown keys are warnings instead of errors (the CLI's --lenient).
+  bool lenient = false;
 };
 
 struct LoadedScene {

@@ -1,125 +1,28 @@
-// SceneDescription -> proto: every field survives, geometry keeps the order it was written in
-// and nothing is left to the server's defaults. The reverse conversion below is written here,
-// independently of the server's, to check the round trip.
+// SceneDescription -> proto -> SceneDescription through the one conversion library: every
+// field survives, geometry keeps the order it was written in and nothing is left to the
+// server's defaults. (schema_proto_test checks the mapping itself against the .proto.)
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "client/scene_to_proto.hpp"
+#include "convert/scene_proto.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {
 namespace {
 
-glm::dvec3 from_proto(const v1::Vec3& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-MaterialType material_type_from_proto(v1::MaterialType type) {
-  switch (type) {
-    case v1::MATERIAL_TYPE_LAMBERTIAN:
-      return MaterialType::kLambertian;
-    case v1::MATERIAL_TYPE_LIGHT:
-      return MaterialType::kLight;
-    case v1::MATERIAL_TYPE_METAL:
-      return MaterialType::kMetal;
-    case v1::MATERIAL_TYPE_ROUGH_MIRROR:
-      return MaterialType::kRoughMirror;
-    case v1::MATERIAL_TYPE_GLASS:
-      return MaterialType::kGlass;
-    case v1::MATERIAL_TYPE_ANISOTROPIC_METAL:
-      return MaterialType::kAnisotropicMetal;
-    case v1::MATERIAL_TYPE_CLEAR_COAT:
-      return MaterialType::kClearCoat;
-    case v1::MATERIAL_TYPE_THIN_FILM:
-      return MaterialType::kThinFilm;
-    default:
-      ADD_FAILURE() << "unexpected material type " << type;
-      return MaterialType::kLambertian;
-  }
-}
-
-// Strict: fields the client must always send are required to be present.
+// Fields the client must always send are present (nothing is left to the server's
+// defaults), and the library's own reverse conversion gives the scene back.
 SceneDescription desc_from_proto(const v1::Scene& scene, const v1::RenderSettings& settings) {
-  SceneDescription d;
-  EXPECT_TRUE(scene.has_camera());
-  d.camera.position = from_proto(scene.camera().position());
-  d.camera.look_at = from_proto(scene.camera().look_at());
-  EXPECT_TRUE(scene.camera().has_up());
-  d.camera.up = from_proto(scene.camera().up());
-  d.camera.fov_degrees = scene.camera().fov_degrees();
+  EXPECT_TRUE(scene.has_camera() && scene.camera().has_up());
   EXPECT_TRUE(scene.background().has_intensity());
-  d.background.color = from_proto(scene.background().color());
-  d.background.intensity = scene.background().intensity();
-  for (const v1::Material& m : scene.materials()) {
+  for (const v1::Material& m : scene.materials())
     EXPECT_TRUE(m.has_albedo() && m.has_refractive_index() && m.has_film_ior()) << m.name();
-    MaterialDesc out;
-    out.name = m.name();
-    out.type = material_type_from_proto(m.type());
-    out.albedo = from_proto(m.albedo());
-    out.emission = from_proto(m.emission());
-    out.roughness = m.roughness();
-    out.refractive_index = m.refractive_index();
-    out.metallic = m.metallic();
-    out.transmission = m.transmission();
-    out.anisotropy = m.anisotropy();
-    out.preset = m.preset();
-    out.film_thickness = m.film_thickness();
-    out.film_ior = m.film_ior();
-    d.materials.push_back(out);
-  }
-  for (int i = 0; i < scene.geometry_size(); ++i) {
-    const v1::Geometry& g = scene.geometry(i);
-    const auto material = d.find_material(g.material());
-    EXPECT_TRUE(material.has_value()) << "geometry[" << i << "] material " << g.material();
-    EXPECT_TRUE(g.has_visible());
-    const auto index = static_cast<std::uint32_t>(i);
-    switch (g.shape_case()) {
-      case v1::Geometry::kSphere:
-        d.spheres.push_back({from_proto(g.sphere().center()), g.sphere().radius(),
-                             material.value_or(0), g.visible(), index});
-        break;
-      case v1::Geometry::kRectangle:
-        d.quads.push_back({from_proto(g.rectangle().corner()), from_proto(g.rectangle().u()),
-                           from_proto(g.rectangle().v()), material.value_or(0), g.visible(),
-                           index});
-        break;
-      case v1::Geometry::kTriangle: {
-        TriangleMeshDesc mesh;
-        mesh.positions = {from_proto(g.triangle().v0()), from_proto(g.triangle().v1()),
-                          from_proto(g.triangle().v2())};
-        mesh.indices = {0, 1, 2};
-        mesh.material = material.value_or(0);
-        mesh.visible = g.visible();
-        mesh.source_index = index;
-        d.meshes.push_back(mesh);
-        break;
-      }
-      case v1::Geometry::kMesh: {
-        TriangleMeshDesc mesh;
-        EXPECT_EQ(g.mesh().positions_size() % 3, 0);
-        for (int p = 0; p + 2 < g.mesh().positions_size(); p += 3)
-          mesh.positions.emplace_back(g.mesh().positions(p), g.mesh().positions(p + 1),
-                                      g.mesh().positions(p + 2));
-        mesh.indices.assign(g.mesh().indices().begin(), g.mesh().indices().end());
-        mesh.material = material.value_or(0);
-        mesh.visible = g.visible();
-        mesh.source_index = index;
-        d.meshes.push_back(mesh);
-        break;
-      }
-      default:
-        ADD_FAILURE() << "geometry[" << i << "] has no shape";
-    }
-  }
-  d.render.width = settings.width();
-  d.render.height = settings.height();
-  d.render.samples_per_pixel = settings.samples_per_pixel();
-  d.render.max_depth = settings.max_depth();
-  d.render.tile_size = settings.tile_size();
-  d.render.seed = settings.seed();
-  return d;
+  for (const v1::Geometry& g : scene.geometry()) EXPECT_TRUE(g.has_visible());
+  SceneConversion conversion = scene_from_proto(scene, settings);
+  EXPECT_TRUE(conversion.ok()) << describe_issues(conversion.issues);
+  return conversion.ok() ? std::move(*conversion.scene) : SceneDescription{};
 }
 
 void expect_same_scene(const SceneDescription& a, const SceneDescription& b) {
@@ -177,6 +80,12 @@ void expect_same_scene(const SceneDescription& a, const SceneDescription& b) {
   EXPECT_EQ(a.render.max_depth, b.render.max_depth);
   EXPECT_EQ(a.render.tile_size, b.render.tile_size);
   EXPECT_EQ(a.render.seed, b.render.seed);
+  // And everything else: the descriptions are equal but for the file a mesh came from,
+  // which does not travel.
+  SceneDescription x = a, y = b;
+  for (auto& mesh : x.meshes) mesh.source_file.clear();
+  for (auto& mesh : y.meshes) mesh.source_file.clear();
+  EXPECT_TRUE(x == y);
 }
 
 TEST(SceneToProto, CornellBoxRoundTripsExactly) {
@@ -269,9 +178,9 @@ TEST(SceneToProto, IntegratorAndAovsTravel) {
   SceneDescription scene =
       load_scene_file(std::filesystem::path(TESSERA_SOURCE_DIR) / "examples/scenes/cornell.yaml")
           .scene;
-  EXPECT_EQ(render_settings_to_proto(scene.render).integrator(), v1::INTEGRATOR_PATH);
+  EXPECT_EQ(settings_to_proto(scene.render).integrator(), v1::INTEGRATOR_PATH);
   scene.render.aovs = kAovDepth | kAovNormal;
-  v1::RenderSettings settings = render_settings_to_proto(scene.render);
+  v1::RenderSettings settings = settings_to_proto(scene.render);
   ASSERT_EQ(settings.aovs_size(), 2);
   EXPECT_EQ(settings.aovs(0), v1::AOV_NORMAL);
   EXPECT_EQ(settings.aovs(1), v1::AOV_DEPTH);
@@ -282,7 +191,7 @@ TEST(SceneToProto, IntegratorAndAovsTravel) {
     scene.render.integrator = kind;
     std::string upper = to_string(kind);
     for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    EXPECT_EQ(v1::Integrator_Name(render_settings_to_proto(scene.render).integrator()),
+    EXPECT_EQ(v1::Integrator_Name(settings_to_proto(scene.render).integrator()),
               "INTEGRATOR_" + upper);
   }
 }

@@ -1,0 +1,573 @@
+#pragma once
+#include <array>
+#include <string_view>
+#include <tuple>
+
+#include "tessera/scene/scene_description.hpp"
+#include "tessera/scene/schema/checks.hpp"
+#include "tessera/scene/schema/field.hpp"
+
+// Every kind of the scene model, declared once: its names in YAML and protobuf, its fields
+// (name, member, presence, rule, documentation) and the rules that tie fields together.
+// Defaults are the description structs' member initialisers (scene_description.hpp).
+//
+// To add a field: give the struct a member, add a Field line here and the field (same
+// name) to scene.proto. The YAML loader, both protobuf directions, validation and the
+// README tables follow; schema_test checks the proto and the README agree.
+// To add a shape: a description struct and its list in SceneDescription, a kind here, its
+// entry in ShapeKinds, its message in scene.proto's Geometry oneof, and the renderer's
+// arrays (render/).
+namespace tessera::schema {
+
+using enum Presence;
+using enum Rule;
+
+// Which emitters of a shape type have a light sampler, so they may be hidden
+// (`visible: false`): a hidden emitter without one would be seen by no ray at all.
+enum class LightSampling { kAlways, kUnderSimilarity, kNever };
+
+// ---------------------------------------------------------------- camera, background, render
+
+struct CameraKind {
+  using Desc = CameraDesc;
+  static constexpr std::string_view yaml_section = "camera";
+  static constexpr std::string_view proto_section = "camera";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "position", .member = &Desc::position, .doc = "eye point"},
+      {.name = "look_at", .member = &Desc::look_at, .doc = "point the camera looks at"},
+      {.name = "up", .member = &Desc::up, .doc = "up direction"},
+      {.name = "fov_degrees",
+       .member = &Desc::fov_degrees,
+       .rule = kInRange,
+       .lo = 1e-3,
+       .hi = 179.0,
+       .doc = "vertical field of view, degrees",
+       .yaml_name = "fov",
+       .zero_means_default = true},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc& camera, Checks& check) {
+    if (glm::length(camera.look_at - camera.position) == 0.0)
+      check.fail("look_at", "must differ from camera.position");
+    else if (glm::length(glm::cross(camera.look_at - camera.position, camera.up)) == 0.0)
+      check.fail("up", "must not be parallel to the viewing direction");
+  }
+};
+
+// YAML keeps RayON's layout (`settings.background_color`); protobuf has a Background message.
+struct BackgroundKind {
+  using Desc = BackgroundDesc;
+  static constexpr std::string_view yaml_section = "settings";
+  static constexpr std::string_view proto_section = "background";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "radiance of a miss, linear RGB (times intensity)",
+       .grey_scalar = true,
+       .yaml_name = "background_color"},
+      {.name = "intensity",
+       .member = &Desc::intensity,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e6,
+       .doc = "multiplies color",
+       .yaml_name = "background_intensity"},
+  };
+  static constexpr IgnoredKey ignored[] = {
+      {"ambient_light", "RayON's ambient term is not supported (light comes from emitters)"},
+      {"use_bvh", "Tessera always picks its own acceleration structure"},
+      {"adaptive_sampling", "adaptive sampling is not implemented yet"},
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+// The render section (YAML `render`, protobuf RenderSettings, which travels beside the
+// Scene as `settings`). The width, height, spp, depth and tile-size bounds come from
+// SceneLimits (a server configures them), so their checks are the kind's own rules.
+struct RenderKind {
+  using Desc = RenderSettings;
+  static constexpr std::string_view yaml_section = "render";
+  static constexpr std::string_view proto_section = "settings";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "width",
+       .member = &Desc::width,
+       .doc = "pixels (at most 16384 unless the server sets another limit)",
+       .zero_means_default = true},
+      {.name = "height", .member = &Desc::height, .doc = "pixels", .zero_means_default = true},
+      {.name = "samples_per_pixel",
+       .member = &Desc::samples_per_pixel,
+       .doc = "samples per pixel",
+       .yaml_name = "spp",
+       .zero_means_default = true},
+      {.name = "max_depth",
+       .member = &Desc::max_depth,
+       .doc = "longest path, in bounces",
+       .zero_means_default = true},
+      {.name = "tile_size",
+       .member = &Desc::tile_size,
+       .doc = "tile edge, pixels",
+       .zero_means_default = true},
+      {.name = "seed", .doc = "random seed (the image is a function of it)"},
+      {.name = "integrator", .doc = "path, normals, shadow, transparency, albedo or depth"},
+      {.name = "aovs", .doc = "extra outputs: albedo, normal, depth, primitive_id"},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+};
+
+// ---------------------------------------------------------------- materials
+
+struct MaterialKind {
+  using Desc = MaterialDesc;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "name",
+       .member = &Desc::name,
+       .presence = kRequired,
+       .doc = "unique; geometry refers to it"},
+      {.name = "type",
+       .presence = kRequired,
+       .doc = "lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat, "
+              "thin_film"},
+      {.name = "albedo",
+       .member = &Desc::albedo,
+       .rule = kNonNegativeComponents,
+       .doc = "reflectance, linear RGB (lights: 1)",
+       .grey_scalar = true},
+      {.name = "emission",
+       .member = &Desc::emission,
+       .rule = kNonNegativeComponents,
+       .doc = "emitted radiance (required for lights)",
+       .grey_scalar = true},
+      {.name = "roughness", .member = &Desc::roughness, .rule = kInRange, .lo = 0.0, .hi = 1.0},
+      {
+          .name = "refractive_index",
+          .member = &Desc::refractive_index,
+          .rule = kInRange,
+          .lo = 1.0,
+          .hi = 4.0,
+      },
+      {.name = "metallic", .member = &Desc::metallic, .rule = kInRange, .lo = 0.0, .hi = 1.0},
+      {.name = "transmission",
+       .member = &Desc::transmission,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1.0},
+      {.name = "anisotropy", .member = &Desc::anisotropy, .rule = kInRange, .lo = -1.0, .hi = 1.0},
+      {.name = "preset",
+       .member = &Desc::preset,
+       .rule = kOneOf,
+       .doc = "anisotropic_metal colour",
+       .choices = "silver|gold|copper|aluminium|aluminum"},
+      {.name = "film_thickness",
+       .member = &Desc::film_thickness,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e5,
+       .doc = "thin_film, nanometres"},
+      {.name = "film_ior",
+       .member = &Desc::film_ior,
+       .rule = kInRange,
+       .lo = 1.0,
+       .hi = 4.0,
+       .doc = "thin_film"},
+  };
+  static constexpr IgnoredKey ignored[] = {
+      {"color", "RayON's colour + emission_intensity shorthand is not supported yet; use emission"},
+      {"emission_intensity", "not supported yet; use emission"},
+      {"eta", "explicit conductor constants are not supported yet; use preset"},
+      {"k", "explicit conductor constants are not supported yet; use preset"},
+      {"pattern", "procedural patterns are not supported yet"},
+  };
+  // A light without emission would be black: RayON requires it too.
+  static void check(const Desc& material, Checks& check) {
+    if (material.type == MaterialType::kLight && material.emission == glm::dvec3(0.0))
+      check.fail("emission", "is required for a light material (and must not be zero)");
+  }
+};
+
+// ---------------------------------------------------------------- placement
+
+struct RotationKind {
+  using Desc = TransformDesc;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "axis",
+       .member = &Desc::rotate_axis,
+       .presence = kRequired,
+       .rule = kNonZeroVector,
+       .doc = "right-handed rotation axis"},
+      {.name = "degrees", .member = &Desc::rotate_degrees, .presence = kRequired, .doc = "angle"},
+  };
+};
+
+struct TransformKind {
+  using Desc = TransformDesc;
+  static constexpr Field<Desc> fields[] = {
+      {
+          .name = "translate",
+          .member = &Desc::translate,
+      },
+      {.name = "rotate", .doc = "{ axis, degrees }"},
+      {.name = "scale",
+       .member = &Desc::scale,
+       .rule = kNonZeroComponents,
+       .doc = "one number or three",
+       .grey_scalar = true},
+  };
+};
+
+// ---------------------------------------------------------------- shapes
+
+// Fields of the Geometry entry itself, whatever its shape.
+struct GeometryCommon {
+  static constexpr std::string_view fields[] = {"type", "material", "visible", "transform"};
+};
+
+struct SphereKind {
+  using Desc = SphereDesc;
+  static constexpr std::string_view name = "sphere";
+  static constexpr std::string_view proto_name = "sphere";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::spheres;
+  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "center", .member = &Desc::center, .presence = kRequired},
+      {.name = "radius", .member = &Desc::radius, .presence = kRequired, .rule = kPositive},
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+struct QuadKind {
+  using Desc = QuadDesc;
+  static constexpr std::string_view name = "rectangle";
+  static constexpr std::string_view proto_name = "rectangle";
+  static constexpr std::string_view note = "the parallelogram corner + s·u + t·v";
+  static constexpr std::array<Alias, 1> aliases{{{"quad"}}};
+  static constexpr auto list = &SceneDescription::quads;
+  static constexpr LightSampling light = LightSampling::kAlways;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "corner", .member = &Desc::corner, .presence = kRequired},
+      {.name = "u", .member = &Desc::u, .presence = kRequired},
+      {.name = "v", .member = &Desc::v, .presence = kRequired},
+  };
+  static void check(const Desc& q, Checks& check) {
+    if (glm::length(glm::cross(q.u, q.v)) == 0.0)
+      check.fail("v", "u and v must span a parallelogram (they are parallel or zero)");
+  }
+};
+
+struct PlaneKind {
+  using Desc = PlaneDesc;
+  static constexpr std::string_view name = "plane";
+  static constexpr std::string_view proto_name = "plane";
+  static constexpr std::string_view note = "infinite; may not emit light";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::planes;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr bool may_emit = false;  // its power would be infinite
+  static constexpr Field<Desc> fields[] = {
+      {
+          .name = "point",
+          .member = &Desc::point,
+      },
+      {.name = "normal", .member = &Desc::normal, .presence = kRequired, .rule = kNonZeroVector},
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+struct DiskKind {
+  using Desc = DiskDesc;
+  static constexpr std::string_view name = "disk";
+  static constexpr std::string_view proto_name = "disk";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::disks;
+  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "center", .member = &Desc::center, .presence = kRequired},
+      {.name = "normal", .member = &Desc::normal, .presence = kRequired, .rule = kNonZeroVector},
+      {.name = "radius", .member = &Desc::radius, .presence = kRequired, .rule = kPositive},
+      {.name = "inner_radius", .member = &Desc::inner_radius, .doc = "an annulus when > 0"},
+  };
+  static void check(const Desc& d, Checks& check) {
+    if (d.radius > 0.0 && !(d.inner_radius >= 0.0 && d.inner_radius < d.radius))
+      check.fail("inner_radius", "must be in [0, radius) = [0, " + Checks::format(d.radius) +
+                                     "), got " + Checks::format(d.inner_radius));
+  }
+};
+
+struct CylinderKind {
+  using Desc = CylinderDesc;
+  static constexpr std::string_view name = "cylinder";
+  static constexpr std::string_view proto_name = "cylinder";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::cylinders;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "base", .member = &Desc::base, .presence = kRequired},
+      {
+          .name = "axis",
+          .member = &Desc::axis,
+          .rule = kNonZeroVector,
+      },
+      {.name = "radius", .member = &Desc::radius, .presence = kRequired, .rule = kPositive},
+      {.name = "height", .member = &Desc::height, .presence = kRequired, .rule = kPositive},
+      {
+          .name = "caps",
+          .member = &Desc::caps,
+      },
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+struct ConeKind {
+  using Desc = ConeDesc;
+  static constexpr std::string_view name = "cone";
+  static constexpr std::string_view proto_name = "cone";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::cones;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "base", .member = &Desc::base, .presence = kRequired},
+      {
+          .name = "axis",
+          .member = &Desc::axis,
+          .rule = kNonZeroVector,
+      },
+      {.name = "base_radius",
+       .member = &Desc::base_radius,
+       .presence = kRequired,
+       .rule = kNonNegative},
+      {.name = "top_radius",
+       .member = &Desc::top_radius,
+       .rule = kNonNegative,
+       .doc = "0: pointed"},
+      {.name = "height", .member = &Desc::height, .presence = kRequired, .rule = kPositive},
+      {
+          .name = "caps",
+          .member = &Desc::caps,
+      },
+  };
+  static void check(const Desc& c, Checks& check) {
+    if (c.base_radius == 0.0 && c.top_radius == 0.0)
+      check.fail("base_radius", "base_radius and top_radius must not both be 0");
+  }
+};
+
+struct TorusKind {
+  using Desc = TorusDesc;
+  static constexpr std::string_view name = "torus";
+  static constexpr std::string_view proto_name = "torus";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::tori;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "center", .member = &Desc::center, .presence = kRequired},
+      {
+          .name = "axis",
+          .member = &Desc::axis,
+          .rule = kNonZeroVector,
+      },
+      {.name = "major_radius",
+       .member = &Desc::major_radius,
+       .presence = kRequired,
+       .rule = kPositive},
+      {.name = "minor_radius",
+       .member = &Desc::minor_radius,
+       .presence = kRequired,
+       .rule = kPositive,
+       .doc = "ring, horn or spindle"},
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+struct SdfBoxKind {
+  using Desc = SdfBoxDesc;
+  static constexpr std::string_view name = "sdf_box";
+  static constexpr std::string_view proto_name = "sdf_box";
+  static constexpr std::string_view note = "sphere traced";
+  static constexpr std::array<Alias, 1> aliases{{{"sdf_rounded_box", "rounding"}}};
+  static constexpr auto list = &SceneDescription::sdf_boxes;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {
+          .name = "center",
+          .member = &Desc::center,
+      },
+      {.name = "half_extent",
+       .member = &Desc::half_extent,
+       .presence = kRequired,
+       .rule = kPositiveComponents},
+      {.name = "rounding",
+       .member = &Desc::rounding,
+       .rule = kNonNegative,
+       .doc = "edge radius, at most the smallest half extent"},
+  };
+  static void check(const Desc& b, Checks& check) {
+    const double smallest = glm::min(b.half_extent.x, glm::min(b.half_extent.y, b.half_extent.z));
+    if (smallest > 0.0 && b.rounding > smallest)
+      check.fail("rounding", "must be in [0, smallest half extent] = [0, " +
+                                 Checks::format(smallest) + "], got " + Checks::format(b.rounding));
+  }
+};
+
+struct SdfTorusKind {
+  using Desc = SdfTorusDesc;
+  static constexpr std::string_view name = "sdf_torus";
+  static constexpr std::string_view proto_name = "sdf_torus";
+  static constexpr std::string_view note = "sphere traced";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::sdf_tori;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "center", .member = &Desc::center, .presence = kRequired},
+      {
+          .name = "axis",
+          .member = &Desc::axis,
+          .rule = kNonZeroVector,
+      },
+      {.name = "major_radius",
+       .member = &Desc::major_radius,
+       .presence = kRequired,
+       .rule = kPositive},
+      {.name = "minor_radius",
+       .member = &Desc::minor_radius,
+       .presence = kRequired,
+       .rule = kPositive,
+       .doc = "< major_radius: ring tori only"},
+  };
+  static void check(const Desc& t, Checks& check) {
+    if (t.major_radius > 0.0 && t.minor_radius > 0.0 && !(t.minor_radius < t.major_radius))
+      check.fail("minor_radius", "must be < major_radius (" + Checks::format(t.major_radius) +
+                                     ") for a signed-distance torus, got " +
+                                     Checks::format(t.minor_radius));
+  }
+};
+
+struct SdfCapsuleKind {
+  using Desc = SdfCapsuleDesc;
+  static constexpr std::string_view name = "sdf_capsule";
+  static constexpr std::string_view proto_name = "sdf_capsule";
+  static constexpr std::string_view note = "sphere traced";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::sdf_capsules;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "a", .member = &Desc::a, .presence = kRequired, .doc = "segment end"},
+      {.name = "b", .member = &Desc::b, .presence = kRequired, .doc = "segment end"},
+      {.name = "radius", .member = &Desc::radius, .presence = kRequired, .rule = kPositive},
+  };
+  static void check(const Desc&, Checks&) {}
+};
+
+// Patches, trimmed faces, triangles and meshes have structured fields (grids, loops, files,
+// inline arrays) that the loaders read with code of their own; the declaration still names
+// every field, so unknown keys, the README and the proto check know them.
+struct SplinePatchKind {
+  using Desc = SplinePatchDesc;
+  static constexpr std::string_view name = "bspline_patch";
+  static constexpr std::string_view proto_name = "spline_patch";
+  static constexpr std::string_view note = "bicubic B-spline, NURBS with weights";
+  static constexpr std::string_view proto_surface_name = "patch";  // in TrimmedFace
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::patches;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "control_points",
+       .presence = kRequired,
+       .doc = "rows along u, each row the points along v; at least 4 x 4"},
+      {.name = "weights", .doc = "[none] (same shape; any given makes it a NURBS patch, each > 0)"},
+      {.name = "knots_u",
+       .doc = "[clamped uniform on [0, 1]] (count + 4 non-decreasing values, a value repeated at "
+              "most 4 times)"},
+      {.name = "knots_v", .doc = "as knots_u"},
+      {.name = "count_u", .member = &Desc::count_u, .presence = kRequired, .side = Side::kProto},
+      {.name = "count_v", .member = &Desc::count_v, .presence = kRequired, .side = Side::kProto},
+  };
+};
+
+struct TrimmedFaceKind {
+  using Desc = TrimmedFaceDesc;
+  static constexpr std::string_view name = "trimmed";
+  static constexpr std::string_view proto_name = "trimmed_face";
+  static constexpr std::string_view note =
+      "the part of the surface inside the loops, in its own uv";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::trimmed_faces;
+  static constexpr LightSampling light = LightSampling::kNever;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "surface",
+       .presence = kRequired,
+       .doc = "a plane, disk, rectangle, sphere, cylinder, cone, torus or bspline_patch without "
+              "material, visible, transform or caps"},
+      {.name = "loops",
+       .presence = kRequired,
+       .doc = "the outer loop, then holes: [[[u, v], ...], ...]"},
+  };
+};
+
+struct TriangleKind {
+  using Desc = TriangleMeshDesc;
+  static constexpr std::string_view name = "triangle";
+  static constexpr std::string_view proto_name = "triangle";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr LightSampling light = LightSampling::kAlways;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "v0", .presence = kRequired},
+      {.name = "v1", .presence = kRequired},
+      {.name = "v2", .presence = kRequired},
+  };
+};
+
+struct MeshKind {
+  using Desc = TriangleMeshDesc;
+  static constexpr std::string_view name = "mesh";
+  static constexpr std::string_view proto_name = "mesh";
+  static constexpr std::array<Alias, 1> aliases{{{"obj"}}};
+  static constexpr auto list = &SceneDescription::meshes;
+  static constexpr LightSampling light = LightSampling::kAlways;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "file",
+       .presence = kRequired,
+       .doc = "OBJ, PLY, glTF, STL, ... through assimp",
+       .side = Side::kYaml},
+      {.name = "position", .doc = "RayON's placement", .side = Side::kYaml},
+      {.name = "scale", .doc = "RayON's placement", .side = Side::kYaml},
+      {.name = "positions", .presence = kRequired, .side = Side::kProto},
+      {.name = "indices", .presence = kRequired, .side = Side::kProto},
+      {.name = "normals", .side = Side::kProto},
+      {.name = "uvs", .side = Side::kProto},
+  };
+};
+
+// The analytic kinds a trimmed face may cut (its `surface`), and every shape kind in the
+// order of the README table.
+using SurfaceKinds = std::tuple<PlaneKind, DiskKind, QuadKind, SphereKind, CylinderKind, ConeKind,
+                                TorusKind, SplinePatchKind>;
+using ShapeKinds = std::tuple<SphereKind, QuadKind, TriangleKind, MeshKind, PlaneKind, DiskKind,
+                              CylinderKind, ConeKind, TorusKind, SdfBoxKind, SdfTorusKind,
+                              SdfCapsuleKind, SplinePatchKind, TrimmedFaceKind>;
+
+// The kinds whose fields are all plain values, read and written by the generic code.
+template <typename Kind>
+concept PlainShapeKind = requires(const typename Kind::Desc& desc, Checks& checks) {
+  Kind::check(desc, checks);
+  Kind::list;
+};
+
+template <typename Kind>
+constexpr std::string_view surface_proto_name() {
+  if constexpr (requires { Kind::proto_surface_name; })
+    return Kind::proto_surface_name;
+  else
+    return Kind::proto_name;
+}
+
+// Calls fn(Kind{}) for every kind of a tuple.
+template <typename Tuple, typename Fn>
+constexpr void for_each_kind(Fn&& fn) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (fn(std::tuple_element_t<I, Tuple>{}), ...);
+  }
+  (std::make_index_sequence<std::tuple_size_v<Tuple>>{});
+}
+
+}  // namespace tessera::schema
