@@ -19,6 +19,7 @@
 #include "server/scene_from_proto.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {
