@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/mesh_loader.hpp"
 
 namespace tessera {

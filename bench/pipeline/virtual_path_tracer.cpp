@@ -9,6 +9,7 @@
 #include "tessera/math/sampling.hpp"
 #include "tessera/render/bsdf.hpp"
 #include "tessera/render/camera.hpp"
+#include "tessera/render/material_mapping.hpp"
 
 namespace tessera::bench {
 

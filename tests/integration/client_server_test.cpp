@@ -18,6 +18,7 @@
 #include "server/daemon.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {

@@ -16,6 +16,7 @@
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {

@@ -6,6 +6,7 @@
 
 #include "client/local_render.hpp"
 #include "client/tile_assembler.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {

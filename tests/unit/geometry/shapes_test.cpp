@@ -10,7 +10,6 @@
 #include "tessera/geometry/instance.hpp"
 #include "tessera/geometry/plane.hpp"
 #include "tessera/geometry/quad.hpp"
-#include "tessera/geometry/ray_check.hpp"
 #include "tessera/geometry/sphere.hpp"
 #include "tessera/geometry/sphere_tracing.hpp"
 #include "tessera/geometry/torus.hpp"
@@ -299,14 +298,6 @@ TEST(SphereTracing, BoxRoundedBoxTorusAndCapsuleMatchTheirAnalyticHits) {
   EXPECT_NEAR(hit.t, 0.5f, 1e-6f);
   EXPECT_FALSE(
       intersect(capsule, ray(vec3(-5.0f, 0.6f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), kInfinity, hit, 0u));
-}
-
-TEST(RayCheck, ZeroAndNonFiniteDirectionsAreRejected) {
-  EXPECT_TRUE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f, 0.0f, 1.0f))));
-  EXPECT_FALSE(is_valid_ray(ray(vec3(0.0f), vec3(0.0f))));
-  EXPECT_FALSE(is_valid_ray(ray(vec3(0.0f), vec3(NAN, 0.0f, 1.0f))));
-  EXPECT_FALSE(is_valid_ray(ray(vec3(kInfinity, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f))));
-  EXPECT_FALSE(is_valid_ray(Ray{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), 2.0f, 1.0f}));
 }
 
 // Every shape on rays that break naive code: zero direction, axis-parallel directions with

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 
 namespace tessera {
 namespace {

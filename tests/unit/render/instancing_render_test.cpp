@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 
 namespace tessera {
 namespace {

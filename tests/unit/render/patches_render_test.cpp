@@ -11,6 +11,7 @@
 
 #include "first_hit_scene.hpp"
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/scene_error.hpp"
 #include "tessera/scene/scene_features.hpp"
 

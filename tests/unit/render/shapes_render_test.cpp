@@ -10,6 +10,7 @@
 
 #include "first_hit_scene.hpp"
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/scene_features.hpp"
 
 namespace tessera {

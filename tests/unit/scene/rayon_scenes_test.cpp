@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {

@@ -18,10 +18,6 @@ TESSERA_HD TESSERA_INLINE float max_component(const vec3& v) {
   return glm::max(v.x, glm::max(v.y, v.z));
 }
 
-TESSERA_HD TESSERA_INLINE float luminance(const vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 // Orthonormal basis around a unit normal (Duff et al. 2017, branchless).
 struct Frame {
   vec3 tangent, bitangent, normal;

@@ -15,7 +15,6 @@ enum class BsdfKind : std::uint32_t {
   kCoated = 4,          // clear coat over a diffuse base
   kEmitter = 5,         // emits, does not scatter
 };
-inline constexpr std::uint32_t kBsdfKindCount = 6;
 
 struct Material {
   BsdfKind kind = BsdfKind::kDiffuse;

@@ -10,6 +10,8 @@
 #include "tessera/accel/triangle_accel.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
+// Not used here: core/scene/scene_features.cpp reaches make_material through this header.
+#include "tessera/render/material_mapping.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
@@ -37,7 +39,10 @@ struct PrepareOptions {
 
 // The render-ready scene of one job: float arrays per shape type, materials, lights, the
 // BVH and the pipeline specialisation chosen for the scene's features. Built once per job
-// and shared read-only by every tile and thread.
+// and shared read-only by every tile and thread. This class holds the storage and renders
+// tiles; each step of the build lives in the file of its concept (core/render/: material
+// mapping, shape placement, mesh triangles, mesh sharing, pooled surfaces, the primitive
+// list and light list, variant choice).
 class PreparedScene {
  public:
   static std::shared_ptr<const PreparedScene> build(const SceneDescription& description,
@@ -121,11 +126,5 @@ class PreparedScene {
   const RenderVariant* variant_ = nullptr;
   double build_seconds_ = 0.0;
 };
-
-// Maps a scene material onto the renderer's BSDF families.
-Material make_material(const MaterialDesc& desc);
-
-// Renders the whole image on the calling thread, tile by tile (tests, `--local`).
-std::vector<float> render_image(const PreparedScene& scene);
 
 }  // namespace tessera

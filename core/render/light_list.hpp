@@ -1,0 +1,25 @@
+#pragma once
+// The light list (SceneView::lights): the emitters next-event estimation samples. Which
+// emitters are in it, and in what order, decides the image, so the rule lives in one place.
+#include <cstdint>
+#include <vector>
+
+#include "tessera/render/material.hpp"
+#include "tessera/render/scene_data.hpp"
+
+namespace tessera {
+
+// The area by which next-event estimation samples `shape` of `type` when it emits: its
+// surface area where the type has an area sampler (has_light_sampler), 0 otherwise (such
+// emitters count only when a scattered ray hits them).
+template <typename Shape>
+float sampled_light_area(PrimitiveType type, const Shape& shape) {
+  return has_light_sampler(type) ? surface_area(shape) : 0.0f;
+}
+
+// Appends `primitive` (a tagged reference) to `lights` when its material emits and it has a
+// sampled area; hidden emitters count too, since they light the scene unseen.
+void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
+                            std::uint32_t primitive, float sampled_area);
+
+}  // namespace tessera

@@ -1,0 +1,50 @@
+#pragma once
+// The primitives a scene build has stored, gathered for the acceleration structures and the
+// light list: each shape goes into its type's flat array and is recorded here by its tagged
+// reference, in build order (which the BVH build and the light list keep).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "light_list.hpp"
+#include "tessera/accel/bvh.hpp"
+#include "tessera/accel/triangle_accel.hpp"
+#include "tessera/render/scene_data.hpp"
+
+namespace tessera {
+
+class PrimitiveList {
+ public:
+  // `materials` and `lights` belong to the scene being built and outlive the list.
+  PrimitiveList(std::span<const Material> materials, std::vector<LightSource>& lights)
+      : materials_(materials), lights_(lights) {}
+
+  // Records element `index` of `type`'s array: for the acceleration structures when it is
+  // visible, for the light list when it emits with a sampled area (`light_area` > 0).
+  void add(PrimitiveType type, std::uint32_t index, const Aabb& box, bool visible,
+           std::uint32_t material, float light_area);
+
+  // Appends `shape` to `array`, the flat array of `type`, and records it.
+  template <typename Shape>
+  void store(std::vector<Shape>& array, PrimitiveType type, const Shape& shape, bool visible,
+             std::uint32_t material) {
+    const auto index = static_cast<std::uint32_t>(array.size());
+    array.push_back(shape);
+    add(type, index, tessera::bounds(shape), visible, material, sampled_light_area(type, shape));
+  }
+
+  // Builds the structures over the visible primitives. Triangles (their references index
+  // `triangles`) go to the SIMD structure the CPU traces them with (accel/triangle_accel.hpp),
+  // every other shape to the BVH; BvhView::triangles joins the two for BvhTracer. Once, after
+  // the last shape is stored: it reorders the list.
+  void build_accelerators(std::span<const Triangle> triangles, TriangleAccel& triangle_accel,
+                          Bvh& bvh);
+
+ private:
+  std::span<const Material> materials_;
+  std::vector<LightSource>& lights_;
+  std::vector<Aabb> boxes_;                // of the visible primitives
+  std::vector<std::uint32_t> references_;  // tagged, parallel to boxes_
+};
+
+}  // namespace tessera
