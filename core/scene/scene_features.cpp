@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/material_mapping.hpp"
 
 namespace tessera {
 

@@ -10,8 +10,6 @@
 #include "tessera/accel/triangle_accel.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
-// Not used here: core/scene/scene_features.cpp reaches make_material through this header.
-#include "tessera/render/material_mapping.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
