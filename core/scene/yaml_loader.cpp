@@ -113,7 +113,17 @@ class YamlReader {
   }
   YAML::Node required(const YAML::Node& map, const char* key, const std::string& path) const {
     const YAML::Node node = map[key];
-    if (!node.IsDefined() || node.IsNull()) fail(map, join(path, key), "is required but missing");
+    if (!node.IsDefined() || node.IsNull()) {
+      // Under --lenient a misspelling was only warned about: name it here too.
+      std::string hint;
+      const std::string_view wanted[] = {key};
+      if (map.IsMap())
+        for (const auto& entry : map)
+          if (entry.first.Scalar() != key &&
+              !schema::closest_match(entry.first.Scalar(), wanted).empty())
+            hint = " (is '" + entry.first.Scalar() + "' a misspelling of it?)";
+      fail(map, join(path, key), "is required but missing" + hint);
+    }
     return node;
   }
   static const char* kind(const YAML::Node& node) {

@@ -84,7 +84,7 @@ TEST(SchemaYaml, LenientTurnsUnknownKeysIntoWarningsAndStillNeedsRequiredOnes) {
       "geometry:\n  - { type: sphere, material: white, center: [0, 0, 0], raduis: 1 }\n";
   const SceneIssue issue = test::scene_error_of([&] { load(text, true); }, text);
   EXPECT_EQ(issue.field, "geometry[0].radius");
-  EXPECT_NE(issue.message.find("required"), std::string::npos);
+  EXPECT_EQ(issue.message, "is required but missing (is 'raduis' a misspelling of it?)");
 
   const LoadedScene loaded = load("camera: { fov: 30, zoom: 2 }\n", true);
   ASSERT_EQ(loaded.warnings.size(), 1u);
