@@ -216,102 +216,93 @@ struct SceneView : SceneShapes {
 
 namespace scene_detail {
 
+// One stored primitive type: its tag, the ShapeBit that compiles it into a pipeline
+// variant, and its flat array in SceneShapes. StoredPrimitives lists every type once; the
+// dispatch below is generated from it, so a new primitive type is one line here (and its
+// array in SceneShapes), not a case in each switch.
+template <PrimitiveType kTag, unsigned kShapeBit, auto kArray>
+struct StoredPrimitive {
+  static constexpr PrimitiveType tag = kTag;
+  static constexpr unsigned shape_bit = kShapeBit;
+  static constexpr auto array = kArray;
+};
+template <typename... Primitives>
+struct PrimitiveList {};
+
+using StoredPrimitives = PrimitiveList<
+    StoredPrimitive<PrimitiveType::kSphere, kShapeSphere, &SceneShapes::spheres>,
+    StoredPrimitive<PrimitiveType::kQuad, kShapeQuad, &SceneShapes::quads>,
+    StoredPrimitive<PrimitiveType::kTriangle, kShapeTriangle, &SceneShapes::triangles>,
+    StoredPrimitive<PrimitiveType::kPlane, kShapePlane, &SceneShapes::planes>,
+    StoredPrimitive<PrimitiveType::kDisk, kShapeDisk, &SceneShapes::disks>,
+    StoredPrimitive<PrimitiveType::kCylinder, kShapeCylinder, &SceneShapes::cylinders>,
+    StoredPrimitive<PrimitiveType::kCone, kShapeCone, &SceneShapes::cones>,
+    StoredPrimitive<PrimitiveType::kTorus, kShapeTorus, &SceneShapes::tori>,
+    StoredPrimitive<PrimitiveType::kSdfBox, kShapeSdf, &SceneShapes::sdf_boxes>,
+    StoredPrimitive<PrimitiveType::kSdfTorus, kShapeSdf, &SceneShapes::sdf_tori>,
+    StoredPrimitive<PrimitiveType::kSdfCapsule, kShapeSdf, &SceneShapes::sdf_capsules>,
+    StoredPrimitive<PrimitiveType::kSphereInstance, kShapeInstance, &SceneShapes::sphere_instances>,
+    StoredPrimitive<PrimitiveType::kDiskInstance, kShapeInstance, &SceneShapes::disk_instances>,
+    StoredPrimitive<PrimitiveType::kCylinderInstance, kShapeInstance,
+                    &SceneShapes::cylinder_instances>,
+    StoredPrimitive<PrimitiveType::kConeInstance, kShapeInstance, &SceneShapes::cone_instances>,
+    StoredPrimitive<PrimitiveType::kTorusInstance, kShapeInstance, &SceneShapes::torus_instances>,
+    StoredPrimitive<PrimitiveType::kSdfBoxInstance, kShapeInstance,
+                    &SceneShapes::sdf_box_instances>,
+    StoredPrimitive<PrimitiveType::kSdfTorusInstance, kShapeInstance,
+                    &SceneShapes::sdf_torus_instances>,
+    StoredPrimitive<PrimitiveType::kSdfCapsuleInstance, kShapeInstance,
+                    &SceneShapes::sdf_capsule_instances>,
+    StoredPrimitive<PrimitiveType::kSplinePatch, kShapePatch, &SceneShapes::patches>,
+    StoredPrimitive<PrimitiveType::kTrimmedPlane, kShapeTrimmed, &SceneShapes::trimmed_planes>,
+    StoredPrimitive<PrimitiveType::kTrimmedDisk, kShapeTrimmed, &SceneShapes::trimmed_disks>,
+    StoredPrimitive<PrimitiveType::kTrimmedQuad, kShapeTrimmed, &SceneShapes::trimmed_quads>,
+    StoredPrimitive<PrimitiveType::kTrimmedSphere, kShapeTrimmed, &SceneShapes::trimmed_spheres>,
+    StoredPrimitive<PrimitiveType::kTrimmedCylinder, kShapeTrimmed,
+                    &SceneShapes::trimmed_cylinders>,
+    StoredPrimitive<PrimitiveType::kTrimmedCone, kShapeTrimmed, &SceneShapes::trimmed_cones>,
+    StoredPrimitive<PrimitiveType::kTrimmedTorus, kShapeTrimmed, &SceneShapes::trimmed_tori>,
+    StoredPrimitive<PrimitiveType::kTrimmedPatch, kShapeTrimmed, &SceneShapes::trimmed_patches>>;
+
+// Every primitive type but kInstancedTriangle (never in the BVH; surface_at handles it) is
+// listed, each once, in tag order.
+template <typename... P>
+constexpr bool lists_every_type_in_order(PrimitiveList<P...>) {
+  std::uint32_t expected = 0;
+  return ((static_cast<std::uint32_t>(P::tag) == expected++) && ...) &&
+         expected == static_cast<std::uint32_t>(PrimitiveType::kInstancedTriangle);
+}
+static_assert(lists_every_type_in_order(StoredPrimitives{}));
+
+// The switch over the listed types: a case for each type in kShapes, calling fn(shape).
+// Written as a chain of tests on the tag that the compiler folds into one jump table, with
+// the types a variant leaves out removed at compile time.
+template <unsigned kShapes, typename R, typename Fn, typename... P>
+TESSERA_HD TESSERA_INLINE R dispatch_listed(PrimitiveList<P...>, const SceneShapes& s,
+                                            std::uint32_t primitive, R fallback, Fn&& fn) {
+  const std::uint32_t i = primitive_index(primitive);
+  const PrimitiveType type = primitive_type(primitive);
+  R result = fallback;
+  const auto try_one = [&](auto primitive_kind) {
+    using Kind = decltype(primitive_kind);
+    if constexpr ((kShapes & Kind::shape_bit) != 0) {
+      if (type == Kind::tag) {
+        result = fn((s.*Kind::array)[i]);
+        return true;
+      }
+    }
+    return false;
+  };
+  (try_one(P{}) || ...);
+  return result;
+}
+
 // Calls `fn(shape)` with the shape `primitive` names, for the types in kShapes; returns
-// `fallback` for the others (they compile to nothing). One `if constexpr` per ShapeBit.
+// `fallback` for the others (they compile to nothing).
 template <unsigned kShapes, typename R, typename Fn>
 TESSERA_HD R dispatch(const SceneShapes& s, std::uint32_t primitive, R fallback, Fn&& fn) {
-  const std::uint32_t i = primitive_index(primitive);
-  constexpr bool kInstances = (kShapes & kShapeInstance) != 0;
-  constexpr bool kTrimmed = (kShapes & kShapeTrimmed) != 0;
-  switch (primitive_type(primitive)) {
-    case PrimitiveType::kSphere:
-      if constexpr ((kShapes & kShapeSphere) != 0) return fn(s.spheres[i]);
-      break;
-    case PrimitiveType::kQuad:
-      if constexpr ((kShapes & kShapeQuad) != 0) return fn(s.quads[i]);
-      break;
-    case PrimitiveType::kTriangle:
-      if constexpr ((kShapes & kShapeTriangle) != 0) return fn(s.triangles[i]);
-      break;
-    case PrimitiveType::kPlane:
-      if constexpr ((kShapes & kShapePlane) != 0) return fn(s.planes[i]);
-      break;
-    case PrimitiveType::kDisk:
-      if constexpr ((kShapes & kShapeDisk) != 0) return fn(s.disks[i]);
-      break;
-    case PrimitiveType::kCylinder:
-      if constexpr ((kShapes & kShapeCylinder) != 0) return fn(s.cylinders[i]);
-      break;
-    case PrimitiveType::kCone:
-      if constexpr ((kShapes & kShapeCone) != 0) return fn(s.cones[i]);
-      break;
-    case PrimitiveType::kTorus:
-      if constexpr ((kShapes & kShapeTorus) != 0) return fn(s.tori[i]);
-      break;
-    case PrimitiveType::kSdfBox:
-      if constexpr ((kShapes & kShapeSdf) != 0) return fn(s.sdf_boxes[i]);
-      break;
-    case PrimitiveType::kSdfTorus:
-      if constexpr ((kShapes & kShapeSdf) != 0) return fn(s.sdf_tori[i]);
-      break;
-    case PrimitiveType::kSdfCapsule:
-      if constexpr ((kShapes & kShapeSdf) != 0) return fn(s.sdf_capsules[i]);
-      break;
-    case PrimitiveType::kSphereInstance:
-      if constexpr (kInstances) return fn(s.sphere_instances[i]);
-      break;
-    case PrimitiveType::kDiskInstance:
-      if constexpr (kInstances) return fn(s.disk_instances[i]);
-      break;
-    case PrimitiveType::kCylinderInstance:
-      if constexpr (kInstances) return fn(s.cylinder_instances[i]);
-      break;
-    case PrimitiveType::kConeInstance:
-      if constexpr (kInstances) return fn(s.cone_instances[i]);
-      break;
-    case PrimitiveType::kTorusInstance:
-      if constexpr (kInstances) return fn(s.torus_instances[i]);
-      break;
-    case PrimitiveType::kSdfBoxInstance:
-      if constexpr (kInstances) return fn(s.sdf_box_instances[i]);
-      break;
-    case PrimitiveType::kSdfTorusInstance:
-      if constexpr (kInstances) return fn(s.sdf_torus_instances[i]);
-      break;
-    case PrimitiveType::kSdfCapsuleInstance:
-      if constexpr (kInstances) return fn(s.sdf_capsule_instances[i]);
-      break;
-    case PrimitiveType::kSplinePatch:
-      if constexpr ((kShapes & kShapePatch) != 0) return fn(s.patches[i]);
-      break;
-    case PrimitiveType::kTrimmedPlane:
-      if constexpr (kTrimmed) return fn(s.trimmed_planes[i]);
-      break;
-    case PrimitiveType::kTrimmedDisk:
-      if constexpr (kTrimmed) return fn(s.trimmed_disks[i]);
-      break;
-    case PrimitiveType::kTrimmedQuad:
-      if constexpr (kTrimmed) return fn(s.trimmed_quads[i]);
-      break;
-    case PrimitiveType::kTrimmedSphere:
-      if constexpr (kTrimmed) return fn(s.trimmed_spheres[i]);
-      break;
-    case PrimitiveType::kTrimmedCylinder:
-      if constexpr (kTrimmed) return fn(s.trimmed_cylinders[i]);
-      break;
-    case PrimitiveType::kTrimmedCone:
-      if constexpr (kTrimmed) return fn(s.trimmed_cones[i]);
-      break;
-    case PrimitiveType::kTrimmedTorus:
-      if constexpr (kTrimmed) return fn(s.trimmed_tori[i]);
-      break;
-    case PrimitiveType::kTrimmedPatch:
-      if constexpr (kTrimmed) return fn(s.trimmed_patches[i]);
-      break;
-    case PrimitiveType::kInstancedTriangle:
-      break;  // never in the BVH; surface_at handles it
-  }
-  return fallback;
+  return dispatch_listed<kShapes>(StoredPrimitives{}, s, primitive, fallback,
+                                  static_cast<Fn&&>(fn));
 }
 
 }  // namespace scene_detail
