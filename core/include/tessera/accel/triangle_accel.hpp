@@ -51,6 +51,7 @@ struct AccelStats {
   std::uint32_t depth = 0;
   std::size_t triangles = 0;
   std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
+  std::size_t degenerate = 0;       // zero or near-zero area (is_degenerate): dropped, never hit
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).
