@@ -343,6 +343,50 @@ TEST(Triangle, NormalOfTinyAndHugeTrianglesIsTheirOwn) {
   }
 }
 
+// Shapes with no area are never hit: a zero-radius sphere, disk, cylinder or cone (a point
+// or a segment), an annulus of zero width, a cylinder's side of zero height, a torus of zero
+// minor radius, and zero-length axes and normals. Each ray here runs exactly through the
+// degenerate set (the centre, the axis, the rim, the core circle); before, all but the
+// zero-length axes and normals reported hits, with normals such as (0, 0, 1) made up.
+template <typename Shape>
+void expect_never_hit(const Shape& shape, std::initializer_list<Ray> rays, const char* what) {
+  for (const Ray& r : rays) {
+    HitRecord hits[4];
+    EXPECT_FALSE(intersect(shape, r, kInfinity, hits[0], 0u)) << what;
+    EXPECT_EQ(intersect_all(shape, r, kInfinity, hits, 4, 0u), 0) << what;
+  }
+}
+
+TEST(DegenerateShapes, ZeroAreaShapesAreNeverHit) {
+  const vec3 z(0.0f, 0.0f, 1.0f);
+  const Ray down = ray(vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  const Ray diagonal = ray(vec3(-5.0f, 0.0f, 5.0f), vec3(1.0f, 0.0f, -1.0f));
+  const Ray across = ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f));
+  const Ray across_middle = ray(vec3(-5.0f, 0.0f, 0.5f), vec3(1.0f, 0.0f, 0.0f));
+  const Ray rim = ray(vec3(1.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  expect_never_hit(Sphere{vec3(0.0f), 0.0f, 0}, {down, diagonal, across}, "sphere r = 0");
+  expect_never_hit(Disk::make(vec3(0.0f), z, 0.0f, 0), {down, diagonal}, "disk r = 0");
+  expect_never_hit(Disk::make(vec3(0.0f), z, 1.0f, 0, 1.0f), {rim}, "annulus of zero width");
+  expect_never_hit(Disk::make(vec3(0.0f), vec3(0.0f), 1.0f, 0), {down, diagonal}, "disk n = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), z, 0.0f, 1.0f, true, 0),
+                   {across, across_middle, diagonal}, "cylinder r = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), z, 1.0f, 0.0f, false, 0), {across, down},
+                   "open cylinder h = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), vec3(0.0f), 1.0f, 1.0f, true, 0),
+                   {across_middle, down, diagonal}, "cylinder axis = 0");
+  expect_never_hit(Cone::make(vec3(0.0f), z, 0.0f, 0.0f, 1.0f, true, 0),
+                   {across, across_middle, diagonal}, "cone r = 0 at both ends");
+  expect_never_hit(Torus::make(vec3(0.0f), z, 1.0f, 0.0f, 0), {rim, across}, "torus r = 0");
+  // A flat capped cylinder is still its caps (a disk): hit from above, at the cap's normal,
+  // but not along its rim plane.
+  const Cylinder flat = Cylinder::make(vec3(0.0f), z, 1.0f, 0.0f, true, 0);
+  HitRecord hit;
+  ASSERT_TRUE(intersect(flat, down, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 5.0f);
+  expect_vec_near(surface_at(flat, down, hit).geometric_normal, z, 1e-6f);
+  EXPECT_FALSE(intersect(flat, across, kInfinity, hit, 0u));
+}
+
 TEST(SphereTracing, BoxRoundedBoxTorusAndCapsuleMatchTheirAnalyticHits) {
   HitRecord hits[4];
   const Ray along_x = ray(vec3(-5.0f, 0.25f, 0.25f), vec3(1.0f, 0.0f, 0.0f));

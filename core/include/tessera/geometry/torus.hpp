@@ -67,6 +67,8 @@ template <QuarticMethod kMethod = QuarticMethod::kIsolation>
 TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRay& ray, float t_max,
                                              bool first_only = false) {
   HitCandidates<4> out;
+  // A zero minor radius is the core circle, not a surface (rays through it hit it).
+  if (!(torus.minor_radius > 0.0f)) return out;
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
   const double length = glm::length(local.direction);
