@@ -136,6 +136,10 @@ TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRa
     double all[4];
     const int found =
         solve_quartic(quartic.c[4], quartic.c[3], quartic.c[2], quartic.c[1], quartic.c[0], all);
+    if (found == kSolverFailed) {  // not expected of a torus's coefficients; isolation decides
+      visit_roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, consider);
+      return out;
+    }
     for (int i = 0; i < found; ++i)
       if (all[i] >= s0 - s_mid && all[i] <= s1 - s_mid && consider(all[i])) break;
   }
