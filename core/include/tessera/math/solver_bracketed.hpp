@@ -96,9 +96,13 @@ TESSERA_HD T cauchy_bound(const Polynomial<Degree, T>& p) {
   return (T(1) + largest) * (T(1) + T(8) * std::numeric_limits<T>::epsilon());
 }
 
+// The search itself, without the clip (for callers whose interval is already bounded, as
+// the torus's is by its bounding sphere). Forced inline: with the failure checks added,
+// GCC stopped inlining the derivative's search into the torus intersector, which cost it
+// 4% more instructions (callgrind); inlined, the torus is within 0.5% of before.
 template <int Degree, typename T, typename Visitor>
-TESSERA_HD RootSearch visit_roots(const Polynomial<Degree, T>& p, T lo, T hi, Visitor&& visit,
-                                  T absolute_tolerance) {
+TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, T>& p, T lo, T hi,
+                                                       Visitor&& visit, T absolute_tolerance) {
   static_assert(Degree >= 1, "a constant has no isolated roots");
   if (!(lo <= hi)) return RootSearch::kCompleted;
   if constexpr (Degree == 1) {
