@@ -7,7 +7,7 @@
 //   embree_compare --mesh FILE --rays FILE.rays [--threads N] [--query closest|any] [--repeat R]
 //                  [--embree-quality both|medium|high] [--embree-config verbose=2]
 //                  [--accel wide|bvh|octree|brute|auto] [--isa auto|sse2]
-//                  [--leaf-size N] [--bins N] [--merge N] [--traversal-cost C]
+//                  [--leaf-size N] [--bins N] [--merge N] [--traversal-cost C] [--presplit F]
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
 #include <tbb/task_arena.h>
@@ -160,7 +160,10 @@ int main(int argc, char** argv) {
   // Tuning (as tessera-bench trace): measured as ratios, which move less on a busy machine.
   std::uint32_t leaf_size = 0, bins = 0;
   int merge_limit = -1;
-  float traversal_cost = 0.0f;
+  float traversal_cost = 0.0f, presplit = 0.0f;
+  app.add_option("--presplit", presplit,
+                 "tuning: pre-split budget, extra references per triangle (0: off)")
+      ->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--leaf-size", leaf_size, "tuning: most triangles per BVH leaf");
   app.add_option("--bins", bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
   app.add_option("--merge", merge_limit, "tuning: largest subtree merged into one wide leaf")
@@ -209,6 +212,7 @@ int main(int argc, char** argv) {
     if (bins != 0) options.wide.bin_count = bins;
     if (traversal_cost != 0.0f) options.wide.traversal_cost = traversal_cost;
     if (merge_limit >= 0) options.wide_merge_limit = static_cast<std::uint32_t>(merge_limit);
+    options.presplit_budget = presplit;
     tbb::task_arena arena(static_cast<int>(threads));
     TriangleAccel ours;
     arena.execute([&] { ours = TriangleAccel::build(triangles, options); });

@@ -2,12 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "tessera/accel/bvh_traversal.hpp"
+#include "tessera/accel/presplit.hpp"
 #include "triangle_kernels.hpp"
 
 namespace tessera {
@@ -131,15 +133,33 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     case AccelKind::kWide: {
       BvhBuildOptions wide = options.wide;
       wide.max_leaf_size = std::min(wide.max_leaf_size, kWideMaxLeafItems * 4);
-      const Bvh binary = build_bvh(bounds, ids, wide);
-      accel.blocks_.reserve(triangles.size() / 3 + 1);
+      // Pre-splitting, when asked for: several references (boxes) per poorly fitting triangle.
+      const bool presplit = options.presplit_budget > 0.0f;
+      std::vector<Aabb> piece_bounds;
+      std::vector<std::uint32_t> piece_ids;
+      if (presplit)
+        presplit_triangles(triangles, ids, bounds, accel.bounds_, options.presplit_budget,
+                           piece_bounds, piece_ids);
+      const Bvh binary =
+          presplit ? build_bvh(piece_bounds, piece_ids, wide) : build_bvh(bounds, ids, wide);
+      accel.blocks_.reserve(binary.primitives.size() / 3 + 1);
+      std::vector<std::uint32_t> leaf_ids;
       accel.wide_ = collapse_to_wide(
           binary,
           [&](std::uint32_t offset, std::uint32_t count) {
-            const std::uint32_t first = append_triangle_blocks(
-                triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
-                accel.blocks_, references);
-            return make_wide_leaf(first, (count + 3) / 4);
+            std::span<const std::uint32_t> leaf =
+                std::span<const std::uint32_t>(binary.primitives).subspan(offset, count);
+            if (presplit) {  // pieces of one triangle can meet in a leaf: test it once
+              leaf_ids.assign(leaf.begin(), leaf.end());
+              std::sort(leaf_ids.begin(), leaf_ids.end());
+              leaf_ids.erase(std::unique(leaf_ids.begin(), leaf_ids.end()), leaf_ids.end());
+              leaf = leaf_ids;
+            }
+            const std::uint32_t first =
+                append_triangle_blocks(triangles, leaf, accel.blocks_, references);
+            if (first > kWideMaxLeafFirst)
+              throw std::length_error("wide BVH: too many triangle references");
+            return make_wide_leaf(first, static_cast<std::uint32_t>((leaf.size() + 3) / 4));
           },
           std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
       break;
@@ -184,12 +204,15 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
   accel.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::info(
-      "triangle accel: {} ({}) for {} triangles{}{}: {:.3f} s, {:.1f} bytes/triangle, depth {}",
+      "triangle accel: {} ({}) for {} triangles{}{}{}: {:.3f} s, {:.1f} bytes/triangle, depth {}",
       accel_kind_name(kind), accel.stats_.isa, triangles.size(),
       options.kind == AccelKind::kAuto ? " (chosen by size)" : " (forced)",
       accel.stats_.degenerate == 0
           ? std::string()
           : fmt::format(", {} degenerate dropped", accel.stats_.degenerate),
+      kind == AccelKind::kWide && options.presplit_budget > 0.0f
+          ? fmt::format(", pre-split to {} references", accel.stats_.leaf_references)
+          : std::string(),
       accel.stats_.build_seconds,
       triangles.empty()
           ? 0.0

@@ -20,10 +20,12 @@ using accel_test::ReferenceHit;
 struct Variant {
   AccelKind kind;
   bool avx2;
+  float presplit = 0.0f;  // AccelBuildOptions::presplit_budget (wide BVH only)
 };
 
 std::string variant_name(const testing::TestParamInfo<Variant>& info) {
-  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2");
+  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2") +
+         (info.param.presplit > 0.0f ? "_presplit" : "");
 }
 
 class TriangleAccelTest : public testing::TestWithParam<Variant> {
@@ -37,6 +39,7 @@ class TriangleAccelTest : public testing::TestWithParam<Variant> {
     AccelBuildOptions options;
     options.kind = GetParam().kind;
     options.allow_avx2 = GetParam().avx2;
+    options.presplit_budget = GetParam().presplit;
     options.octree.leaf_size = 4;  // deep octrees: more duplicated references
     TriangleAccel accel = TriangleAccel::build(tris, options);
     EXPECT_EQ(accel.stats().kind, GetParam().kind);
@@ -104,6 +107,25 @@ TEST_P(TriangleAccelTest, TriangleSoupMatchesBruteForce) {
   const auto tris = accel_test::triangle_soup(600, 7);
   const TriangleAccel accel = build(tris);
   expect_same_hits(tris, accel, accel_test::test_rays(1500, 11, 1.5f));
+}
+
+TEST_P(TriangleAccelTest, LongThinTrianglesMatchBruteForce) {
+  // Slivers spanning the cube diagonally (what pre-splitting cuts into several references,
+  // several of which can meet in one leaf): closest, any and all hits as brute force.
+  std::mt19937 rng(25);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 400; ++i) {
+    const vec3 a = accel_test::random_point(rng, -1.0f, 1.0f);
+    const vec3 b = accel_test::random_point(rng, -1.0f, 1.0f);
+    tris.push_back(Triangle{a, b, 0.5f * (a + b) + 0.03f * accel_test::random_direction(rng), 0});
+  }
+  const TriangleAccel accel = build(tris);
+  if (GetParam().presplit > 0.0f) {
+    EXPECT_GT(accel.stats().leaf_references, tris.size());
+  }
+  const auto rays = accel_test::test_rays(1500, 26, 1.5f);
+  expect_same_hits(tris, accel, rays);
+  expect_same_all_hits(tris, accel, rays, 16);
 }
 
 TEST_P(TriangleAccelTest, AxisAlignedGridMatchesBruteForce) {
@@ -276,6 +298,7 @@ TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
   AccelBuildOptions options;
   options.kind = GetParam().kind;
   options.allow_avx2 = GetParam().avx2;
+  options.presplit_budget = GetParam().presplit;
   const TriangleAccel accel = TriangleAccel::build(tris, options, references);
   std::size_t hits = 0;
   for (const Ray& ray : accel_test::test_rays(300, 18, 1.5f)) {
@@ -301,7 +324,8 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(Variant{AccelKind::kBvh, false}, Variant{AccelKind::kWide, false},
                     Variant{AccelKind::kWide, true}, Variant{AccelKind::kOctree, false},
                     Variant{AccelKind::kOctree, true}, Variant{AccelKind::kBrute, false},
-                    Variant{AccelKind::kBrute, true}),
+                    Variant{AccelKind::kBrute, true}, Variant{AccelKind::kWide, false, 1.0f},
+                    Variant{AccelKind::kWide, true, 1.0f}),
     variant_name);
 
 TEST(AccelChooser, BruteForceForFewTrianglesWideBvhOtherwise) {
