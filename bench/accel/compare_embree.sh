@@ -1,7 +1,9 @@
 #!/bin/bash
 # Runs the tracing comparison against Embree the project reports: suzanne-sub5 and two
 # generated meshes of at least 500k triangles, primary and diffuse rays, 1 thread and all
-# threads. Usage: bench/accel/compare_embree.sh BUILD_DIR [SHARED_MESH_DIR]
+# threads, against Embree built at medium and at high quality (build times and memory
+# next to trace speed; the load average after each run). Usage:
+# bench/accel/compare_embree.sh BUILD_DIR [SHARED_MESH_DIR]
 # Ray files and generated meshes go to BUILD_DIR/accel-data (made once, then reused).
 set -euo pipefail
 build=${1:?usage: compare_embree.sh BUILD_DIR [SHARED_MESH_DIR]}
@@ -21,7 +23,8 @@ for name in sub5 knot scatter; do
     [ -f "$rays" ] || "$bench" rays --mesh "$mesh" --kind $kind --width 1024 --height 1024 --out "$rays"
     for threads in 1 "$threads_all"; do
       echo "== $name $kind, $threads thread(s): $compare --mesh $mesh --rays $rays --threads $threads --repeat 5"
-      "$compare" --mesh "$mesh" --rays "$rays" --threads "$threads" --repeat 5 | tail -6
+      "$compare" --mesh "$mesh" --rays "$rays" --threads "$threads" --repeat 5 | tail -n +2
+      uptime
     done
   done
 done

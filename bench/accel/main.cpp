@@ -77,7 +77,8 @@ struct TuneOptions {
   std::uint32_t leaf_size = 0;  // 0: the library's defaults
   std::uint32_t bins = 0;
   float traversal_cost = 0.0f;
-  int merge_limit = -1;  // -1: the library's default
+  int merge_limit = -1;   // -1: the library's default
+  float presplit = 0.0f;  // AccelBuildOptions::presplit_budget
 };
 
 int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
@@ -97,6 +98,7 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
   if (tune.leaf_size != 0) options.octree.leaf_size = tune.leaf_size;
   if (tune.merge_limit >= 0)
     options.wide_merge_limit = static_cast<std::uint32_t>(tune.merge_limit);
+  options.presplit_budget = tune.presplit;
   const TriangleAccel accel = TriangleAccel::build(triangles, options);
   print_accel(accel);
 
@@ -196,6 +198,11 @@ int main(int argc, char** argv) {
           "tuning: the wide BVH makes binary subtrees of at most this many triangles one leaf")
       ->check(CLI::Range(0, 124));
   trace->add_option("--bins", tune.bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
+  trace
+      ->add_option("--presplit", tune.presplit,
+                   "wide BVH: pre-split poorly fitting triangles, this many extra references "
+                   "per triangle at most (0: off, the default)")
+      ->check(CLI::Range(0.0f, 16.0f));
   trace
       ->add_option("--traversal-cost", tune.traversal_cost,
                    "tuning: SAH node cost per triangle-block cost")

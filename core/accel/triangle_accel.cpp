@@ -2,12 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "tessera/accel/bvh_traversal.hpp"
+#include "tessera/accel/presplit.hpp"
 #include "triangle_kernels.hpp"
 
 namespace tessera {
@@ -98,13 +100,21 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       options.kind == AccelKind::kAuto ? choose_accel_kind(triangles.size()) : options.kind;
   if (!TESSERA_HAVE_SIMD_KERNELS) kind = AccelKind::kBvh;
 
-  std::vector<Aabb> bounds(triangles.size());
+  // Degenerate triangles (zero or near-zero area, non-finite vertices: see is_degenerate) are
+  // dropped here, once per build, rather than tested per ray: the SIMD kernels never see
+  // them and their hot loop stays as it was. tessera::intersect rejects them as well, so the
+  // structures still agree with the scalar test hit for hit. `bounds[i]` belongs to `ids[i]`.
+  std::vector<Aabb> bounds;
+  std::vector<std::uint32_t> ids;
+  bounds.reserve(triangles.size());
+  ids.reserve(triangles.size());
   for (std::size_t i = 0; i < triangles.size(); ++i) {
-    bounds[i] = tessera::bounds(triangles[i]);
-    accel.bounds_.extend(bounds[i]);
+    if (is_degenerate(triangles[i])) continue;
+    bounds.push_back(tessera::bounds(triangles[i]));
+    ids.push_back(static_cast<std::uint32_t>(i));
+    accel.bounds_.extend(bounds.back());
   }
-  std::vector<std::uint32_t> ids(triangles.size());
-  std::iota(ids.begin(), ids.end(), 0u);
+  accel.stats_.degenerate = triangles.size() - ids.size();
 
   switch (kind) {
     case AccelKind::kAuto:
@@ -123,15 +133,33 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     case AccelKind::kWide: {
       BvhBuildOptions wide = options.wide;
       wide.max_leaf_size = std::min(wide.max_leaf_size, kWideMaxLeafItems * 4);
-      const Bvh binary = build_bvh(bounds, ids, wide);
-      accel.blocks_.reserve(triangles.size() / 3 + 1);
+      // Pre-splitting, when asked for: several references (boxes) per poorly fitting triangle.
+      const bool presplit = options.presplit_budget > 0.0f;
+      std::vector<Aabb> piece_bounds;
+      std::vector<std::uint32_t> piece_ids;
+      if (presplit)
+        presplit_triangles(triangles, ids, bounds, accel.bounds_, options.presplit_budget,
+                           piece_bounds, piece_ids);
+      const Bvh binary =
+          presplit ? build_bvh(piece_bounds, piece_ids, wide) : build_bvh(bounds, ids, wide);
+      accel.blocks_.reserve(binary.primitives.size() / 3 + 1);
+      std::vector<std::uint32_t> leaf_ids;
       accel.wide_ = collapse_to_wide(
           binary,
           [&](std::uint32_t offset, std::uint32_t count) {
-            const std::uint32_t first = append_triangle_blocks(
-                triangles, std::span<const std::uint32_t>(binary.primitives).subspan(offset, count),
-                accel.blocks_, references);
-            return make_wide_leaf(first, (count + 3) / 4);
+            std::span<const std::uint32_t> leaf =
+                std::span<const std::uint32_t>(binary.primitives).subspan(offset, count);
+            if (presplit) {  // pieces of one triangle can meet in a leaf: test it once
+              leaf_ids.assign(leaf.begin(), leaf.end());
+              std::sort(leaf_ids.begin(), leaf_ids.end());
+              leaf_ids.erase(std::unique(leaf_ids.begin(), leaf_ids.end()), leaf_ids.end());
+              leaf = leaf_ids;
+            }
+            const std::uint32_t first =
+                append_triangle_blocks(triangles, leaf, accel.blocks_, references);
+            if (first > kWideMaxLeafFirst)
+              throw std::length_error("wide BVH: too many triangle references");
+            return make_wide_leaf(first, static_cast<std::uint32_t>((leaf.size() + 3) / 4));
           },
           std::min(options.wide_merge_limit, kWideMaxLeafItems * 4));
       break;
@@ -139,9 +167,13 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     case AccelKind::kOctree: {
       OctreeLimits limits = options.octree;
       limits.max_leaf_items = kWideMaxLeafItems * 4;
+      std::vector<std::uint32_t> cell_ids;
       accel.wide_ = build_octree(bounds, limits, [&](std::span<const std::uint32_t> cell) {
+        // The octree numbers the kept triangles; the blocks name them by their input index.
+        cell_ids.clear();
+        for (std::uint32_t index : cell) cell_ids.push_back(ids[index]);
         const std::uint32_t first =
-            append_triangle_blocks(triangles, cell, accel.blocks_, references);
+            append_triangle_blocks(triangles, cell_ids, accel.blocks_, references);
         if (first > kWideMaxLeafFirst)
           throw std::length_error("octree: too many triangle references");
         return make_wide_leaf(first, static_cast<std::uint32_t>((cell.size() + 3) / 4));
@@ -172,9 +204,15 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
   accel.stats_.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::info(
-      "triangle accel: {} ({}) for {} triangles{}: {:.3f} s, {:.1f} bytes/triangle, depth {}",
+      "triangle accel: {} ({}) for {} triangles{}{}{}: {:.3f} s, {:.1f} bytes/triangle, depth {}",
       accel_kind_name(kind), accel.stats_.isa, triangles.size(),
       options.kind == AccelKind::kAuto ? " (chosen by size)" : " (forced)",
+      accel.stats_.degenerate == 0
+          ? std::string()
+          : fmt::format(", {} degenerate dropped", accel.stats_.degenerate),
+      kind == AccelKind::kWide && options.presplit_budget > 0.0f
+          ? fmt::format(", pre-split to {} references", accel.stats_.leaf_references)
+          : std::string(),
       accel.stats_.build_seconds,
       triangles.empty()
           ? 0.0

@@ -16,6 +16,7 @@ struct RowResult {
   long all_hits_mismatch = 0;  // intersect_all: wrong count, wrong root or unsorted
   long nan = 0;                // non-finite t, position, normal or uv
   double max_relative_t = 0.0;
+  long failed = 0;  // the solver reported that it has no answer (kSolverFailed): not wrong
 };
 
 // What a row must meet: NaN is never allowed.

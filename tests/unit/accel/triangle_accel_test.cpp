@@ -20,10 +20,12 @@ using accel_test::ReferenceHit;
 struct Variant {
   AccelKind kind;
   bool avx2;
+  float presplit = 0.0f;  // AccelBuildOptions::presplit_budget (wide BVH only)
 };
 
 std::string variant_name(const testing::TestParamInfo<Variant>& info) {
-  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2");
+  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2") +
+         (info.param.presplit > 0.0f ? "_presplit" : "");
 }
 
 class TriangleAccelTest : public testing::TestWithParam<Variant> {
@@ -37,6 +39,7 @@ class TriangleAccelTest : public testing::TestWithParam<Variant> {
     AccelBuildOptions options;
     options.kind = GetParam().kind;
     options.allow_avx2 = GetParam().avx2;
+    options.presplit_budget = GetParam().presplit;
     options.octree.leaf_size = 4;  // deep octrees: more duplicated references
     TriangleAccel accel = TriangleAccel::build(tris, options);
     EXPECT_EQ(accel.stats().kind, GetParam().kind);
@@ -104,6 +107,25 @@ TEST_P(TriangleAccelTest, TriangleSoupMatchesBruteForce) {
   const auto tris = accel_test::triangle_soup(600, 7);
   const TriangleAccel accel = build(tris);
   expect_same_hits(tris, accel, accel_test::test_rays(1500, 11, 1.5f));
+}
+
+TEST_P(TriangleAccelTest, LongThinTrianglesMatchBruteForce) {
+  // Slivers spanning the cube diagonally (what pre-splitting cuts into several references,
+  // several of which can meet in one leaf): closest, any and all hits as brute force.
+  std::mt19937 rng(25);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 400; ++i) {
+    const vec3 a = accel_test::random_point(rng, -1.0f, 1.0f);
+    const vec3 b = accel_test::random_point(rng, -1.0f, 1.0f);
+    tris.push_back(Triangle{a, b, 0.5f * (a + b) + 0.03f * accel_test::random_direction(rng), 0});
+  }
+  const TriangleAccel accel = build(tris);
+  if (GetParam().presplit > 0.0f) {
+    EXPECT_GT(accel.stats().leaf_references, tris.size());
+  }
+  const auto rays = accel_test::test_rays(1500, 26, 1.5f);
+  expect_same_hits(tris, accel, rays);
+  expect_same_all_hits(tris, accel, rays, 16);
 }
 
 TEST_P(TriangleAccelTest, AxisAlignedGridMatchesBruteForce) {
@@ -185,6 +207,56 @@ TEST_P(TriangleAccelTest, DegenerateRaysNeverHit) {
   }
 }
 
+// A soup with zero-area triangles mixed in (exactly collinear vertices in both windings,
+// coincident vertices) and rays aimed at points of them: no structure may report one, in
+// closest, any or all-hits queries, and all agree with the brute-force reference. The
+// builders drop them (stats().degenerate); before that the SSE2 and AVX2 kernels reported
+// hits on them as the float test did (same operations), the binary BVH through the test.
+TEST_P(TriangleAccelTest, DegenerateTrianglesAreNeverHit) {
+  auto tris = accel_test::triangle_soup(300, 23);
+  const auto first_degenerate = static_cast<std::uint32_t>(tris.size());
+  std::mt19937 rng(24);
+  std::uniform_int_distribution<int> corner(-8, 8), step(-4, 4);
+  std::vector<vec3> targets;
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  while (tris.size() < first_degenerate + 300) {
+    // Integer vertices a quarter apart: exact, and inside the soup's [-2, 2] cube.
+    const vec3 c = 0.25f * vec3(corner(rng), corner(rng), corner(rng));
+    const vec3 d = 0.125f * vec3(step(rng), step(rng), step(rng));
+    if (d == vec3(0.0f)) continue;
+    for (const Triangle& t : {Triangle{c, c + d, c + 2.0f * d, 0},
+                              Triangle{c, c + 2.0f * d, c + d, 0}, Triangle{c, c, c + d, 0}}) {
+      tris.push_back(t);
+      for (int k = 0; k < 4; ++k) targets.push_back(c + 2.0f * unit(rng) * d);
+    }
+  }
+  const TriangleAccel accel = build(tris);
+  EXPECT_EQ(accel.stats().degenerate, tris.size() - first_degenerate);
+  std::vector<Ray> rays;
+  for (const vec3& target : targets) {
+    const vec3 origin = target + 3.0f * accel_test::random_direction(rng);
+    rays.push_back(Ray{origin, target - origin, 0.0f, kInfinity});
+  }
+  HitRecord all[16];
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    HitRecord hit;
+    if (accel.closest(rays[i], hit)) {
+      ASSERT_LT(hit.primitive, first_degenerate) << "ray " << i;
+    }
+    const std::uint32_t n = accel.all_hits(rays[i], all, 16);
+    for (std::uint32_t k = 0; k < n; ++k) ASSERT_LT(all[k].primitive, first_degenerate);
+  }
+  // Only degenerate triangles: nothing to hit at all.
+  const TriangleAccel only(
+      build(std::vector<Triangle>(tris.begin() + first_degenerate, tris.end())));
+  for (const Ray& ray : rays) {
+    HitRecord hit;
+    ASSERT_FALSE(only.closest(ray, hit));
+    ASSERT_FALSE(only.occluded(ray));
+  }
+  expect_same_hits(tris, accel, rays);
+}
+
 TEST_P(TriangleAccelTest, EmptyAndSingleTriangle) {
   const TriangleAccel empty = build({});
   HitRecord hit;
@@ -226,6 +298,7 @@ TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
   AccelBuildOptions options;
   options.kind = GetParam().kind;
   options.allow_avx2 = GetParam().avx2;
+  options.presplit_budget = GetParam().presplit;
   const TriangleAccel accel = TriangleAccel::build(tris, options, references);
   std::size_t hits = 0;
   for (const Ray& ray : accel_test::test_rays(300, 18, 1.5f)) {
@@ -251,7 +324,8 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(Variant{AccelKind::kBvh, false}, Variant{AccelKind::kWide, false},
                     Variant{AccelKind::kWide, true}, Variant{AccelKind::kOctree, false},
                     Variant{AccelKind::kOctree, true}, Variant{AccelKind::kBrute, false},
-                    Variant{AccelKind::kBrute, true}),
+                    Variant{AccelKind::kBrute, true}, Variant{AccelKind::kWide, false, 1.0f},
+                    Variant{AccelKind::kWide, true, 1.0f}),
     variant_name);
 
 TEST(AccelChooser, BruteForceForFewTrianglesWideBvhOtherwise) {

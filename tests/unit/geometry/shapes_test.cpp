@@ -264,6 +264,128 @@ TEST(TrianglePrecise, MatchesTheFloatPathAndRejectsItsOwnPlane) {
                                  kInfinity, b, 0u));
 }
 
+// Zero-area triangles (three exactly collinear integer vertices in both windings,
+// coincident vertices) and a near-zero one (height 2^-24 of its length, below
+// kDegenerateTriangleHeight), rays aimed at points of them from random origins. Neither the
+// float watertight test nor the double one may report a hit: before is_degenerate, the float
+// test hit the collinear ones on ~4% of these rays (the shear turns exact collinearity into
+// same-signed noise) and the double test hit the sliver.
+TEST(Triangle, DegenerateTrianglesAreNeverHit) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> corner(-100, 100), step(-50, 50);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), offset(-10.0f, 10.0f);
+  long rays = 0;
+  for (int k = 0; k < 400; ++k) {
+    const vec3 c(corner(rng), corner(rng), corner(rng)), d(step(rng), step(rng), step(rng));
+    if (d == vec3(0.0f)) continue;
+    // The sliver, at the origin and scaled by a power of two so that it stays exact.
+    const float s = std::ldexp(1.0f, k % 16 - 8);
+    const Triangle degenerate[] = {
+        Triangle{c, c + d, c + 2.0f * d, 0}, Triangle{c, c + 2.0f * d, c + d, 0},
+        Triangle{c, c, c + d, 0},
+        Triangle{vec3(0.0f), s * vec3(1.0f, 0.0f, 0.0f), s * vec3(2.0f, 0x1p-23f, 0.0f), 0}};
+    for (const Triangle& tri : degenerate) {
+      ASSERT_TRUE(is_degenerate(tri));
+      for (int r = 0; r < 50; ++r) {
+        const float w1 = unit(rng), w2 = unit(rng) * (1.0f - w1);
+        const vec3 target = tri.p0 + w1 * (tri.p1 - tri.p0) + w2 * (tri.p2 - tri.p0);
+        const vec3 origin = target + vec3(offset(rng), offset(rng), offset(rng));
+        const Ray ray{origin, target - origin, 0.0f, kInfinity};
+        HitRecord hit;
+        ++rays;
+        ASSERT_FALSE(intersect(tri, ray, kInfinity, hit, 0u)) << "ray " << rays;
+        ASSERT_FALSE(intersect_precise(tri, ray, kInfinity, hit, 0u)) << "ray " << rays;
+        ASSERT_EQ(intersect_all(tri, ray, kInfinity, &hit, 1, 0u), 0);
+      }
+    }
+  }
+  EXPECT_GT(rays, 70000);
+}
+
+// The rule's other side: a thin but real triangle (height 2^-16 of its length, 16x above
+// the threshold) is a surface, and rays through its interior hit it in both tests at the
+// analytic distance.
+TEST(Triangle, ThinTrianglesAboveTheThresholdAreHit) {
+  const Triangle thin{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.5f, 0x1p-16f, 0.0f), 0};
+  ASSERT_FALSE(is_degenerate(thin));
+  for (int i = 1; i < 16; ++i) {
+    const float x = 0.25f + 0.03125f * static_cast<float>(i);  // interior, exact
+    const Ray down{vec3(x, 0x1p-20f, 2.0f), vec3(0.0f, 0.0f, -1.0f), 0.0f, kInfinity};
+    HitRecord a, b;
+    ASSERT_TRUE(intersect(thin, down, kInfinity, a, 0u)) << x;
+    ASSERT_TRUE(intersect_precise(thin, down, kInfinity, b, 0u)) << x;
+    EXPECT_EQ(a.t, 2.0f);
+    EXPECT_EQ(b.t, 2.0f);
+  }
+}
+
+// The geometric normal is the triangle's own at every scale float allows: before, a
+// triangle whose cross product's square underflows in float (sizes below ~1e-10) got a
+// made-up (0, 0, 1), and one whose square overflows (above ~1e10) a zero normal. The true
+// normal of these triangles, in the plane x = size, is +x. The float test's own products
+// (t is a sum of size^3 terms) underflow near 1e-13, so it is asked only from 1e-12 to 1e12; the
+// double test, all sizes.
+TEST(Triangle, NormalOfTinyAndHugeTrianglesIsTheirOwn) {
+  for (const float size : {1e-30f, 1e-15f, 1e-12f, 1e-3f, 1.0f, 1e12f, 1e15f, 1e30f}) {
+    const Triangle tri{vec3(size, 0.0f, 0.0f), vec3(size, size, 0.0f), vec3(size, 0.0f, size), 0};
+    ASSERT_FALSE(is_degenerate(tri)) << size;
+    const Ray r{vec3(2.0f * size, 0.25f * size, 0.25f * size), vec3(-1.0f, 0.0f, 0.0f), 0.0f,
+                kInfinity};
+    HitRecord hit;
+    ASSERT_TRUE(intersect_precise(tri, r, kInfinity, hit, 0u)) << size;
+    EXPECT_FLOAT_EQ(hit.t, size) << size;
+    expect_vec_near(surface_at(tri, r, hit).geometric_normal, vec3(1.0f, 0.0f, 0.0f), 1e-6f);
+    if (size < 1e-12f || size > 1e12f) continue;
+    ASSERT_TRUE(intersect(tri, r, kInfinity, hit, 0u)) << size;
+    EXPECT_FLOAT_EQ(hit.t, size) << size;
+    expect_vec_near(surface_at(tri, r, hit).geometric_normal, vec3(1.0f, 0.0f, 0.0f), 1e-6f);
+  }
+}
+
+// Shapes with no area are never hit: a zero-radius sphere, disk, cylinder or cone (a point
+// or a segment), an annulus of zero width, a cylinder's side of zero height, a torus of zero
+// minor radius, and zero-length axes and normals. Each ray here runs exactly through the
+// degenerate set (the centre, the axis, the rim, the core circle); before, all but the
+// zero-length axes and normals reported hits, with normals such as (0, 0, 1) made up.
+template <typename Shape>
+void expect_never_hit(const Shape& shape, std::initializer_list<Ray> rays, const char* what) {
+  for (const Ray& r : rays) {
+    HitRecord hits[4];
+    EXPECT_FALSE(intersect(shape, r, kInfinity, hits[0], 0u)) << what;
+    EXPECT_EQ(intersect_all(shape, r, kInfinity, hits, 4, 0u), 0) << what;
+  }
+}
+
+TEST(DegenerateShapes, ZeroAreaShapesAreNeverHit) {
+  const vec3 z(0.0f, 0.0f, 1.0f);
+  const Ray down = ray(vec3(0.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  const Ray diagonal = ray(vec3(-5.0f, 0.0f, 5.0f), vec3(1.0f, 0.0f, -1.0f));
+  const Ray across = ray(vec3(-5.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f));
+  const Ray across_middle = ray(vec3(-5.0f, 0.0f, 0.5f), vec3(1.0f, 0.0f, 0.0f));
+  const Ray rim = ray(vec3(1.0f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  expect_never_hit(Sphere{vec3(0.0f), 0.0f, 0}, {down, diagonal, across}, "sphere r = 0");
+  expect_never_hit(Disk::make(vec3(0.0f), z, 0.0f, 0), {down, diagonal}, "disk r = 0");
+  expect_never_hit(Disk::make(vec3(0.0f), z, 1.0f, 0, 1.0f), {rim}, "annulus of zero width");
+  expect_never_hit(Disk::make(vec3(0.0f), vec3(0.0f), 1.0f, 0), {down, diagonal}, "disk n = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), z, 0.0f, 1.0f, true, 0),
+                   {across, across_middle, diagonal}, "cylinder r = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), z, 1.0f, 0.0f, false, 0), {across, down},
+                   "open cylinder h = 0");
+  expect_never_hit(Cylinder::make(vec3(0.0f), vec3(0.0f), 1.0f, 1.0f, true, 0),
+                   {across_middle, down, diagonal}, "cylinder axis = 0");
+  expect_never_hit(Cone::make(vec3(0.0f), z, 0.0f, 0.0f, 1.0f, true, 0),
+                   {across, across_middle, diagonal}, "cone r = 0 at both ends");
+  expect_never_hit(Torus::make(vec3(0.0f), z, 1.0f, 0.0f, 0), {rim, across}, "torus r = 0");
+  // A flat capped cylinder is still its caps (a disk): hit from above, at the cap's normal,
+  // but not along its rim plane.
+  const Cylinder flat = Cylinder::make(vec3(0.0f), z, 1.0f, 0.0f, true, 0);
+  HitRecord hit;
+  ASSERT_TRUE(intersect(flat, down, kInfinity, hit, 0u));
+  EXPECT_FLOAT_EQ(hit.t, 5.0f);
+  expect_vec_near(surface_at(flat, down, hit).geometric_normal, z, 1e-6f);
+  EXPECT_FALSE(intersect(flat, across, kInfinity, hit, 0u));
+}
+
 TEST(SphereTracing, BoxRoundedBoxTorusAndCapsuleMatchTheirAnalyticHits) {
   HitRecord hits[4];
   const Ray along_x = ray(vec3(-5.0f, 0.25f, 0.25f), vec3(1.0f, 0.0f, 0.0f));

@@ -1,6 +1,7 @@
 // Polynomial solvers against analytic roots.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -108,6 +109,84 @@ TEST(SolveQuartic, HugeRootsDoNotOverflow) {
   EXPECT_NEAR(roots[1], 1e150, 1e138);
 }
 
+// Expanded in long double from its roots (a monic quartic), then rounded to double.
+std::array<double, 5> quartic_from_roots(const std::array<long double, 4>& r) {
+  long double c[5] = {1, 0, 0, 0, 0};
+  for (long double root : r) {
+    for (int i = 4; i > 0; --i) c[i] = c[i - 1] - root * c[i];
+    c[0] = -root * c[0];
+  }
+  return {static_cast<double>(c[0]), static_cast<double>(c[1]), static_cast<double>(c[2]),
+          static_cast<double>(c[3]), static_cast<double>(c[4])};
+}
+
+TEST(SolveQuartic, ScalingDoesNotOverflowForExtremeMagnitudes) {
+  // (x - 1)(x - 2)(x - 3)(x - 1e100): the scale is 2^333, whose fourth power overflows;
+  // dividing by it zeroed c and d, and only the root 1e100 came back. The small roots are
+  // well conditioned (the rounded coefficients decide them to ~1e-16), so all four must.
+  const auto c = quartic_from_roots({1.0L, 2.0L, 3.0L, 1e100L});
+  double roots[4];
+  ASSERT_EQ(solve_quartic(c[4], c[3], c[2], c[1], c[0], roots), 4);
+  EXPECT_NEAR(roots[0], 1.0, 1e-12);
+  EXPECT_NEAR(roots[1], 2.0, 1e-12);
+  EXPECT_NEAR(roots[2], 3.0, 1e-12);
+  EXPECT_NEAR(roots[3], 1e100, 1e88);
+  // The same polynomial times 2^-600 (every coefficient still normal): the same roots.
+  ASSERT_EQ(solve_quartic(std::ldexp(c[4], -600), std::ldexp(c[3], -600), std::ldexp(c[2], -600),
+                          std::ldexp(c[1], -600), std::ldexp(c[0], -600), roots),
+            4);
+  EXPECT_NEAR(roots[0], 1.0, 1e-12);
+  EXPECT_NEAR(roots[3], 1e100, 1e88);
+}
+
+TEST(SolveQuartic, RootsBeyondOneScalingAreReportedAsFailure) {
+  // (x - 1)(x - 2)(x - 3)(x - 1e200): scaled to make 1e200 O(1), d = 6e200 / 2^2660 falls
+  // below double's range and with it the three small roots. Before, one root (1e200) came
+  // back as if it were all; now the solver says it has no answer.
+  const auto c = quartic_from_roots({1.0L, 2.0L, 3.0L, 1e200L});
+  double roots[4];
+  EXPECT_EQ(solve_quartic(c[4], c[3], c[2], c[1], c[0], roots), kSolverFailed);
+  // (x - 1e300)(x^3 + 1): c = 1 cannot be scaled by 2^-2991 either.
+  EXPECT_EQ(solve_quartic(1.0, -1e300, 0.0, 1.0, -1e300, roots), kSolverFailed);
+}
+
+TEST(RootsInInterval, NonConvergenceIsReportedNotReturned) {
+  // (x - 1)(x^2 + 1e300) on [0, 1e300] (inside its Cauchy bound): p(1e300) overflows,
+  // regula falsi and Newton creep down by a factor 2/3 per step, and after
+  // kMaxBracketIterations the iterate (~1e270) was returned as the root. Now the search
+  // says it did not converge.
+  const Polynomial<3, double> p{{-1e300, 1e300, -1.0, 1.0}};
+  double roots[3];
+  EXPECT_EQ(roots_in_interval(p, 0.0, 1e300, roots), kSolverFailed);
+  int visited = 0;
+  EXPECT_EQ(visit_roots_in_interval(p, 0.0, 1e300,
+                                    [&](double) {
+                                      ++visited;
+                                      return false;
+                                    }),
+            RootSearch::kNotConverged);
+  EXPECT_EQ(visited, 0);
+  // On a sensible interval the same polynomial's root is found, and the search completes.
+  ASSERT_EQ(roots_in_interval(p, 0.0, 1e3, roots), 1);
+  EXPECT_NEAR(roots[0], 1.0, 1e-15);
+  EXPECT_EQ(visit_roots_in_interval(p, 0.0, 1e3, [](double) { return false; }),
+            RootSearch::kCompleted);
+}
+
+TEST(RootsInInterval, IntervalsWiderThanTheRootsAreClippedToCauchysBound) {
+  // (x - 1)(x^2 + 1) on [0, 1e300]: before, the same creep returned ~4e269 as the root;
+  // (x - 0.5)(x - 1.5)(x^2 + 1) on [-1e300, 1e300]: its critical points were located to
+  // 1e-10 of the interval (1e290), the pieces came out wrong and roots were lost. Within
+  // Cauchy's bound (2 and 3.75 here) both are found to full precision.
+  double roots[4];
+  ASSERT_EQ(roots_in_interval(Polynomial<3, double>{{-1.0, 1.0, -1.0, 1.0}}, 0.0, 1e300, roots), 1);
+  EXPECT_NEAR(roots[0], 1.0, 1e-15);
+  const Polynomial<4, double> two{{0.75, -2.0, 1.75, -2.0, 1.0}};  // (x^2 - 2x + 0.75)(x^2 + 1)
+  ASSERT_EQ(roots_in_interval(two, -1e300, 1e300, roots), 2);
+  EXPECT_NEAR(roots[0], 0.5, 1e-15);
+  EXPECT_NEAR(roots[1], 1.5, 1e-15);
+}
+
 TEST(RootsInInterval, OnlyTheIntervalIsSearchedAndTheVisitorCanStop) {
   const Polynomial<4, double> p{{24.0, -50.0, 35.0, -10.0, 1.0}};  // roots 1, 2, 3, 4
   double roots[4];
@@ -116,12 +195,12 @@ TEST(RootsInInterval, OnlyTheIntervalIsSearchedAndTheVisitorCanStop) {
   EXPECT_NEAR(roots[1], 3.0, 1e-14);
   int visited = 0;
   double first = 0.0;
-  const bool stopped = visit_roots_in_interval(p, 0.0, 10.0, [&](double x) {
+  const RootSearch search = visit_roots_in_interval(p, 0.0, 10.0, [&](double x) {
     ++visited;
     first = x;
     return true;
   });
-  EXPECT_TRUE(stopped);
+  EXPECT_EQ(search, RootSearch::kStopped);
   EXPECT_EQ(visited, 1);
   EXPECT_NEAR(first, 1.0, 1e-14);
 }

@@ -38,6 +38,11 @@ struct AccelBuildOptions {
   // none and uses 15% less memory.
   BvhBuildOptions wide{4, 4, 1.0f, 1.0f, 16, true};
   std::uint32_t wide_merge_limit = 16;
+  // For kWide: pre-splitting (presplit.hpp), up to this many extra references per triangle,
+  // given to the triangles that fill their boxes worst. 0, the default, keeps one reference
+  // per triangle: it is not switched on without a measurement that it pays (see
+  // bench/accel/README.md).
+  float presplit_budget = 0.0f;
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };
@@ -51,6 +56,7 @@ struct AccelStats {
   std::uint32_t depth = 0;
   std::size_t triangles = 0;
   std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
+  std::size_t degenerate = 0;       // zero or near-zero area (is_degenerate): dropped, never hit
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).

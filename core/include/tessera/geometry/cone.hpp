@@ -49,7 +49,9 @@ TESSERA_HD TESSERA_INLINE HitCandidates<4> cone_candidates(const Cone& c, const 
   const LocalRay local = to_local_ray(ray, c.base, c.frame);
   const double dd = glm::dot(local.direction, local.direction);
   const double r0 = c.base_radius, r1 = c.top_radius, h = c.height;
-  if (!(dd > 0.0) || !(h > 0.0)) return out;
+  // Zero height, or both radii zero (a segment, hit by rays through the axis with a made-up
+  // normal): no area, no hits.
+  if (!(dd > 0.0) || !(h > 0.0) || !(glm::max(r0, r1) > 0.0)) return out;
   const double band = ray.origin_error + 1e-15 * (glm::max(r0, r1) + h);
   // Move the origin to the closest approach to the cone's middle before forming
   // coefficients; a shift along the ray changes no root, only the digits kept.

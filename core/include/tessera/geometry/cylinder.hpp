@@ -114,7 +114,10 @@ TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c
   const LocalRay local = to_local_ray(ray, c.base, c.frame);
   const double band = ray.origin_error + 1e-15 * (c.radius + c.height);
   const double a = local.direction.x * local.direction.x + local.direction.y * local.direction.y;
-  if (a > 0.0) {
+  // The side has no area at zero radius (a segment, which rays through the axis hit) or
+  // zero height (a circle, hit by rays in its plane): skipped. The caps need radius > 0
+  // (cap_root); a flat capped cylinder is still its two caps.
+  if (a > 0.0 && c.radius > 0.0f && c.height > 0.0f) {
     // Closest approach to the axis: the side roots are symmetric around it.
     const double t_shift =
         -(local.origin.x * local.direction.x + local.origin.y * local.direction.y) / a;

@@ -33,6 +33,9 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Disk& d) {
 namespace detail {
 TESSERA_HD TESSERA_INLINE HitCandidates<1> disk_candidates(const Disk& d, const PreciseRay& ray) {
   HitCandidates<1> out;
+  // No area (zero radius, or an annulus of zero width): no surface to hit; without this a
+  // ray through the centre, or exactly through the rim, hit it.
+  if (!(d.radius > 0.0f && d.radius > d.inner_radius)) return out;
   const LocalRay local = to_local_ray(ray, d.center, AxisFrame::from_axis(d.normal));
   double t;
   if (!local_plane_root(local, 0.0, ray.origin_error, t)) return out;

@@ -38,6 +38,9 @@ TESSERA_HD TESSERA_INLINE HitCandidates<2> sphere_candidates(const Sphere& s,
   const double a = glm::dot(d, d);
   if (!(a > 0.0) || !std::isfinite(a)) return out;
   const double r = s.radius;
+  // A zero radius is a point, not a surface: a ray through the centre would otherwise find
+  // the double root there (and a made-up normal).
+  if (!(std::fabs(r) > 0.0)) return out;
   const double b_half = -glm::dot(f, d);  // b = -2 b_half
   const dvec3 perpendicular = f + (b_half / a) * d;
   const double distance = glm::length(perpendicular);

@@ -67,6 +67,8 @@ template <QuarticMethod kMethod = QuarticMethod::kIsolation>
 TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRay& ray, float t_max,
                                              bool first_only = false) {
   HitCandidates<4> out;
+  // A zero minor radius is the core circle, not a surface (rays through it hit it).
+  if (!(torus.minor_radius > 0.0f)) return out;
   const AxisFrame frame = AxisFrame::from_axis(torus.axis);
   const LocalRay local = to_local_ray(ray, torus.center, frame);
   const double length = glm::length(local.direction);
@@ -128,12 +130,18 @@ TESSERA_HD HitCandidates<4> torus_candidates(const Torus& torus, const PreciseRa
     float tf;
     return first_only && accept_root(t, ray.t_min, t_max, tf);
   };
+  // The interval is already inside the bounding sphere, so the search skips the Cauchy
+  // clip of visit_roots_in_interval (4% of the torus's instructions, measured).
   if constexpr (kMethod == QuarticMethod::kIsolation) {
-    visit_roots_in_interval(quartic, s0 - s_mid, s1 - s_mid, consider);
+    detail::visit_roots(quartic, s0 - s_mid, s1 - s_mid, consider, 0.0);
   } else {
     double all[4];
     const int found =
         solve_quartic(quartic.c[4], quartic.c[3], quartic.c[2], quartic.c[1], quartic.c[0], all);
+    if (found == kSolverFailed) {  // not expected of a torus's coefficients; isolation decides
+      detail::visit_roots(quartic, s0 - s_mid, s1 - s_mid, consider, 0.0);
+      return out;
+    }
     for (int i = 0; i < found; ++i)
       if (all[i] >= s0 - s_mid && all[i] <= s1 - s_mid && consider(all[i])) break;
   }

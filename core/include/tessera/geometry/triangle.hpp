@@ -20,6 +20,30 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Triangle& tri) {
   return b;
 }
 
+// A triangle is degenerate when its height over its longest edge is at most this fraction of
+// that edge (twice its area at most kDegenerateTriangleHeight * longest^2): 16 times float's
+// rounding unit 2^-24.
+// Such a triangle has no surface a float test can find: sheared into the ray's frame, its
+// rounded vertices are collinear up to noise, the edge functions come out with the same sign
+// by chance and the determinant and t are noise over noise; its normal has no reliable
+// direction either. Real slivers (CAD strips of 1:10^4) are a hundred times above it.
+inline constexpr double kDegenerateTriangleHeight = 0x1p-20;
+
+// Decided in double from the float vertices (their differences are exact for all but
+// extreme exponent gaps), so it neither overflows nor underflows for any finite float
+// triangle. Non-finite vertices count as degenerate. Also used by the accelerators, which
+// drop these triangles at build time.
+TESSERA_HD TESSERA_INLINE bool is_degenerate(const Triangle& tri) {
+  const dvec3 p0(tri.p0), p1(tri.p1), p2(tri.p2);
+  const dvec3 e0 = p1 - p0, e1 = p2 - p0, e2 = p2 - p1;
+  const dvec3 n = glm::cross(e0, e1);
+  const double l0 = glm::dot(e0, e0), l1 = glm::dot(e1, e1), l2 = glm::dot(e2, e2);
+  const double longest2 = l0 > l1 ? (l0 > l2 ? l0 : l2) : (l1 > l2 ? l1 : l2);
+  constexpr double k2 = kDegenerateTriangleHeight * kDegenerateTriangleHeight;
+  // |n|^2 > k^2 longest^4, written so that NaN (and inf) compare false: degenerate.
+  return !(glm::dot(n, n) > k2 * longest2 * longest2);
+}
+
 // Per-ray constants of the watertight test: the axis permutation that makes the largest
 // direction component z, and the shear that maps the ray onto +z.
 struct WatertightRay {
@@ -76,6 +100,11 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const Ray& ray,
   const float inv_det = 1.0f / det;
   const float t = t_scaled * inv_det;
   if (!(t > ray.t_min && t < t_max)) return false;
+  // Degenerate triangles are rejected here, last, so only a hit about to be reported pays for
+  // the check, never a miss. The accelerators drop them at build time instead (their SIMD
+  // kernels stay as they were); this keeps every other caller (GPU, BvhTracer, brute-force
+  // references) from reporting them.
+  if (is_degenerate(tri)) return false;
   hit.t = t;
   hit.u = v * inv_det;  // weight of p1
   hit.v = w * inv_det;  // weight of p2
@@ -96,15 +125,27 @@ TESSERA_HD TESSERA_INLINE int intersect_all(const Triangle& tri, const Ray& ray,
   return intersect(tri, ray, t_max, hits[0], primitive) ? 1 : 0;
 }
 
+// The unit normal of the winding (p1 - p0) x (p2 - p0). Float first; when its squared length
+// leaves float's normal range (triangles below ~1e-10 or above ~1e10 units, where the
+// square underflows or overflows) the cross product is redone in double, where every finite
+// float triangle's normal is representable (|n|^2 < 1e156). Only a degenerate triangle, which
+// intersect never reports, has none: it gets the normal facing the ray, so shading sees no NaN.
+TESSERA_HD TESSERA_INLINE vec3 geometric_normal(const Triangle& tri, const vec3& ray_direction) {
+  const vec3 n = glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+  const float len2 = glm::dot(n, n);
+  if (len2 >= 0x1p-126f && len2 <= 0x1.fffffep+127f) return n / std::sqrt(len2);
+  const dvec3 nd = glm::cross(dvec3(tri.p1) - dvec3(tri.p0), dvec3(tri.p2) - dvec3(tri.p0));
+  const double len2d = glm::dot(nd, nd);
+  if (len2d > 0.0) return vec3(nd / std::sqrt(len2d));
+  return -glm::normalize(ray_direction);
+}
+
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, const Ray& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   const float b0 = 1.0f - hit.u - hit.v;
   si.position = b0 * tri.p0 + hit.u * tri.p1 + hit.v * tri.p2;
-  const vec3 n = glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
-  const float len2 = glm::dot(n, n);
-  const vec3 outward = len2 > 0.0f ? n / std::sqrt(len2) : vec3(0.0f, 0.0f, 1.0f);
-  set_face_normal(si, ray.direction, outward);
+  set_face_normal(si, ray.direction, geometric_normal(tri, ray.direction));
   si.uv = vec2(hit.u, hit.v);
   si.material = tri.material;
   return si;

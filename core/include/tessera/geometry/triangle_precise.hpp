@@ -48,6 +48,8 @@ TESSERA_HD TESSERA_INLINE bool intersect(const Triangle& tri, const PreciseRay& 
   const dvec3 n = glm::cross(b - a, c - a);
   const double n_length = glm::length(n);
   if (std::fabs(glm::dot(n, a)) <= ray.origin_error * n_length) return false;
+  // Zero or near-zero area (see is_degenerate): never a hit, as in the float test.
+  if (is_degenerate(tri)) return false;
   hit.t = tf;
   hit.u = static_cast<float>(v / det);
   hit.v = static_cast<float>(w / det);

@@ -8,6 +8,12 @@ namespace tessera {
 
 // A real polynomial c[0] + c[1] x + ... + c[Degree] x^Degree with a fixed degree, so that
 // evaluation and root finding unroll and never allocate.
+// Returned instead of a root count by solvers that cannot vouch for their answer (a bracket
+// that did not converge, coefficients whose scaling lost digits): the caller learns that it
+// has no answer, rather than receiving roots that may be wrong. Negative, so loops
+// `for (i = 0; i < count; ++i)` over it visit nothing.
+inline constexpr int kSolverFailed = -1;
+
 template <int Degree, typename T>
 struct Polynomial {
   static_assert(Degree >= 0, "degree must be non-negative");

@@ -1,5 +1,6 @@
 #pragma once
 #include <cmath>
+#include <limits>
 
 #include "tessera/math/polynomial.hpp"
 #include "tessera/math/solver_cubic.hpp"
@@ -144,23 +145,40 @@ TESSERA_HD TESSERA_INLINE void balance_betas(T d, T& beta1, T& beta2) {
   }
 }
 
-// Exact power-of-two scale k with x = k y making the monic coefficients O(1): scaling by
-// a power of two changes no digit, and keeps the cubic and the Newton system finite for
-// roots of any magnitude.
+// Exponent e of the power-of-two scale x = 2^e y that makes the monic coefficients O(1):
+// scaling by a power of two changes no digit, and keeps the cubic and the Newton system
+// finite for roots of any magnitude. The coefficients are scaled one by one with ldexp
+// (a / 2^e, b / 2^2e, ...), never through 2^4e itself: that overflows to inf (and
+// underflows to 0) once |e| > 256, which before silently zeroed the lower coefficients of
+// quartics with a root beyond ~1e77.
 template <typename T>
-TESSERA_HD T quartic_root_scale(T a, T b, T c, T d) {
+TESSERA_HD int quartic_root_exponent(T a, T b, T c, T d) {
   T m = std::fabs(a);
   m = std::fmax(m, std::sqrt(std::fabs(b)));
   m = std::fmax(m, std::cbrt(std::fabs(c)));
   m = std::fmax(m, std::sqrt(std::sqrt(std::fabs(d))));
-  if (!(m > T(0)) || !std::isfinite(m)) return T(1);
+  if (!(m > T(0)) || !std::isfinite(m)) return 0;
   int exponent;
   std::frexp(m, &exponent);
-  return std::ldexp(T(1), exponent);
+  return exponent;
+}
+
+// value * 2^-shift, and whether that kept every digit (false: it underflowed below the
+// normal range, where digits are lost; a power-of-two scale is otherwise exact).
+template <typename T>
+TESSERA_HD TESSERA_INLINE bool scale_exactly(T& value, int shift) {
+  const T scaled = std::ldexp(value, -shift);
+  // Only a result below the normal range can have lost digits; the round trip decides.
+  const bool exact =
+      !(std::fabs(scaled) < std::numeric_limits<T>::min()) || std::ldexp(scaled, shift) == value;
+  value = scaled;
+  return exact;
 }
 
 }  // namespace detail
 
+// Returns the number of real roots written to `roots` (ascending), or kSolverFailed when
+// the roots span more orders of magnitude than one power-of-two scaling of double holds.
 template <typename T>
 TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
   if (c4 == T(0)) return solve_cubic(c3, c2, c1, c0, roots);
@@ -178,14 +196,16 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
     return count;
   }
 
-  const T scale = detail::quartic_root_scale(a, b, c, d);
-  const T scale2 = scale * scale;
-  a /= scale;
-  b /= scale2;
-  c /= scale2 * scale;
-  d /= scale2 * scale2;
+  // A coefficient that the scaling takes below the normal range loses digits, and with them
+  // the small roots it decides (e.g. (x - 1e200)(x - 1)(x - 2)(x - 3): d / 2^4e underflows):
+  // no single scaling holds roots that far apart, so the solver says it failed.
+  const int exponent = detail::quartic_root_exponent(a, b, c, d);
+  if (!detail::scale_exactly(a, exponent) || !detail::scale_exactly(b, 2 * exponent) ||
+      !detail::scale_exactly(c, 3 * exponent) || !detail::scale_exactly(d, 4 * exponent))
+    return kSolverFailed;
 
   const T phi0 = detail::quartic_phi0(a, b, c, d);
+  if (!std::isfinite(phi0)) return kSolverFailed;
   const T l1 = a / T(2);                                    // eq. (16)
   const T l3 = b / T(6) + phi0 / T(2);                      // eq. (18)
   const T del2 = c - a * l3;                                // after eq. (27)
@@ -301,7 +321,7 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
   // evaluation error: when the roots' magnitudes differ by many orders the small factor
   // can come out with the wrong discriminant sign, and this residual test is what stops
   // such an invented pair (a genuine root polishes down to the rounding noise).
-  // Both are done on the scaled quartic (y = x / scale), which cannot overflow, and the
+  // Both are done on the scaled quartic (y = x / 2^e), which cannot overflow, and the
   // residual is checked on the original too wherever that is finite (the scaled one may
   // have lost tiny roots to underflow).
   const Polynomial<4, T> scaled{{d, c, b, a, T(1)}};
@@ -311,7 +331,7 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
     T error_bound;
     const T value = scaled.evaluate_with_error(y, error_bound);
     if (!(std::fabs(value) <= T(64) * error_bound)) continue;
-    const T x = y * scale;
+    const T x = std::ldexp(y, exponent);
     const T original_value = original.evaluate_with_error(x, error_bound);
     if (std::isfinite(original_value) && std::isfinite(error_bound) &&
         !(std::fabs(original_value) <= T(64) * error_bound))

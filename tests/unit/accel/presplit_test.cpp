@@ -1,0 +1,122 @@
+// Pre-splitting: the piece boxes bound the triangle's parts (checked on sampled points, with
+// boxes from an independent clip), stay within the budget, and a wide BVH built from them
+// answers exactly as the brute-force reference (triangle_accel_test runs every query on
+// pre-split variants too).
+#include "tessera/accel/presplit.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "accel_test_scenes.hpp"
+
+namespace tessera {
+namespace {
+
+// Within `box` grown by `slack` (sampled points are rounded to float, so they can lie an ulp
+// off the exact triangle the boxes bound).
+bool inside(const Aabb& box, const vec3& p, float slack = 0.0f) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(p[axis] >= box.lower[axis] - slack && p[axis] <= box.upper[axis] + slack)) return false;
+  return true;
+}
+constexpr float kSlack = 1e-6f;
+
+// Points of the triangle: random barycentric ones, its vertices and edge midpoints (float).
+std::vector<vec3> sample_points(const Triangle& t, std::mt19937& rng, int count) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<vec3> points{
+      t.p0, t.p1, t.p2, 0.5f * (t.p0 + t.p1), 0.5f * (t.p1 + t.p2), 0.5f * (t.p2 + t.p0)};
+  for (int i = 0; i < count; ++i) {
+    float b1 = unit(rng), b2 = unit(rng);
+    if (b1 + b2 > 1.0f) {
+      b1 = 1.0f - b1;
+      b2 = 1.0f - b2;
+    }
+    points.push_back(t.p0 + b1 * (t.p1 - t.p0) + b2 * (t.p2 - t.p0));
+  }
+  return points;
+}
+
+// Long, thin, diagonal triangles: the case pre-splitting is for.
+std::vector<Triangle> slivers(std::uint32_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<Triangle> tris;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const vec3 a = accel_test::random_point(rng, -1.0f, 1.0f);
+    const vec3 b = accel_test::random_point(rng, -1.0f, 1.0f);
+    const vec3 side = 0.02f * accel_test::random_direction(rng);
+    tris.push_back(Triangle{a, b, 0.5f * (a + b) + side, 0});
+  }
+  return tris;
+}
+
+TEST(Presplit, ClippedBoundsHoldThePartOfTheTriangleInTheBox) {
+  std::mt19937 rng(31);
+  for (const Triangle& t : slivers(200, 32)) {
+    const Aabb whole = bounds(t);
+    EXPECT_EQ(clipped_triangle_bounds(t, whole).lower, whole.lower);  // nothing to clip
+    EXPECT_EQ(clipped_triangle_bounds(t, whole).upper, whole.upper);
+    Aabb box;
+    box.extend(accel_test::random_point(rng, -1.0f, 1.0f));
+    box.extend(accel_test::random_point(rng, -1.0f, 1.0f));
+    const Aabb clipped = clipped_triangle_bounds(t, box);
+    for (const vec3& p : sample_points(t, rng, 500)) {
+      if (!inside(box, p)) continue;
+      ASSERT_FALSE(clipped.empty());
+      ASSERT_TRUE(inside(clipped, p, kSlack));
+    }
+    if (!clipped.empty()) {
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_GE(clipped.lower[axis], box.lower[axis]);
+        EXPECT_LE(clipped.upper[axis], box.upper[axis]);
+      }
+    }
+  }
+}
+
+TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
+  const auto tris = slivers(500, 33);
+  std::vector<std::uint32_t> ids(tris.size());
+  std::vector<Aabb> boxes(tris.size());
+  Aabb scene;
+  for (std::uint32_t i = 0; i < tris.size(); ++i) {
+    ids[i] = i;
+    boxes[i] = bounds(tris[i]);
+    scene.extend(boxes[i]);
+  }
+  for (const float budget : {0.25f, 1.0f, 4.0f}) {
+    std::vector<Aabb> pieces;
+    std::vector<std::uint32_t> piece_ids;
+    presplit_triangles(tris, ids, boxes, scene, budget, pieces, piece_ids);
+    ASSERT_EQ(pieces.size(), piece_ids.size());
+    EXPECT_GT(pieces.size(), tris.size());
+    EXPECT_LE(pieces.size(), tris.size() + static_cast<std::size_t>(budget * tris.size()));
+    std::vector<std::vector<Aabb>> of(tris.size());
+    float area_before = 0.0f, area_after = 0.0f;
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      ASSERT_LT(piece_ids[k], tris.size());
+      of[piece_ids[k]].push_back(pieces[k]);
+      area_after += pieces[k].surface_area();
+      for (int axis = 0; axis < 3; ++axis) {  // inside the triangle's own box
+        ASSERT_GE(pieces[k].lower[axis], boxes[piece_ids[k]].lower[axis]);
+        ASSERT_LE(pieces[k].upper[axis], boxes[piece_ids[k]].upper[axis]);
+      }
+    }
+    for (const Aabb& b : boxes) area_before += b.surface_area();
+    EXPECT_LT(area_after, area_before);  // the point of it: tighter boxes in total
+    std::mt19937 rng(34);
+    for (std::uint32_t i = 0; i < tris.size(); ++i) {
+      ASSERT_FALSE(of[i].empty());
+      for (const vec3& p : sample_points(tris[i], rng, 200)) {
+        bool covered = false;
+        for (const Aabb& piece : of[i]) covered = covered || inside(piece, p, kSlack);
+        ASSERT_TRUE(covered) << "triangle " << i;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera
