@@ -6,9 +6,12 @@
 //   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
+//   tessera-bench converge SCENE.yaml [--reference REF.exr | --reference-spp N]
+//                          [--spp 1,2,4,...] [--csv OUT.csv] [--plot OUT.png]
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "converge.hpp"
 #include "specialise.hpp"
 
 #include <chrono>
@@ -252,8 +255,37 @@ int main(int argc, char** argv) {
                    "timed runs per renderer; the best counts")
       ->check(CLI::Range(1, 100));
 
+  tessera::bench::ConvergeOptions converge_options;
+  auto* converge = app.add_subcommand(
+      "converge", "render at doubling spp and measure the error against a reference");
+  converge->add_option("scene", converge_options.scene, "scene YAML file")->required();
+  auto* reference_file =
+      converge->add_option("--reference", converge_options.reference, "reference EXR");
+  converge
+      ->add_option("--reference-spp", converge_options.reference_spp,
+                   "spp of the reference rendered when no --reference is given")
+      ->check(CLI::Range(1u, 1u << 20))
+      ->excludes(reference_file);
+  converge->add_option("--spp", converge_options.spp, "sample counts, e.g. 1,2,4,8")
+      ->delimiter(',')
+      ->check(CLI::Range(1u, 1u << 20));
+  converge->add_option("--width", converge_options.width, "override the scene's width")
+      ->check(CLI::Range(1u, 16384u));
+  converge->add_option("--height", converge_options.height, "override the scene's height")
+      ->check(CLI::Range(1u, 16384u));
+  converge->add_option("--max-depth", converge_options.max_depth, "override the scene's depth")
+      ->check(CLI::Range(1u, 64u));
+  converge->add_option("--threads", converge_options.threads, "render threads (0: all)");
+  converge->add_option("--target", converge_options.target, "relMSE to estimate the time of")
+      ->check(CLI::PositiveNumber);
+  converge->add_option("--csv", converge_options.csv, "write spp, seconds, rmse, relmse");
+  converge->add_option("--plot", converge_options.plot, "write a log-log plot (PNG)");
+  converge->add_option("--save-reference", converge_options.save_reference,
+                       "write the rendered reference (EXR)");
+
   CLI11_PARSE(app, argc, argv);
   try {
+    if (*converge) return tessera::bench::run_converge(converge_options);
     if (*specialise) return tessera::bench::run_specialise(specialise_options);
     if (*rays) return run_rays(mesh, kind, width, height, out);
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);

@@ -1,0 +1,28 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tessera::bench {
+
+struct ConvergeOptions {
+  std::string scene;      // YAML scene file
+  std::string reference;  // EXR to compare with; empty: render one
+  std::uint32_t reference_spp = 4096;
+  std::vector<std::uint32_t> spp{1, 2, 4, 8, 16, 32, 64, 128, 256};
+  std::uint32_t width = 0;      // 0: the scene's
+  std::uint32_t height = 0;     // 0: the scene's
+  std::uint32_t max_depth = 0;  // 0: the scene's
+  unsigned threads = 0;         // 0: every hardware thread
+  double target = 1e-3;         // relMSE whose time is estimated
+  std::string csv;              // write the series here
+  std::string plot;             // write a log-log plot (PNG) here
+  std::string save_reference;   // write the rendered reference here (EXR)
+};
+
+// Renders the scene at each spp (wall time of the render alone, scene preparation
+// excluded), measures RMSE and relMSE against the reference, prints a table and the time
+// to `target` relMSE. Returns the process exit code.
+int run_converge(const ConvergeOptions& options);
+
+}  // namespace tessera::bench

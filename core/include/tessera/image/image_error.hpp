@@ -1,0 +1,41 @@
+#pragma once
+#include <optional>
+#include <span>
+
+#include "tessera/image/exr.hpp"
+
+namespace tessera {
+
+// How far an image is from a reference, over the R, G and B of every pixel.
+struct ImageError {
+  double rmse = 0.0;
+  // Relative MSE as renderer comparisons use it: mean((x - r)^2 / (r^2 + 0.01)); the 0.01
+  // keeps black reference pixels from dominating.
+  double rel_mse = 0.0;
+  double mean = 0.0;            // mean of the image's R, G, B
+  double reference_mean = 0.0;  // the same of the reference
+};
+
+// Throws std::invalid_argument when the sizes differ.
+ImageError image_error(const RgbaImage& image, const RgbaImage& reference);
+
+// One render of a convergence series: its wall time and its error.
+struct ErrorPoint {
+  double seconds = 0.0;
+  double rel_mse = 0.0;
+};
+
+struct TimeToError {
+  double seconds = 0.0;
+  // The fitted exponent of relMSE against time (-1 for an unbiased estimator whose
+  // variance falls as 1/samples; flatter means bias or fireflies that do not average out).
+  double slope = 0.0;
+  bool extrapolated = false;  // the series never reached the target; a power-law fit did
+};
+
+// The time at which the series reaches `target` relMSE: interpolated (log-log) between the
+// two renders that bracket it, or extrapolated from a least-squares power law through
+// every render. Empty when fewer than two points are usable or the fit does not fall.
+std::optional<TimeToError> time_to_error(std::span<const ErrorPoint> series, double target);
+
+}  // namespace tessera

@@ -1,0 +1,62 @@
+// The convergence metrics tessera-bench converge reports, against hand-computed answers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tessera/image/image_error.hpp"
+
+namespace tessera {
+namespace {
+
+RgbaImage grey(std::uint32_t width, std::uint32_t height, float value) {
+  RgbaImage image{width, height, std::vector<float>(std::size_t{width} * height * 4, value)};
+  for (std::size_t p = 3; p < image.pixels.size(); p += 4) image.pixels[p] = 1.0f;
+  return image;
+}
+
+TEST(ImageError, RelativeMseWeighsEachPixelByItsReference) {
+  const RgbaImage reference = grey(2, 1, 1.0f);
+  RgbaImage image = reference;
+  image.pixels[0] = 2.0f;  // one of six channels off by 1: d^2 / (1 + 0.01)
+  const ImageError e = image_error(image, reference);
+  EXPECT_NEAR(e.rel_mse, (1.0 / 1.01) / 6.0, 1e-12);
+  EXPECT_NEAR(e.rmse, std::sqrt(1.0 / 6.0), 1e-12);
+  EXPECT_NEAR(e.mean, 7.0 / 6.0, 1e-12);
+  EXPECT_DOUBLE_EQ(e.reference_mean, 1.0);
+  // Alpha is not counted: changing it changes nothing.
+  image.pixels[3] = 0.0f;
+  EXPECT_NEAR(image_error(image, reference).rel_mse, (1.0 / 1.01) / 6.0, 1e-12);
+  // A black reference pixel is weighed by 1 / 0.01, not divided by zero.
+  const RgbaImage black = grey(1, 1, 0.0f);
+  EXPECT_NEAR(image_error(grey(1, 1, 0.1f), black).rel_mse, 0.01 / 0.01, 1e-6);
+  EXPECT_THROW(image_error(grey(1, 1, 0.0f), grey(2, 1, 0.0f)), std::invalid_argument);
+}
+
+TEST(TimeToError, InterpolatesWhenTheSeriesReachesTheTarget) {
+  // relMSE = 0.1 / t: 1e-3 is reached at t = 100, between the renders at 64 and 128 s.
+  std::vector<ErrorPoint> series;
+  for (double t = 1; t <= 128; t *= 2) series.push_back({t, 0.1 / t});
+  const auto at = time_to_error(series, 1e-3);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_FALSE(at->extrapolated);
+  EXPECT_NEAR(at->seconds, 100.0, 1e-9);
+  EXPECT_NEAR(at->slope, -1.0, 1e-12);
+}
+
+TEST(TimeToError, ExtrapolatesAPowerLawAndRefusesAFlatOne) {
+  std::vector<ErrorPoint> series;
+  for (double t = 1; t <= 8; t *= 2) series.push_back({t, 0.5 / std::sqrt(t)});  // slope -1/2
+  const auto at = time_to_error(series, 1e-3);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_TRUE(at->extrapolated);
+  EXPECT_NEAR(at->slope, -0.5, 1e-12);
+  EXPECT_NEAR(at->seconds, 250000.0, 1e-6);  // 0.5 / sqrt(t) = 1e-3 at t = 500^2
+
+  const std::vector<ErrorPoint> flat = {{1, 0.2}, {2, 0.2}, {4, 0.2}};  // bias, no progress
+  EXPECT_FALSE(time_to_error(flat, 1e-3).has_value());
+  EXPECT_FALSE(time_to_error(std::vector<ErrorPoint>{{1, 0.5}}, 1e-3).has_value());
+}
+
+}  // namespace
+}  // namespace tessera
