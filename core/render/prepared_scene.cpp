@@ -28,13 +28,15 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   // Shapes go into their flat arrays in this order, each recorded for the acceleration
   // structures and the light list; the order decides both, and so the image.
+  PrimitiveArrays& arrays = scene->arrays_;
   PrimitiveList primitives(scene->materials_, scene->lights_);
   for (const auto& s : description.spheres)
-    place_curved(s, scene->spheres_, PrimitiveType::kSphere, scene->sphere_instances_,
-                 PrimitiveType::kSphereInstance, primitives);
+    place_curved(s, arrays.of<PrimitiveType::kSphere>(), PrimitiveType::kSphere,
+                 arrays.of<PrimitiveType::kSphereInstance>(), PrimitiveType::kSphereInstance,
+                 primitives);
   // A parallelogram stays one under any affine map: quads are always baked.
   for (const auto& q : description.quads)
-    primitives.store(scene->quads_, PrimitiveType::kQuad,
+    primitives.store(arrays.of<PrimitiveType::kQuad>(), PrimitiveType::kQuad,
                      placed_surface(q, Placement(q.transform), q.material), q.visible, q.material);
 
   const bool attributes = stores_triangle_attributes(description.meshes);
@@ -46,8 +48,8 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
     for (const std::size_t m : group) shared[m] = true;
   for (std::size_t m = 0; m < description.meshes.size(); ++m)
     if (!shared[m])
-      bake_mesh(description.meshes[m], attributes, scene->triangles_, scene->triangle_attributes_,
-                primitives);
+      bake_mesh(description.meshes[m], attributes, arrays.of<PrimitiveType::kTriangle>(),
+                scene->triangle_attributes_, primitives);
   SharedMeshes shared_meshes = share_mesh_geometry(description, groups, attributes);
   scene->instanced_triangles_ = std::move(shared_meshes.triangles);
   scene->instanced_attributes_ = std::move(shared_meshes.attributes);
@@ -58,40 +60,55 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   for (const auto& p : description.planes) {
     if (!p.visible) continue;  // planes never emit, so a hidden one does nothing
-    scene->planes_.push_back(placed_surface(p, Placement(p.transform), p.material));
+    arrays.of<PrimitiveType::kPlane>().push_back(
+        placed_surface(p, Placement(p.transform), p.material));
   }
   for (const auto& d : description.disks)
-    place_curved(d, scene->disks_, PrimitiveType::kDisk, scene->disk_instances_,
-                 PrimitiveType::kDiskInstance, primitives);
+    place_curved(d, arrays.of<PrimitiveType::kDisk>(), PrimitiveType::kDisk,
+                 arrays.of<PrimitiveType::kDiskInstance>(), PrimitiveType::kDiskInstance,
+                 primitives);
   for (const auto& c : description.cylinders)
-    place_curved(c, scene->cylinders_, PrimitiveType::kCylinder, scene->cylinder_instances_,
-                 PrimitiveType::kCylinderInstance, primitives);
+    place_curved(c, arrays.of<PrimitiveType::kCylinder>(), PrimitiveType::kCylinder,
+                 arrays.of<PrimitiveType::kCylinderInstance>(), PrimitiveType::kCylinderInstance,
+                 primitives);
   for (const auto& c : description.cones)
-    place_curved(c, scene->cones_, PrimitiveType::kCone, scene->cone_instances_,
-                 PrimitiveType::kConeInstance, primitives);
+    place_curved(c, arrays.of<PrimitiveType::kCone>(), PrimitiveType::kCone,
+                 arrays.of<PrimitiveType::kConeInstance>(), PrimitiveType::kConeInstance,
+                 primitives);
   for (const auto& t : description.tori)
-    place_curved(t, scene->tori_, PrimitiveType::kTorus, scene->torus_instances_,
-                 PrimitiveType::kTorusInstance, primitives);
+    place_curved(t, arrays.of<PrimitiveType::kTorus>(), PrimitiveType::kTorus,
+                 arrays.of<PrimitiveType::kTorusInstance>(), PrimitiveType::kTorusInstance,
+                 primitives);
   for (const auto& b : description.sdf_boxes)
-    place_sdf(b, scene->sdf_boxes_, PrimitiveType::kSdfBox, scene->sdf_box_instances_,
-              PrimitiveType::kSdfBoxInstance, primitives);
+    place_sdf(b, arrays.of<PrimitiveType::kSdfBox>(), PrimitiveType::kSdfBox,
+              arrays.of<PrimitiveType::kSdfBoxInstance>(), PrimitiveType::kSdfBoxInstance,
+              primitives);
   for (const auto& t : description.sdf_tori)
-    place_sdf(t, scene->sdf_tori_, PrimitiveType::kSdfTorus, scene->sdf_torus_instances_,
-              PrimitiveType::kSdfTorusInstance, primitives);
+    place_sdf(t, arrays.of<PrimitiveType::kSdfTorus>(), PrimitiveType::kSdfTorus,
+              arrays.of<PrimitiveType::kSdfTorusInstance>(), PrimitiveType::kSdfTorusInstance,
+              primitives);
   for (const auto& c : description.sdf_capsules)
-    place_sdf(c, scene->sdf_capsules_, PrimitiveType::kSdfCapsule, scene->sdf_capsule_instances_,
-              PrimitiveType::kSdfCapsuleInstance, primitives);
+    place_sdf(c, arrays.of<PrimitiveType::kSdfCapsule>(), PrimitiveType::kSdfCapsule,
+              arrays.of<PrimitiveType::kSdfCapsuleInstance>(), PrimitiveType::kSdfCapsuleInstance,
+              primitives);
 
-  PooledSurfaceArrays pooled{
-      scene->patch_pool_,      scene->trim_pool_,         scene->patches_,
-      scene->trimmed_planes_,  scene->trimmed_disks_,     scene->trimmed_quads_,
-      scene->trimmed_spheres_, scene->trimmed_cylinders_, scene->trimmed_cones_,
-      scene->trimmed_tori_,    scene->trimmed_patches_};
+  PooledSurfaceArrays pooled{scene->patch_pool_,
+                             scene->trim_pool_,
+                             arrays.of<PrimitiveType::kSplinePatch>(),
+                             arrays.of<PrimitiveType::kTrimmedPlane>(),
+                             arrays.of<PrimitiveType::kTrimmedDisk>(),
+                             arrays.of<PrimitiveType::kTrimmedQuad>(),
+                             arrays.of<PrimitiveType::kTrimmedSphere>(),
+                             arrays.of<PrimitiveType::kTrimmedCylinder>(),
+                             arrays.of<PrimitiveType::kTrimmedCone>(),
+                             arrays.of<PrimitiveType::kTrimmedTorus>(),
+                             arrays.of<PrimitiveType::kTrimmedPatch>()};
   for (const auto& p : description.patches) place_patch(p, pooled, primitives);
   for (const auto& f : description.trimmed_faces) place_trimmed_face(f, pooled, primitives);
   bind_pools(pooled);
 
-  primitives.build_accelerators(scene->triangles_, scene->triangle_accel_, scene->bvh_);
+  primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
+                                scene->bvh_);
   scene->camera_ = Camera::from_description(description.camera, description.render.width,
                                             description.render.height);
   scene->background_ = vec3(description.background.color * description.background.intensity);
@@ -115,36 +132,8 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
 SceneView PreparedScene::view() const {
   SceneView v;
-  v.spheres = spheres_.data();
-  v.quads = quads_.data();
-  v.triangles = triangles_.data();
+  arrays_.bind(v);
   v.triangle_attributes = triangle_attributes_.empty() ? nullptr : triangle_attributes_.data();
-  v.planes = planes_.data();
-  v.plane_count = static_cast<std::uint32_t>(planes_.size());
-  v.disks = disks_.data();
-  v.cylinders = cylinders_.data();
-  v.cones = cones_.data();
-  v.tori = tori_.data();
-  v.sdf_boxes = sdf_boxes_.data();
-  v.sdf_tori = sdf_tori_.data();
-  v.sdf_capsules = sdf_capsules_.data();
-  v.sphere_instances = sphere_instances_.data();
-  v.disk_instances = disk_instances_.data();
-  v.cylinder_instances = cylinder_instances_.data();
-  v.cone_instances = cone_instances_.data();
-  v.torus_instances = torus_instances_.data();
-  v.sdf_box_instances = sdf_box_instances_.data();
-  v.sdf_torus_instances = sdf_torus_instances_.data();
-  v.sdf_capsule_instances = sdf_capsule_instances_.data();
-  v.patches = patches_.data();
-  v.trimmed_planes = trimmed_planes_.data();
-  v.trimmed_disks = trimmed_disks_.data();
-  v.trimmed_quads = trimmed_quads_.data();
-  v.trimmed_spheres = trimmed_spheres_.data();
-  v.trimmed_cylinders = trimmed_cylinders_.data();
-  v.trimmed_cones = trimmed_cones_.data();
-  v.trimmed_tori = trimmed_tori_.data();
-  v.trimmed_patches = trimmed_patches_.data();
   v.materials = materials_.data();
   v.lights = lights_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());
@@ -161,7 +150,7 @@ SceneView PreparedScene::view() const {
 }
 
 std::size_t PreparedScene::triangle_bytes() const {
-  std::size_t bytes = triangles_.size() * sizeof(Triangle) +
+  std::size_t bytes = arrays_.of<PrimitiveType::kTriangle>().size() * sizeof(Triangle) +
                       triangle_attributes_.size() * sizeof(TriangleAttributes) +
                       triangle_accel_.stats().bytes +
                       instanced_triangles_.size() * sizeof(Triangle) +

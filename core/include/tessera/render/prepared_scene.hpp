@@ -10,6 +10,7 @@
 #include "tessera/accel/triangle_accel.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
+#include "tessera/render/primitive_arrays.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/tile.hpp"
@@ -72,39 +73,13 @@ class PreparedScene {
  private:
   PreparedScene() = default;
 
-  std::vector<Sphere> spheres_;
-  std::vector<Quad> quads_;
-  std::vector<Triangle> triangles_;
+  // One flat array per stored primitive type (planes: visible ones only, outside the BVH).
+  PrimitiveArrays arrays_;
   std::vector<TriangleAttributes> triangle_attributes_;  // empty unless a mesh has normals/uvs
-  std::vector<Plane> planes_;                            // visible planes only, outside the BVH
-  std::vector<Disk> disks_;
-  std::vector<Cylinder> cylinders_;
-  std::vector<Cone> cones_;
-  std::vector<Torus> tori_;
-  std::vector<SdfBox> sdf_boxes_;
-  std::vector<SdfTorus> sdf_tori_;
-  std::vector<SdfCapsule> sdf_capsules_;
-  std::vector<Instance<Sphere>> sphere_instances_;
-  std::vector<Instance<Disk>> disk_instances_;
-  std::vector<Instance<Cylinder>> cylinder_instances_;
-  std::vector<Instance<Cone>> cone_instances_;
-  std::vector<Instance<Torus>> torus_instances_;
-  std::vector<Instance<SdfBox>> sdf_box_instances_;
-  std::vector<Instance<SdfTorus>> sdf_torus_instances_;
-  std::vector<Instance<SdfCapsule>> sdf_capsule_instances_;
   // Patches and trimmed faces hold plain pointers into these pools, bound once every shape
   // is built (the scene lives on the heap and never moves afterwards).
   SplinePatchPool patch_pool_;
   TrimPool trim_pool_;
-  std::vector<SplinePatch> patches_;
-  std::vector<Instance<Trimmed<Plane>>> trimmed_planes_;
-  std::vector<Instance<Trimmed<Disk>>> trimmed_disks_;
-  std::vector<Instance<Trimmed<Quad>>> trimmed_quads_;
-  std::vector<Instance<Trimmed<Sphere>>> trimmed_spheres_;
-  std::vector<Instance<Trimmed<Cylinder>>> trimmed_cylinders_;
-  std::vector<Instance<Trimmed<Cone>>> trimmed_cones_;
-  std::vector<Instance<Trimmed<Torus>>> trimmed_tori_;
-  std::vector<Instance<Trimmed<SplinePatch>>> trimmed_patches_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
   Bvh bvh_;                       // every visible bounded shape but triangles
