@@ -73,12 +73,32 @@ v1::Job Client::get(const std::string& job_id) {
   return job;
 }
 
-std::vector<v1::Job> Client::list() {
+v1::ListJobsResponse Client::list_page(const v1::ListJobsRequest& request) {
   grpc::ClientContext context;
   set_deadline(context, options_.unary_deadline);
   v1::ListJobsResponse response;
-  check(stub_->ListJobs(&context, v1::ListJobsRequest(), &response));
-  return {response.jobs().begin(), response.jobs().end()};
+  check(stub_->ListJobs(&context, request, &response));
+  return response;
+}
+
+std::vector<v1::Job> Client::list() {
+  std::vector<v1::Job> jobs;
+  v1::ListJobsRequest request;
+  for (;;) {
+    const v1::ListJobsResponse page = list_page(request);
+    jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());
+    if (page.next_page_token().empty()) return jobs;
+    request.set_page_token(page.next_page_token());
+  }
+}
+
+void Client::remove(const std::string& job_id) {
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  v1::DeleteJobRequest request;
+  request.set_job_id(job_id);
+  v1::DeleteJobResponse response;
+  check(stub_->DeleteJob(&context, request, &response));
 }
 
 v1::Job Client::cancel(const std::string& job_id) {

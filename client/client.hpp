@@ -15,7 +15,7 @@ namespace tessera {
 struct ClientOptions {
   // A gRPC target: "host:port", "dns:///host:port", "unix:/path".
   std::string target = "127.0.0.1:50051";
-  // Get, list and cancel answer from memory on the server; a stuck call means a stuck server.
+  // Get, list, cancel and delete are quick on the server; a stuck call means a stuck server.
   std::chrono::milliseconds unary_deadline{10'000};
   // Submit carries the whole scene, meshes inline, so it may take a while to send.
   std::chrono::milliseconds submit_deadline{120'000};
@@ -43,7 +43,10 @@ class Client {
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
 
   v1::Job get(const std::string& job_id);
-  std::vector<v1::Job> list();  // newest first
+  std::vector<v1::Job> list();  // every job, newest first, page after page
+  v1::ListJobsResponse list_page(const v1::ListJobsRequest& request);
+  // Deletes a finished job (DeleteJob).
+  void remove(const std::string& job_id);
   v1::Job cancel(const std::string& job_id);
 
   const std::string& target() const { return options_.target; }
