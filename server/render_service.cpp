@@ -22,7 +22,7 @@ grpc::Status guarded(const char* method, Fn&& fn) {
   try {
     return fn();
   } catch (const std::exception& e) {
-    spdlog::error("{} failed: {}", method, e.what());
+    spdlog::error("{} failed: {}", method, escape_client_text(e.what(), 1024));
     return grpc::Status(grpc::StatusCode::INTERNAL, std::string(method) + ": " + e.what());
   } catch (...) {
     spdlog::error("{} failed with an unknown exception", method);
@@ -102,7 +102,7 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   SceneConversion conversion = scene_from_proto(request.scene(), request.settings(), limits_);
   if (!conversion.ok()) {
     const std::string message = describe_issues(conversion.issues);
-    spdlog::info("rejected job '{}': {}", logged_name, message);
+    spdlog::info("rejected job '{}': {}", logged_name, escape_client_text(message, 1024));
     return invalid(message);
   }
   const RenderSettings settings = conversion.scene->render;
@@ -171,7 +171,9 @@ grpc::Status RenderServiceImpl::stream(
     const TileUpdate update = job->wait_for_tiles(sent, poll_interval_);
     while (sent < update.tiles_done) {
       const std::vector<StoredTile> tiles = job->tiles_after(sent, kTilesPerRead);
-      if (tiles.empty()) break;
+      if (tiles.empty())  // deleted (DeleteJob or retention) while this stream read it
+        return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                            "job " + job->id() + " was deleted while its tiles were streamed");
       const JobRecord record = job->record();
       for (const StoredTile& tile : tiles) {
         message.Clear();
