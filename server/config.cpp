@@ -43,6 +43,14 @@ std::chrono::milliseconds read_duration(const std::string& file, const YAML::Nod
   return *duration;
 }
 
+std::size_t read_count(const std::string& file, const YAML::Node& node, const std::string& key) {
+  long long count = 0;
+  if (!node.IsScalar() || !YAML::convert<long long>::decode(node, count) || count < 0)
+    throw ConfigError(located(file, node, key) + ": must be a whole number, 0 for no limit, got " +
+                      scalar_text(node));
+  return static_cast<std::size_t>(count);
+}
+
 }  // namespace
 
 std::optional<std::chrono::milliseconds> parse_duration(const std::string& text) {
@@ -114,7 +122,7 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
   if (!root.IsMap())
     throw ConfigError(display_name +
                       ": must be a YAML map of settings (listen, threads, data, log_level, "
-                      "shutdown_grace, job_ttl, max_jobs)");
+                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter)");
 
   for (const auto& entry : root) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
@@ -147,11 +155,9 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       config.job_ttl =
           std::chrono::duration_cast<std::chrono::seconds>(read_duration(display_name, value, key));
     } else if (key == "max_jobs") {
-      long long max_jobs = 0;
-      if (!value.IsScalar() || !YAML::convert<long long>::decode(value, max_jobs) || max_jobs < 0)
-        throw ConfigError(located(display_name, value, key) +
-                          ": must be a whole number, 0 for no limit, got " + scalar_text(value));
-      config.max_jobs = static_cast<std::size_t>(max_jobs);
+      config.max_jobs = read_count(display_name, value, key);
+    } else if (key == "max_jobs_per_submitter") {
+      config.max_jobs_per_submitter = read_count(display_name, value, key);
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

@@ -43,6 +43,9 @@ struct DaemonConfig {
   // (0: no limit). Unfinished jobs are never deleted.
   std::chrono::seconds job_ttl{7 * 24 * 3600};
   std::size_t max_jobs = 10000;
+  // Queued and running jobs one submitter may have; more are refused with
+  // RESOURCE_EXHAUSTED (0: no limit).
+  std::size_t max_jobs_per_submitter = 1000;
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -61,9 +64,10 @@ std::optional<std::chrono::milliseconds> parse_duration(const std::string& text)
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl and max_jobs from
-// a YAML file on top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d.
-// Unknown keys are reported in `warnings`; bad values throw ConfigError naming file and key.
+// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs and
+// max_jobs_per_submitter from a YAML file on top of `base`. Durations are a number with a unit:
+// 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad values throw ConfigError
+// naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

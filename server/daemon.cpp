@@ -171,7 +171,8 @@ int Daemon::start() {
     d.request_retention();
   };
   d.scheduler = std::make_unique<Scheduler>(std::move(options));
-  d.service = std::make_unique<RenderServiceImpl>(*d.jobs, *d.scheduler, d.config.limits);
+  d.service = std::make_unique<RenderServiceImpl>(*d.jobs, *d.scheduler, d.config.limits,
+                                                  d.config.max_jobs_per_submitter);
 
   // Jobs a previous run left queued or running carry on where they stopped.
   const std::vector<JobRecord> unfinished = d.store->unfinished_jobs();

@@ -47,6 +47,7 @@ JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
   JobInfo info;
   info.id = r.id;
   info.name = r.name;
+  info.submitter = r.submitter;
   info.priority = r.priority;
   info.state = r.state;
   info.settings = r.settings;
@@ -71,6 +72,7 @@ Job::Job(JobStore& store, JobRecord record)
     : store_(store),
       id_(record.id),
       name_(record.name),
+      submitter_(record.submitter),
       priority_(record.priority),
       sequence_(record.sequence),
       settings_(record.settings),

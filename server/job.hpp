@@ -26,6 +26,7 @@ struct JobProgress {
 struct JobInfo {
   std::string id;
   std::string name;
+  std::string submitter;
   int priority = 0;
   JobState state = JobState::kQueued;
   RenderSettings settings;  // defaults filled in
@@ -67,6 +68,7 @@ class Job {
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
+  const std::string& submitter() const { return submitter_; }
   int priority() const { return priority_; }
   std::int64_t sequence() const { return sequence_; }
   const RenderSettings& settings() const { return settings_; }
@@ -112,6 +114,7 @@ class Job {
   JobStore& store_;
   const std::string id_;
   const std::string name_;
+  const std::string submitter_;
   const int priority_;
   const std::int64_t sequence_;
   const RenderSettings settings_;

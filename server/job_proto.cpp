@@ -51,6 +51,7 @@ void job_progress_to_proto(const JobProgress& progress, v1::JobProgress& out) {
 void job_info_to_proto(const JobInfo& info, v1::Job& out) {
   out.set_id(info.id);
   out.set_name(info.name);
+  out.set_submitter(info.submitter);
   out.set_priority(info.priority);
   out.set_state(job_state_to_proto(info.state));
   *out.mutable_settings() = settings_to_proto(info.settings);

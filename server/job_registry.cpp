@@ -2,10 +2,19 @@
 
 namespace tessera::server {
 
-std::shared_ptr<Job> JobRegistry::create(const JobRecord& record, const SceneSource& scene) {
+std::shared_ptr<Job> JobRegistry::create(const JobRecord& record, const SceneSource& scene,
+                                         std::size_t max_unfinished_per_submitter) {
   // Under the lock, so find() never sees a job in the store that is not yet live here and
-  // hands out a second, unshared object for it.
+  // hands out a second, unshared object for it, and two submissions cannot both take the
+  // last place under the cap.
   std::lock_guard lock(mutex_);
+  if (max_unfinished_per_submitter > 0) {
+    const std::size_t unfinished = store_.unfinished_count(record.submitter);
+    if (unfinished >= max_unfinished_per_submitter)
+      throw SubmitterQuotaExceeded("submitter already has " + std::to_string(unfinished) +
+                                   " queued or running jobs, the most this daemon accepts "
+                                   "(max_jobs_per_submitter)");
+  }
   auto job = std::make_shared<Job>(store_, store_.create_job(record, scene));
   live_.emplace(job->id(), job);
   return job;

@@ -1,6 +1,7 @@
 #pragma once
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -9,6 +10,11 @@
 #include "server/job_store.hpp"
 
 namespace tessera::server {
+
+class SubmitterQuotaExceeded : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // The daemon's jobs: the store holds them all; this keeps a live Job object for each
 // unfinished one (the scheduler and streams share it), so memory grows with the work in
@@ -19,8 +25,11 @@ class JobRegistry {
 
   JobStore& store() { return store_; }
 
-  // Stores a new job with its scene and returns its live object. Throws DuplicateJobId.
-  std::shared_ptr<Job> create(const JobRecord& record, const SceneSource& scene);
+  // Stores a new job with its scene and returns its live object. Throws DuplicateJobId,
+  // and SubmitterQuotaExceeded when the job's submitter already has
+  // `max_unfinished_per_submitter` queued or running jobs (0: no limit).
+  std::shared_ptr<Job> create(const JobRecord& record, const SceneSource& scene,
+                              std::size_t max_unfinished_per_submitter = 0);
   // A job loaded from the store (resumed after a restart).
   std::shared_ptr<Job> adopt(const JobRecord& record);
   // The live job with `id`, or a snapshot of a finished one from the store; null if unknown.

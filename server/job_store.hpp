@@ -22,6 +22,7 @@ inline bool is_finished(JobState state) {
 struct JobRecord {
   std::string id;
   std::string name;
+  std::string submitter;  // who submitted it: fair scheduling and per-submitter caps
   int priority = 0;
   JobState state = JobState::kQueued;
   RenderSettings settings;  // defaults filled in
@@ -73,6 +74,7 @@ struct JobQuery {
   std::size_t limit = 100;
   std::optional<std::int64_t> before_sequence;  // only jobs submitted before this one
   std::optional<JobState> state;
+  std::optional<std::string> submitter;
 };
 
 // What retention keeps: finished jobs are deleted once finished longer than `ttl_ms` ago
@@ -109,6 +111,8 @@ class JobStore {
   // Queued and running jobs, oldest first: what a starting daemon resumes.
   virtual std::vector<JobRecord> unfinished_jobs() const = 0;
   virtual std::optional<SceneSource> scene(std::string_view id) const = 0;
+  // Queued and running jobs of one submitter.
+  virtual std::size_t unfinished_count(std::string_view submitter) const = 0;
 
   // State transitions. Each applies only to an unfinished job and returns the record after
   // it, or nothing when the job is finished or unknown.

@@ -55,11 +55,26 @@ grpc::Status invalid(std::string message) {
   return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::move(message));
 }
 
+// The host part of a gRPC peer ("ipv4:10.0.0.7:51234" -> "ipv4:10.0.0.7"): a client that
+// names no submitter is known by its machine, not by its connection.
+std::string peer_host(const std::string& peer) {
+  if (peer.rfind("ipv4:", 0) == 0 || peer.rfind("ipv6:", 0) == 0) {
+    const auto colon = peer.rfind(':');
+    if (colon > 5) return peer.substr(0, colon);
+  }
+  return peer;
+}
+
 }  // namespace
 
 RenderServiceImpl::RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
+                                     std::size_t max_jobs_per_submitter,
                                      std::chrono::milliseconds poll_interval)
-    : jobs_(jobs), scheduler_(scheduler), limits_(limits), poll_interval_(poll_interval) {}
+    : jobs_(jobs),
+      scheduler_(scheduler),
+      limits_(limits),
+      max_jobs_per_submitter_(max_jobs_per_submitter),
+      poll_interval_(poll_interval) {}
 
 std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id,
                                                  grpc::Status& status) const {
@@ -98,6 +113,9 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   if (request.name().size() > kMaxJobNameLength)
     return invalid("name: must be at most " + std::to_string(kMaxJobNameLength) + " bytes, got " +
                    std::to_string(request.name().size()));
+  if (request.submitter().size() > kMaxSubmitterLength)
+    return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
+                   " bytes, got " + std::to_string(request.submitter().size()));
   const std::string logged_name = escape_client_text(request.name());
   SceneConversion conversion = scene_from_proto(request.scene(), request.settings(), limits_);
   if (!conversion.ok()) {
@@ -120,6 +138,7 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
 
   JobRecord record;
   record.name = request.name();
+  record.submitter = request.submitter().empty() ? peer_host(context.peer()) : request.submitter();
   record.priority = request.priority();
   record.settings = settings;
   record.tiles_total = static_cast<std::uint32_t>(tiles);
@@ -131,9 +150,14 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   for (int attempt = 0; !job; ++attempt) {
     record.id = ids_.next();
     try {
-      job = jobs_.create(record, source);
+      job = jobs_.create(record, source, max_jobs_per_submitter_);
     } catch (const DuplicateJobId&) {
       if (attempt == 3) throw;  // ids from an earlier run collided: try fresh ones
+    } catch (const SubmitterQuotaExceeded& e) {
+      spdlog::info("refused job '{}' of '{}': {}", logged_name,
+                   escape_client_text(record.submitter), e.what());
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          "submitter '" + escape_client_text(record.submitter) + "': " + e.what());
     }
   }
   // The response describes the job as submitted (QUEUED), before a worker can pick it up.
@@ -142,9 +166,10 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
     // Stored, so not lost: the next start of the daemon runs it.
     spdlog::info("job {} stored while the daemon stops; it runs after a restart", job->id());
   // The feature summary (with light count) is logged once the scene is prepared.
-  spdlog::info("job {} '{}' submitted: priority {}, {}x{}, {} spp, depth {}, {} tiles", job->id(),
-               logged_name, job->priority(), settings.width, settings.height,
-               settings.samples_per_pixel, settings.max_depth, tiles);
+  spdlog::info("job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp, depth {}, {} tiles",
+               job->id(), logged_name, escape_client_text(record.submitter), job->priority(),
+               settings.width, settings.height, settings.samples_per_pixel, settings.max_depth,
+               tiles);
   return grpc::Status::OK;
 }
 
@@ -239,6 +264,7 @@ grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
       return invalid("page_token: not a token this server issued");
     query.before_sequence = sequence;
   }
+  if (!request.submitter().empty()) query.submitter = request.submitter();
   if (request.state() != v1::JOB_STATE_UNSPECIFIED) {
     query.state = job_state_from_proto(request.state());
     if (!query.state) return invalid("state: unknown job state " + std::to_string(request.state()));

@@ -12,6 +12,7 @@ namespace tessera::server {
 // Longest job id a request may name; ids this daemon makes are 16 bytes.
 inline constexpr std::size_t kMaxJobIdLength = 64;
 inline constexpr std::size_t kMaxJobNameLength = 256;
+inline constexpr std::size_t kMaxSubmitterLength = 128;
 inline constexpr std::uint32_t kDefaultPageSize = 100;
 inline constexpr std::uint32_t kMaxPageSize = 1000;
 
@@ -24,7 +25,9 @@ inline constexpr std::uint32_t kMaxPageSize = 1000;
 // INVALID_ARGUMENT (the plain form lets gRPC answer INTERNAL with an empty message).
 class RenderServiceImpl final : public v1::RenderService::StreamedService {
  public:
+  // `max_jobs_per_submitter`: queued and running jobs one submitter may have (0: no limit).
   RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
+                    std::size_t max_jobs_per_submitter = 0,
                     std::chrono::milliseconds poll_interval = std::chrono::milliseconds(100));
 
   grpc::Status StreamedSubmitJob(
@@ -64,6 +67,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   JobRegistry& jobs_;
   Scheduler& scheduler_;
   SceneLimits limits_;
+  std::size_t max_jobs_per_submitter_;
   std::chrono::milliseconds poll_interval_;
   JobIdGenerator ids_;
   std::atomic<bool> accepting_{true};

@@ -147,28 +147,63 @@ void Scheduler::prune_locked() {
   });
   if (removed == queue_.end()) return;
   queue_.erase(removed, queue_.end());
+  // Submitters with nothing queued start afresh.
+  std::erase_if(last_served_, [&](const auto& served) {
+    return std::none_of(queue_.begin(), queue_.end(),
+                        [&](const auto& entry) { return entry->job->submitter() == served.first; });
+  });
   if (queue_.empty()) idle_.notify_all();
 }
+
+namespace {
+
+template <typename Entry>
+bool has_work(const Entry& entry) {
+  if (entry.job->finished()) return false;  // tasks still in flight; nothing new to hand out
+  if (!entry.prepared) return !entry.preparing;
+  return entry.next_tile < entry.tiles.size();  // else every tile is handed out
+}
+
+}  // namespace
 
 bool Scheduler::take_task_locked(Task& task) {
   prune_locked();
   if (stopping_) return false;
+  // queue_ is ordered by priority, then submission: the first entry with work sets the
+  // priority, and the least recently served submitter at that priority gets the task.
+  std::shared_ptr<Entry> chosen;
+  std::uint64_t chosen_served = 0;
   for (const auto& entry : queue_) {
-    if (entry->job->finished()) continue;  // tasks still in flight; nothing new to hand out
-    if (!entry->prepared) {
-      if (entry->preparing) continue;  // another worker is building it
-      entry->preparing = true;
-      task = Task{entry, true, {}};
-    } else if (entry->next_tile < entry->tiles.size()) {
-      task = Task{entry, false, entry->tiles[entry->next_tile++]};
-    } else {
-      continue;  // every tile handed out: lower-priority jobs may use this worker
+    if (!has_work(*entry)) continue;
+    if (chosen && entry->job->priority() != chosen->job->priority()) break;
+    const auto it = last_served_.find(entry->job->submitter());
+    const std::uint64_t served = it == last_served_.end() ? 0 : it->second;
+    if (!chosen || served < chosen_served) {
+      chosen = entry;
+      chosen_served = served;
+      if (served == 0) break;  // never served: none can come before it
     }
-    ++entry->in_flight;
-    ++in_flight_;
-    return true;
   }
-  return false;
+  if (!chosen) return false;
+  if (chosen->prepared && options_.yield_every > 0 &&
+      chosen->next_tile >= options_.long_job_tiles && (served_ + 1) % options_.yield_every == 0) {
+    for (const auto& entry : queue_)
+      if (entry->job->priority() < chosen->job->priority() && has_work(*entry)) {
+        chosen = entry;
+        break;
+      }
+  }
+  if (!chosen->prepared) {
+    chosen->preparing = true;
+    task = Task{chosen, true, {}};
+  } else {
+    task = Task{chosen, false, chosen->tiles[chosen->next_tile++]};
+    ++served_;
+  }
+  last_served_[chosen->job->submitter()] = served_ + 1;
+  ++chosen->in_flight;
+  ++in_flight_;
+  return true;
 }
 
 void Scheduler::worker_loop() {

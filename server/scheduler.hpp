@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "server/job.hpp"
@@ -33,6 +34,11 @@ struct SchedulerOptions {
   LoadSceneFn load_scene;
   // Names this scheduler's tile claims in the store.
   std::string owner = "scheduler";
+  // Fairness across priorities: once a job has been handed `long_job_tiles` tiles, every
+  // `yield_every`-th tile it would get goes to the best job of a lower priority instead
+  // (0: strict priority).
+  std::uint32_t long_job_tiles = 32;
+  std::uint32_t yield_every = 8;
   // Called on the worker thread; for tests and instrumentation. Must not throw.
   std::function<void(const Job&)> on_job_started;
   // Called on the worker thread just before a claimed tile starts rendering.
@@ -45,9 +51,16 @@ struct SchedulerOptions {
 };
 
 // Runs jobs on a pool of worker threads. Each job's scene is prepared once (by whichever
-// worker picks the job up first) and shared by all its tiles; the tiles of every running
-// job are handed out in order of job priority (higher first, then submission order), so
-// a lower-priority job only gets workers that the jobs above it cannot use. Tiles the store
+// worker picks the job up first) and shared by all its tiles.
+//
+// Which tile next: the highest priority with work wins, and within it the submitter served
+// least recently (round-robin by submitter, then submission order within a submitter), so
+// one client's thousand jobs cannot starve another's one at the same priority. Priority
+// stays nearly strict but not absolute: a long job (options.long_job_tiles handed out)
+// yields every options.yield_every-th tile to the best lower-priority job, so a short
+// low-priority job advances at a known share of the workers instead of waiting for days.
+// Round-robin by submitter rather than weighted fair share: no weights to configure,
+// nothing to tune, and the share each submitter gets is obvious from the queue. Tiles the store
 // already holds (a job resumed after a restart) are not rendered again; every tile is
 // claimed in the store before it is rendered and committed to it after. A tile being
 // rendered checks its job's stop flag, so a cancel reaches it within a fraction of a
@@ -101,6 +114,10 @@ class Scheduler {
   std::vector<std::shared_ptr<Entry>> queue_;  // priority descending, then submission order
   std::uint64_t next_sequence_ = 0;
   unsigned in_flight_ = 0;  // tasks running on workers, over every entry
+  // Round-robin state: when each submitter with queued work was last served, and how many
+  // tiles have been handed out in all (for yielding).
+  std::unordered_map<std::string, std::uint64_t> last_served_;
+  std::uint64_t served_ = 0;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
 };

@@ -27,6 +27,7 @@ CREATE TABLE IF NOT EXISTS jobs (
   sequence INTEGER PRIMARY KEY AUTOINCREMENT,
   id TEXT NOT NULL UNIQUE,
   name TEXT NOT NULL,
+  submitter TEXT NOT NULL,
   priority INTEGER NOT NULL,
   state INTEGER NOT NULL,
   settings BLOB NOT NULL,
@@ -42,6 +43,7 @@ CREATE TABLE IF NOT EXISTS jobs (
 );
 CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, sequence);
 CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_key);
+CREATE INDEX IF NOT EXISTS jobs_by_submitter ON jobs(submitter, state);
 CREATE TABLE IF NOT EXISTS tiles (
   job_sequence INTEGER NOT NULL REFERENCES jobs(sequence) ON DELETE CASCADE,
   tile_index INTEGER NOT NULL,
@@ -57,7 +59,7 @@ CREATE UNIQUE INDEX IF NOT EXISTS tiles_by_ordinal ON tiles(job_sequence, ordina
 
 constexpr const char* kJobColumns =
     "sequence, id, name, priority, state, settings, tiles_total, tiles_done, rays_traced, "
-    "error, cancel_reason, submitted_ms, started_ms, finished_ms";
+    "error, cancel_reason, submitted_ms, started_ms, finished_ms, submitter";
 
 JobRecord read_job(SQLite::Statement& q) {
   JobRecord r;
@@ -82,6 +84,7 @@ JobRecord read_job(SQLite::Statement& q) {
   r.submitted_unix_ms = q.getColumn(11).getInt64();
   r.started_unix_ms = q.getColumn(12).getInt64();
   r.finished_unix_ms = q.getColumn(13).getInt64();
+  r.submitter = q.getColumn(14).getString();
   return r;
 }
 
@@ -192,7 +195,8 @@ JobRecord SqliteJobStore::create_job(const JobRecord& job, const SceneSource& sc
   const std::string settings = settings_to_proto(job.settings).SerializeAsString();
   SQLite::Statement insert(*db_,
                            "INSERT INTO jobs(id, name, priority, state, settings, scene_key, "
-                           "tiles_total, submitted_ms) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+                           "tiles_total, submitted_ms, submitter) VALUES (?, ?, ?, ?, ?, ?, ?, ?, "
+                           "?)");
   insert.bind(1, job.id);
   insert.bind(2, job.name);
   insert.bind(3, job.priority);
@@ -201,6 +205,7 @@ JobRecord SqliteJobStore::create_job(const JobRecord& job, const SceneSource& sc
   insert.bind(6, key);
   insert.bind(7, static_cast<std::int64_t>(job.tiles_total));
   insert.bind(8, job.submitted_unix_ms);
+  insert.bind(9, job.submitter);
   insert.exec();
   transaction.commit();
   return *find_locked(job.id);
@@ -222,11 +227,13 @@ std::vector<JobRecord> SqliteJobStore::list_jobs(const JobQuery& query) const {
   std::lock_guard lock(mutex_);
   std::string sql = std::string("SELECT ") + kJobColumns + " FROM jobs WHERE sequence < ?";
   if (query.state) sql += " AND state = ?";
+  if (query.submitter) sql += " AND submitter = ?";
   sql += " ORDER BY sequence DESC LIMIT ?";
   SQLite::Statement q(*db_, sql);
   int at = 1;
   q.bind(at++, query.before_sequence.value_or(std::numeric_limits<std::int64_t>::max()));
   if (query.state) q.bind(at++, static_cast<int>(*query.state));
+  if (query.submitter) q.bind(at++, *query.submitter);
   q.bind(at, static_cast<std::int64_t>(
                  std::min<std::size_t>(query.limit, std::numeric_limits<std::int64_t>::max())));
   std::vector<JobRecord> jobs;
@@ -254,6 +261,16 @@ std::optional<SceneSource> SqliteJobStore::scene(std::string_view id) const {
   const SQLite::Column blob = q.getColumn(0);
   return parse_scene_blob(std::string(static_cast<const char*>(blob.getBlob()),
                                       static_cast<std::size_t>(blob.getBytes())));
+}
+
+std::size_t SqliteJobStore::unfinished_count(std::string_view submitter) const {
+  std::lock_guard lock(mutex_);
+  SQLite::Statement q(*db_, "SELECT COUNT(*) FROM jobs WHERE submitter = ? AND state IN (?, ?)");
+  bind_text(q, 1, submitter);
+  q.bind(2, static_cast<int>(JobState::kQueued));
+  q.bind(3, static_cast<int>(JobState::kRunning));
+  q.executeStep();
+  return static_cast<std::size_t>(q.getColumn(0).getInt64());
 }
 
 std::optional<JobRecord> SqliteJobStore::mark_running(std::string_view id, std::int64_t now_ms) {

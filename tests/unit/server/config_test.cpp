@@ -136,12 +136,14 @@ TEST_F(ConfigFile, ShutdownGraceAndRetentionAreRead) {
   EXPECT_EQ(defaults.config.job_ttl, std::chrono::hours(7 * 24));
   EXPECT_EQ(defaults.config.max_jobs, 10000u);
 
-  const CommandLine cl =
-      parse({"--config", write("shutdown_grace: 1500ms\njob_ttl: 12h\nmax_jobs: 0\n")});
+  const CommandLine cl = parse({"--config", write("shutdown_grace: 1500ms\njob_ttl: 12h\nmax_jobs: "
+                                                  "0\nmax_jobs_per_submitter: 7\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.shutdown_grace, std::chrono::milliseconds(1500));
   EXPECT_EQ(cl.config.job_ttl, std::chrono::hours(12));
   EXPECT_EQ(cl.config.max_jobs, 0u);
+  EXPECT_EQ(cl.config.max_jobs_per_submitter, 7u);
+  EXPECT_EQ(defaults.config.max_jobs_per_submitter, 1000u);
   EXPECT_TRUE(cl.warnings.empty());
 }
 

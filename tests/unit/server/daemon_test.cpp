@@ -88,13 +88,14 @@ class DaemonTest : public ::testing::Test {
     return status;
   }
 
-  v1::Job submit_ok(v1::RenderSettings settings, const std::string& name = "test",
-                    int priority = 0) {
+  v1::Job submit_ok(v1::RenderSettings settings, const std::string& name = "test", int priority = 0,
+                    const std::string& submitter = "") {
     v1::SubmitJobRequest request;
     *request.mutable_scene() = tiny_scene();
     *request.mutable_settings() = settings;
     request.set_name(name);
     request.set_priority(priority);
+    request.set_submitter(submitter);
     v1::Job job;
     const grpc::Status status = submit(request, &job);
     EXPECT_TRUE(status.ok()) << status.error_message();
@@ -495,6 +496,41 @@ TEST_F(DaemonTest, RetentionDeletesTheOldestFinishedJobsOnly) {
   EXPECT_EQ(get(running.id(), &status).state(), v1::JOB_STATE_RUNNING);
   EXPECT_TRUE(status.ok());
   EXPECT_TRUE(cancel(running.id()).ok());
+}
+
+// max_jobs_per_submitter caps each submitter's unfinished jobs, not anyone else's; a
+// submitter without a name is known by its host.
+TEST_F(DaemonTest, UnfinishedJobsArePerSubmitterCapped) {
+  restart([](DaemonConfig& config) { config.max_jobs_per_submitter = 2; });
+  const v1::Job first = submit_ok(long_settings(), "a1", 0, "alice");
+  EXPECT_EQ(first.submitter(), "alice");
+  submit_ok(long_settings(), "a2", 0, "alice");
+  v1::SubmitJobRequest request;
+  *request.mutable_scene() = tiny_scene();
+  *request.mutable_settings() = tiny_settings();
+  request.set_submitter("alice");
+  grpc::Status status = submit(request);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(status.error_message().find("submitter 'alice'"), std::string::npos)
+      << status.error_message();
+  const v1::Job bobs = submit_ok(long_settings(), "b", 0, "bob");
+  const v1::Job anonymous = submit_ok(tiny_settings(), "anonymous");
+  EXPECT_EQ(anonymous.submitter(), "ipv4:127.0.0.1");
+  ASSERT_TRUE(cancel(first.id()).ok());
+  EXPECT_TRUE(submit(request).ok());  // a place freed up
+
+  grpc::ClientContext context;
+  v1::ListJobsRequest by_submitter;
+  by_submitter.set_submitter("bob");
+  v1::ListJobsResponse list;
+  ASSERT_TRUE(stub_->ListJobs(&context, by_submitter, &list).ok());
+  ASSERT_EQ(list.jobs_size(), 1);
+  EXPECT_EQ(list.jobs(0).id(), bobs.id());
+
+  request.set_submitter(std::string(129, 's'));
+  status = submit(request);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "submitter: must be at most 128 bytes, got 129");
 }
 
 TEST(Daemon, ShutdownFromAnotherThreadReleasesWait) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <future>
 #include <numeric>
 #include <set>
@@ -27,12 +28,14 @@ JobStore& test_store() {
   return store;
 }
 
-JobRecord make_record(const std::string& name, int priority, const SceneDescription& scene) {
+JobRecord make_record(const std::string& name, int priority, const SceneDescription& scene,
+                      const std::string& submitter = "") {
   static JobIdGenerator ids(1);
   const auto& r = scene.render;
   JobRecord record;
   record.id = ids.next();
   record.name = name;
+  record.submitter = submitter;
   record.priority = priority;
   record.settings = r;
   record.tiles_total =
@@ -41,10 +44,10 @@ JobRecord make_record(const std::string& name, int priority, const SceneDescript
   return record;
 }
 
-std::shared_ptr<Job> make_job(const std::string& name, int priority,
-                              const SceneDescription& scene) {
-  return std::make_shared<Job>(test_store(),
-                               test_store().create_job(make_record(name, priority, scene), {}));
+std::shared_ptr<Job> make_job(const std::string& name, int priority, const SceneDescription& scene,
+                              const std::string& submitter = "") {
+  return std::make_shared<Job>(
+      test_store(), test_store().create_job(make_record(name, priority, scene, submitter), {}));
 }
 
 // Collects every tile of a job the way StreamTiles does; returns the tile indices in the
@@ -384,6 +387,81 @@ TEST(Scheduler, StopAbandonsATileThatOutlastsTheGracePeriod) {
   EXPECT_EQ(kept.load(), 0);
   EXPECT_EQ(test_store().find_job(job->id())->state, JobState::kRunning);
   EXPECT_EQ(test_store().tile_commit_count(job->id(), 0), 0u);
+}
+
+// Records which job each rendered tile belonged to, in order (one worker: a total order).
+struct RenderOrder {
+  std::mutex mutex;
+  std::vector<std::string> names;
+  // How many tiles `name` had rendered when `other` rendered its last.
+  std::size_t count_before_last(const std::string& name, const std::string& other) {
+    std::lock_guard lock(mutex);
+    const auto last = std::find(names.rbegin(), names.rend(), other);
+    return static_cast<std::size_t>(std::count(names.begin(), last.base(), name));
+  }
+  std::function<void(const Job&, const TileRect&, bool)> recorder() {
+    return [this](const Job& job, const TileRect&, bool) {
+      std::lock_guard lock(mutex);
+      names.push_back(job.name());
+    };
+  }
+};
+
+// Same priority, two submitters: "a" queued two big jobs first, "b" a small one after. The
+// worker alternates between the submitters, so b finishes after four of a1's tiles, and
+// a2 (a's second job) has not begun.
+TEST(Scheduler, SubmittersOfOnePriorityShareTheWorkersRoundRobin) {
+  const SceneDescription big = tiny_description(32, 32, 8);    // 16 tiles
+  const SceneDescription small = tiny_description(16, 16, 8);  // 4 tiles
+  RenderOrder order;
+  SchedulerOptions options;
+  options.threads = 1;
+  options.on_tile_rendered = order.recorder();
+  Scheduler scheduler(options);
+  auto a1 = make_job("a1", 0, big, "a");
+  auto a2 = make_job("a2", 0, big, "a");
+  auto b = make_job("b", 0, small, "b");
+  scheduler.submit(a1, big);
+  scheduler.submit(a2, big);
+  scheduler.submit(b, small);
+  scheduler.start();
+  scheduler.wait_idle();
+  EXPECT_EQ(order.count_before_last("a1", "b"), 4u);
+  EXPECT_EQ(order.count_before_last("a2", "b"), 0u);
+  EXPECT_EQ(b->state(), JobState::kCompleted);
+  EXPECT_EQ(a2->state(), JobState::kCompleted);
+}
+
+// A long high-priority job yields every 8th tile once it has had 32: a short low-priority
+// job finishes long before it instead of after it.
+TEST(Scheduler, ALongHighPriorityJobYieldsAShareToLowerOnes) {
+  const SceneDescription long_scene = tiny_description(128, 128, 8);  // 256 tiles
+  const SceneDescription short_scene = tiny_description(16, 16, 8);   // 4 tiles
+  for (const std::uint32_t yield_every : {8u, 0u}) {
+    RenderOrder order;
+    SchedulerOptions options;
+    options.threads = 1;
+    options.yield_every = yield_every;
+    options.on_tile_rendered = order.recorder();
+    Scheduler scheduler(options);
+    auto high = make_job("high", 10, long_scene);
+    auto low = make_job("low", 0, short_scene);
+    scheduler.submit(high, long_scene);
+    scheduler.submit(low, short_scene);
+    scheduler.start();
+    scheduler.wait_idle();
+    EXPECT_EQ(high->state(), JobState::kCompleted);
+    EXPECT_EQ(low->state(), JobState::kCompleted);
+    const std::size_t high_before_low_done = order.count_before_last("high", "low");
+    if (yield_every == 0) {
+      EXPECT_EQ(high_before_low_done, 256u);  // strict priority: low waits for all of it
+    } else {
+      // 32 tiles of its own, then one hand-out in 8 to the low job: its preparation and
+      // its 4 tiles take 5 of them.
+      EXPECT_GE(high_before_low_done, 32u);
+      EXPECT_LE(high_before_low_done, 32u + 5 * 8);
+    }
+  }
 }
 
 TEST(Scheduler, RejectsAJobWhoseTileCountDoesNotMatchItsScene) {
