@@ -6,6 +6,7 @@
 #include <atomic>
 #include <functional>
 #include <future>
+#include <iostream>
 #include <numeric>
 #include <set>
 #include <stdexcept>
@@ -453,6 +454,8 @@ TEST(Scheduler, ALongHighPriorityJobYieldsAShareToLowerOnes) {
     EXPECT_EQ(high->state(), JobState::kCompleted);
     EXPECT_EQ(low->state(), JobState::kCompleted);
     const std::size_t high_before_low_done = order.count_before_last("high", "low");
+    std::cout << "yield_every " << yield_every << ": the 4-tile low job finished after "
+              << high_before_low_done << " of the high job's 256 tiles\n";
     if (yield_every == 0) {
       EXPECT_EQ(high_before_low_done, 256u);  // strict priority: low waits for all of it
     } else {
