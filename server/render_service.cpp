@@ -179,16 +179,21 @@ grpc::Status RenderServiceImpl::StreamedStreamTiles(
   v1::StreamTilesRequest request;
   if (!streamer->Read(&request))
     return invalid("request: not a valid tessera.v1.StreamTilesRequest message");
-  return guarded("StreamTiles", [&] { return stream(*context, request.job_id(), *streamer); });
+  return guarded("StreamTiles", [&] { return stream(*context, request, *streamer); });
 }
 
 grpc::Status RenderServiceImpl::stream(
-    grpc::ServerContext& context, const std::string& job_id,
+    grpc::ServerContext& context, const v1::StreamTilesRequest& request,
     grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(request.job_id(), status);
   if (!job) return status;
-  std::uint32_t sent = 0;
+  const std::uint32_t tiles_total = job->record().tiles_total;
+  if (request.after_tiles() > tiles_total)
+    return invalid("after_tiles: must be at most the job's " + std::to_string(tiles_total) +
+                   " tiles, got " + std::to_string(request.after_tiles()));
+  // Tiles are numbered by completion order in the store, so re-attaching is resuming there.
+  std::uint32_t sent = request.after_tiles();
   v1::Tile message;
   for (;;) {
     if (context.IsCancelled())

@@ -56,7 +56,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
  private:
   grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
                       v1::SubmitJobResponse& response);
-  grpc::Status stream(grpc::ServerContext& context, const std::string& job_id,
+  grpc::Status stream(grpc::ServerContext& context, const v1::StreamTilesRequest& request,
                       grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer);
   grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);
   grpc::Status cancel(const std::string& job_id, v1::CancelJobResponse& response);

@@ -104,11 +104,12 @@ class DaemonTest : public ::testing::Test {
 
   // Reads the whole stream; `after_first` runs once the first tile has arrived.
   StreamResult stream(const std::string& job_id, std::function<void()> after_first = {},
-                      std::chrono::milliseconds deadline = 30s) {
+                      std::chrono::milliseconds deadline = 30s, std::uint32_t after_tiles = 0) {
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + deadline);
     v1::StreamTilesRequest request;
     request.set_job_id(job_id);
+    request.set_after_tiles(after_tiles);
     auto reader = stub_->StreamTiles(&context, request);
     StreamResult result;
     v1::Tile tile;
@@ -201,6 +202,27 @@ TEST_F(DaemonTest, SubmitThenStreamEveryTileOnce) {
   EXPECT_EQ(done.progress().tiles_done(), 6u);
   EXPECT_GE(done.finished_unix_ms(), done.submitted_unix_ms());
   EXPECT_GT(done.progress().rays_per_second(), 0.0);
+}
+
+// A client that lost its stream re-attaches after the last tile it got (its
+// progress.tiles_done) and receives exactly the rest, in the same order.
+TEST_F(DaemonTest, StreamTilesReattachesAfterTheTilesAlreadyReceived) {
+  const v1::Job job = submit_ok(tiny_settings(24, 16, 8), "reattach");  // 6 tiles
+  const StreamResult all = stream(job.id());
+  ASSERT_TRUE(all.status.ok());
+  ASSERT_EQ(all.tiles.size(), 6u);
+  const StreamResult rest = stream(job.id(), {}, 30s, all.tiles[3].progress().tiles_done());
+  ASSERT_TRUE(rest.status.ok()) << rest.status.error_message();
+  ASSERT_EQ(rest.tiles.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rest.tiles[i].rect().index(), all.tiles[4 + i].rect().index());
+    EXPECT_EQ(rest.tiles[i].exr(), all.tiles[4 + i].exr());
+    EXPECT_EQ(rest.tiles[i].progress().tiles_done(), 5 + i);
+  }
+  EXPECT_TRUE(stream(job.id(), {}, 30s, 6).tiles.empty());
+  const StreamResult beyond = stream(job.id(), {}, 30s, 7);
+  EXPECT_EQ(beyond.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(beyond.status.error_message(), "after_tiles: must be at most the job's 6 tiles, got 7");
 }
 
 TEST_F(DaemonTest, AnInvalidSceneIsInvalidArgumentNamingTheField) {
