@@ -19,6 +19,9 @@ struct ClientOptions {
   std::chrono::milliseconds unary_deadline{10'000};
   // Submit carries the whole scene, meshes inline, so it may take a while to send.
   std::chrono::milliseconds submit_deadline{120'000};
+  // How long stream_tiles keeps re-attaching to a daemon that went away (restarting)
+  // since the last tile it received; 0: not at all.
+  std::chrono::milliseconds reconnect_window{60'000};
 };
 
 // A connection to one tesserad. Thread-safe: calls may run concurrently (a stream on one
@@ -37,7 +40,9 @@ class Client {
 
   using TileCallback = std::function<void(const v1::Tile&)>;
   // Calls `on_tile` for every tile of the job, on the calling thread, until the stream ends.
-  // Returns when the job completed; throws ClientError with CANCELLED when the job was
+  // When the daemon goes away (a restart), re-attaches after the tiles already received, for
+  // up to options.reconnect_window, so every tile still arrives exactly once. Returns when
+  // the job completed; throws ClientError with CANCELLED when the job was
   // cancelled, ABORTED (and the reason) when it failed, or the transport's error. If
   // `on_tile` throws, the stream is cancelled and the exception propagates.
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
@@ -56,6 +61,10 @@ class Client {
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::RenderService::Stub> stub_;
 };
+
+// Trailing metadata key of a StreamTiles that ended UNAVAILABLE because the daemon is
+// stopping with the job kept: the stream can be re-attached once it is back.
+inline constexpr const char* kJobResumesMetadataKey = "tessera-job-resumes";
 
 // A channel to `target` with message limits large enough for big tiles.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& target);

@@ -220,7 +220,9 @@ void Daemon::shutdown() {
   // Tiles in flight get the grace period to finish and be stored; the jobs themselves stay
   // queued or running in the store, for the next start to resume.
   d.scheduler->stop(d.config.shutdown_grace);
-  // Streams of unfinished jobs notice stop_accepting() within their poll interval.
+  // Streams of unfinished jobs notice stop_accepting() within their poll interval and end
+  // with UNAVAILABLE; streams of finished jobs may take longer and are cut off below.
+  d.service->wait_for_streams(kRpcShutdownGrace);
   d.server->Shutdown(std::chrono::system_clock::now() + kRpcShutdownGrace);
   d.server->Wait();
   d.server.reset();

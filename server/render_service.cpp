@@ -176,6 +176,17 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
 grpc::Status RenderServiceImpl::StreamedStreamTiles(
     grpc::ServerContext* context,
     grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>* streamer) {
+  {
+    std::lock_guard lock(streams_mutex_);
+    ++active_streams_;
+  }
+  struct StreamEnd {
+    RenderServiceImpl& service;
+    ~StreamEnd() {
+      std::lock_guard lock(service.streams_mutex_);
+      if (--service.active_streams_ == 0) service.streams_ended_.notify_all();
+    }
+  } stream_end{*this};
   v1::StreamTilesRequest request;
   if (!streamer->Read(&request))
     return invalid("request: not a valid tessera.v1.StreamTilesRequest message");
@@ -214,10 +225,14 @@ grpc::Status RenderServiceImpl::stream(
       }
     }
     if (!update.finished) {
-      if (!accepting_)
+      if (!accepting_) {
+        // Tells a client that re-attaching later is worth it (tessera_client's
+        // kJobResumesMetadataKey; the server does not depend on the client library).
+        context.AddTrailingMetadata("tessera-job-resumes", "1");
         return grpc::Status(grpc::StatusCode::UNAVAILABLE,
                             "the daemon is shutting down; job " + job->id() +
                                 " is kept and resumes when it restarts");
+      }
       continue;
     }
     // A finished job gains no tiles, so every one has been sent.
@@ -235,6 +250,11 @@ grpc::Status RenderServiceImpl::stream(
     }
     return grpc::Status(grpc::StatusCode::INTERNAL, "job ended in an unexpected state");
   }
+}
+
+bool RenderServiceImpl::wait_for_streams(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(streams_mutex_);
+  return streams_ended_.wait_for(lock, timeout, [&] { return active_streams_ == 0; });
 }
 
 grpc::Status RenderServiceImpl::StreamedGetJob(

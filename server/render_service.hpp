@@ -1,6 +1,8 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 
 #include "server/job_id.hpp"
 #include "server/job_registry.hpp"
@@ -53,6 +55,11 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   // UNAVAILABLE (their jobs resume when the daemon restarts).
   void stop_accepting() { accepting_ = false; }
 
+  // After stop_accepting(): waits up to `timeout` for every StreamTiles call to have
+  // returned, so each ends with its own status (UNAVAILABLE and the resume hint) rather
+  // than being cut off by the server's shutdown. Returns false on timeout.
+  bool wait_for_streams(std::chrono::milliseconds timeout);
+
  private:
   grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
                       v1::SubmitJobResponse& response);
@@ -71,6 +78,9 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   std::chrono::milliseconds poll_interval_;
   JobIdGenerator ids_;
   std::atomic<bool> accepting_{true};
+  std::mutex streams_mutex_;
+  std::condition_variable streams_ended_;
+  int active_streams_ = 0;
 };
 
 }  // namespace tessera::server

@@ -47,9 +47,10 @@ SceneDescription cornell(std::uint32_t size, std::uint32_t spp, std::uint32_t ti
 class TesseradProcess {
  public:
   TesseradProcess(const std::filesystem::path& data, const std::filesystem::path& log,
-                  unsigned threads = 2) {
-    std::vector<std::string> args = {TESSERAD_PATH, "--listen",  "127.0.0.1:0",          "--data",
-                                     data.string(), "--threads", std::to_string(threads)};
+                  unsigned threads = 2, const std::string& listen = "127.0.0.1:0") {
+    std::vector<std::string> args = {
+        TESSERAD_PATH,          "--listen", listen, "--data", data.string(), "--threads",
+        std::to_string(threads)};
     std::vector<char*> argv;
     for (std::string& arg : args) argv.push_back(arg.data());
     argv.push_back(nullptr);
@@ -264,6 +265,34 @@ TEST_F(DaemonProcessTest, SigtermMidJobExitsCleanlyAndARestartCompletesTheJob) {
   std::ifstream in(log());
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("resuming 1 unfinished jobs"), std::string::npos) << text;
+}
+
+// A client streaming a job while the daemon restarts (SIGTERM, then a new process on the
+// same port) re-attaches after the tiles it has and receives every tile exactly once.
+TEST_F(DaemonProcessTest, AStreamReattachesAcrossADaemonRestart) {
+  const SceneDescription scene = cornell(64, 16, 16);  // 16 tiles
+  auto daemon = std::make_unique<TesseradProcess>(data(), log());
+  const std::string address = daemon->address();
+  Client client(ClientOptions{.target = address});
+  const v1::Job job = client.submit(make_submit_request(scene, "watched", 0));
+  Streamed streamed;
+  std::string stream_error;
+  std::thread watcher([&] {
+    try {
+      streamed = stream_all(client, job);
+    } catch (const std::exception& e) {
+      stream_error = e.what();
+    }
+  });
+  wait_for_tiles(client, job.id(), 3);
+  EXPECT_EQ(daemon->terminate(), 0);
+  daemon = std::make_unique<TesseradProcess>(data(), log(), 2, address);
+  watcher.join();
+  EXPECT_EQ(stream_error, "");
+  for (std::size_t i = 0; i < streamed.times_seen.size(); ++i)
+    EXPECT_EQ(streamed.times_seen[i], 1) << "tile " << i;
+  EXPECT_TRUE(bit_equal(streamed.image, render_image(*PreparedScene::build(scene))));
+  EXPECT_EQ(daemon->terminate(), 0);
 }
 
 // One worker, busy with a single 1024x1024 tile at 65,536 spp (hours of work). After a
