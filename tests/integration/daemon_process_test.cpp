@@ -248,7 +248,11 @@ TEST_F(DaemonProcessTest, SigtermMidJobExitsCleanlyAndARestartCompletesTheJob) {
     Client client(ClientOptions{.target = daemon.address()});
     id = client.submit(make_submit_request(scene, "stopped", 0)).id();
     wait_for_tiles(client, id, 3);
+    const auto signalled = std::chrono::steady_clock::now();
     EXPECT_EQ(daemon.terminate(), 0);
+    std::cout << "SIGTERM mid-job to exit: "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count()
+              << " s\n";
   }
   const server::JobRecord record = stored(id);
   EXPECT_FALSE(server::is_finished(record.state)) << server::to_string(record.state);
