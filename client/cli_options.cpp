@@ -162,6 +162,11 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   cancel->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
   add_server_option(*cancel, cmd.server);
 
+  CLI::App* remove =
+      app.add_subcommand("delete", "delete a finished job and its tiles from the server");
+  remove->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*remove, cmd.server);
+
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {
     const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
@@ -169,7 +174,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
                        [&](const CLI::App* c) { return c->get_name() == word; });
   };
   const char* const expected =
-      "expected render, submit, watch, list, status or cancel; see 'tessera --help'";
+      "expected render, submit, watch, list, status, cancel or delete; see 'tessera --help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
@@ -207,8 +212,10 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     cmd.kind = CommandKind::kList;
   } else if (status->parsed()) {
     cmd.kind = CommandKind::kStatus;
-  } else {
+  } else if (cancel->parsed()) {
     cmd.kind = CommandKind::kCancel;
+  } else {
+    cmd.kind = CommandKind::kDelete;
   }
   return {cmd, kExitOk};
 }

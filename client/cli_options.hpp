@@ -8,7 +8,7 @@ namespace tessera {
 
 inline constexpr const char* kDefaultServer = "127.0.0.1:50051";
 
-enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel };
+enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel, kDelete };
 
 // Values given on the command line replace the scene file's `render` section.
 struct RenderOverrides {
@@ -25,7 +25,7 @@ struct CliCommand {
   CommandKind kind = CommandKind::kList;
   std::string server = kDefaultServer;
   std::string scene_path;   // render, submit
-  std::string job_id;       // watch, status, cancel
+  std::string job_id;       // watch, status, cancel, delete
   std::string output_exr;   // render, watch
   std::string preview_png;  // render, watch; empty: none
   RenderOverrides overrides;

@@ -4,6 +4,9 @@
 #include <grpcpp/security/credentials.h>
 #include <grpcpp/support/channel_arguments.h>
 
+#include <algorithm>
+#include <thread>
+
 namespace tessera {
 
 namespace {
@@ -47,20 +50,56 @@ v1::Job Client::submit(const v1::SubmitJobRequest& request) {
 }
 
 void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile) {
-  // No deadline: a render may legitimately run for hours.
-  grpc::ClientContext context;
-  v1::StreamTilesRequest request;
-  request.set_job_id(job_id);
-  std::unique_ptr<grpc::ClientReader<v1::Tile>> reader = stub_->StreamTiles(&context, request);
-  v1::Tile tile;
-  try {
-    while (reader->Read(&tile)) on_tile(tile);
-  } catch (...) {
-    context.TryCancel();
-    reader->Finish();
-    throw;
+  // Tiles come in the job's completion order and each carries its place in it
+  // (progress.tiles_done), so a broken stream re-attaches after the last tile received.
+  std::uint32_t received = 0;
+  auto give_up_at = std::chrono::steady_clock::now() + options_.reconnect_window;
+  auto pause = std::chrono::milliseconds(200);
+  bool daemon_stopping = false;  // a daemon said it stops, and none has streamed since
+  for (;;) {
+    // No deadline: a render may legitimately run for hours.
+    grpc::ClientContext context;
+    v1::StreamTilesRequest request;
+    request.set_job_id(job_id);
+    request.set_after_tiles(received);
+    std::unique_ptr<grpc::ClientReader<v1::Tile>> reader = stub_->StreamTiles(&context, request);
+    v1::Tile tile;
+    try {
+      while (reader->Read(&tile)) {
+        on_tile(tile);
+        received = tile.progress().tiles_done();
+        daemon_stopping = false;
+        give_up_at = std::chrono::steady_clock::now() + options_.reconnect_window;
+        pause = std::chrono::milliseconds(200);
+      }
+    } catch (...) {
+      context.TryCancel();
+      reader->Finish();
+      throw;
+    }
+    const grpc::Status status = reader->Finish();
+    // Worth waiting for: a daemon that said it stops and keeps the job, or one that was
+    // streaming this job until the connection broke. A call made while a daemon shuts down
+    // may also be cut off with CANCELLED (not the job's own, which a re-attached stream
+    // would report again). A daemon never reached, or any other end, is reported at once.
+    const auto& trailers = context.GetServerTrailingMetadata();
+    const bool job_kept = trailers.find(kJobResumesMetadataKey) != trailers.end();
+    const bool retry = std::chrono::steady_clock::now() < give_up_at &&
+                       ((status.error_code() == grpc::StatusCode::UNAVAILABLE &&
+                         (job_kept || received > 0 || daemon_stopping)) ||
+                        (status.error_code() == grpc::StatusCode::CANCELLED && daemon_stopping));
+    if (!retry) return check(status);
+    // Once told, the daemon is taken to be restarting until a stream gets through; a
+    // CANCELLED is retried once, so a job really cancelled meanwhile is reported next time.
+    if (job_kept)
+      daemon_stopping = true;
+    else if (status.error_code() == grpc::StatusCode::CANCELLED)
+      daemon_stopping = false;
+    // A stopping daemon takes a moment to go; asking again at once only finds it going.
+    if (job_kept) pause = std::max(pause, std::chrono::milliseconds(1000));
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::milliseconds(2000));
   }
-  check(reader->Finish());
 }
 
 v1::Job Client::get(const std::string& job_id) {
@@ -73,12 +112,32 @@ v1::Job Client::get(const std::string& job_id) {
   return job;
 }
 
-std::vector<v1::Job> Client::list() {
+v1::ListJobsResponse Client::list_page(const v1::ListJobsRequest& request) {
   grpc::ClientContext context;
   set_deadline(context, options_.unary_deadline);
   v1::ListJobsResponse response;
-  check(stub_->ListJobs(&context, v1::ListJobsRequest(), &response));
-  return {response.jobs().begin(), response.jobs().end()};
+  check(stub_->ListJobs(&context, request, &response));
+  return response;
+}
+
+std::vector<v1::Job> Client::list() {
+  std::vector<v1::Job> jobs;
+  v1::ListJobsRequest request;
+  for (;;) {
+    const v1::ListJobsResponse page = list_page(request);
+    jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());
+    if (page.next_page_token().empty()) return jobs;
+    request.set_page_token(page.next_page_token());
+  }
+}
+
+void Client::remove(const std::string& job_id) {
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  v1::DeleteJobRequest request;
+  request.set_job_id(job_id);
+  v1::DeleteJobResponse response;
+  check(stub_->DeleteJob(&context, request, &response));
 }
 
 v1::Job Client::cancel(const std::string& job_id) {

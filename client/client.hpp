@@ -15,10 +15,13 @@ namespace tessera {
 struct ClientOptions {
   // A gRPC target: "host:port", "dns:///host:port", "unix:/path".
   std::string target = "127.0.0.1:50051";
-  // Get, list and cancel answer from memory on the server; a stuck call means a stuck server.
+  // Get, list, cancel and delete are quick on the server; a stuck call means a stuck server.
   std::chrono::milliseconds unary_deadline{10'000};
   // Submit carries the whole scene, meshes inline, so it may take a while to send.
   std::chrono::milliseconds submit_deadline{120'000};
+  // How long stream_tiles keeps re-attaching to a daemon that went away (restarting)
+  // since the last tile it received; 0: not at all.
+  std::chrono::milliseconds reconnect_window{60'000};
 };
 
 // A connection to one tesserad. Thread-safe: calls may run concurrently (a stream on one
@@ -37,13 +40,18 @@ class Client {
 
   using TileCallback = std::function<void(const v1::Tile&)>;
   // Calls `on_tile` for every tile of the job, on the calling thread, until the stream ends.
-  // Returns when the job completed; throws ClientError with CANCELLED when the job was
+  // When the daemon goes away (a restart), re-attaches after the tiles already received, for
+  // up to options.reconnect_window, so every tile still arrives exactly once. Returns when
+  // the job completed; throws ClientError with CANCELLED when the job was
   // cancelled, ABORTED (and the reason) when it failed, or the transport's error. If
   // `on_tile` throws, the stream is cancelled and the exception propagates.
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
 
   v1::Job get(const std::string& job_id);
-  std::vector<v1::Job> list();  // newest first
+  std::vector<v1::Job> list();  // every job, newest first, page after page
+  v1::ListJobsResponse list_page(const v1::ListJobsRequest& request);
+  // Deletes a finished job (DeleteJob).
+  void remove(const std::string& job_id);
   v1::Job cancel(const std::string& job_id);
 
   const std::string& target() const { return options_.target; }
@@ -53,6 +61,10 @@ class Client {
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::RenderService::Stub> stub_;
 };
+
+// Trailing metadata key of a StreamTiles that ended UNAVAILABLE because the daemon is
+// stopping with the job kept: the stream can be re-attached once it is back.
+inline constexpr const char* kJobResumesMetadataKey = "tessera-job-resumes";
 
 // A channel to `target` with message limits large enough for big tiles.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& target);

@@ -523,6 +523,17 @@ int cancel(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+int remove(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  try {
+    client.remove(cmd.job_id);
+    io.out << "job " << cmd.job_id << ": deleted\n" << std::flush;
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot delete job " + cmd.job_id)};
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_command(const CliCommand& command, const CommandOutput& io) {
@@ -540,6 +551,8 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return status(command, io);
       case CommandKind::kCancel:
         return cancel(command, io);
+      case CommandKind::kDelete:
+        return remove(command, io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libopenimageio-dev openimageio-tools
-  libyaml-cpp-dev libspdlog-dev libglm-dev libsqlite3-dev
+  libyaml-cpp-dev libspdlog-dev libglm-dev libsqlite3-dev libsqlitecpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev libcli11-dev nlohmann-json3-dev libtbb-dev
 )

@@ -34,7 +34,48 @@ std::string read_string(const std::string& file, const YAML::Node& node, const s
   return node.Scalar();
 }
 
+std::chrono::milliseconds read_duration(const std::string& file, const YAML::Node& node,
+                                        const std::string& key) {
+  const auto duration = node.IsScalar() ? parse_duration(node.Scalar()) : std::nullopt;
+  if (!duration)
+    throw ConfigError(located(file, node, key) +
+                      ": must be a duration such as 30s, 15m, 12h or 7d, got " + scalar_text(node));
+  return *duration;
+}
+
+std::size_t read_count(const std::string& file, const YAML::Node& node, const std::string& key) {
+  long long count = 0;
+  if (!node.IsScalar() || !YAML::convert<long long>::decode(node, count) || count < 0)
+    throw ConfigError(located(file, node, key) + ": must be a whole number, 0 for no limit, got " +
+                      scalar_text(node));
+  return static_cast<std::size_t>(count);
+}
+
 }  // namespace
+
+std::optional<std::chrono::milliseconds> parse_duration(const std::string& text) {
+  std::size_t digits = 0;
+  while (digits < text.size() && text[digits] >= '0' && text[digits] <= '9') ++digits;
+  if (digits == 0 || digits > 12) return std::nullopt;
+  const long long value = std::stoll(text.substr(0, digits));
+  const std::string unit = text.substr(digits);
+  long long unit_ms = 0;
+  if (unit.empty() || unit == "s")
+    unit_ms = 1000;
+  else if (unit == "ms")
+    unit_ms = 1;
+  else if (unit == "m")
+    unit_ms = 60'000;
+  else if (unit == "h")
+    unit_ms = 3'600'000;
+  else if (unit == "d")
+    unit_ms = 86'400'000;
+  else
+    return std::nullopt;
+  constexpr long long kHundredYearsMs = 100LL * 365 * 86'400'000;
+  if (value > kHundredYearsMs / unit_ms) return std::nullopt;
+  return std::chrono::milliseconds(value * unit_ms);
+}
 
 unsigned default_thread_count() {
   const unsigned n = std::thread::hardware_concurrency();
@@ -80,7 +121,8 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
   if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
   if (!root.IsMap())
     throw ConfigError(display_name +
-                      ": must be a YAML map of settings (listen, threads, data, log_level)");
+                      ": must be a YAML map of settings (listen, threads, data, log_level, "
+                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter)");
 
   for (const auto& entry : root) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
@@ -107,6 +149,15 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       if (!parse_log_level(config.log_level))
         throw ConfigError(located(display_name, value, key) + ": must be one of " + kLogLevels +
                           ", got '" + config.log_level + "'");
+    } else if (key == "shutdown_grace") {
+      config.shutdown_grace = read_duration(display_name, value, key);
+    } else if (key == "job_ttl") {
+      config.job_ttl =
+          std::chrono::duration_cast<std::chrono::seconds>(read_duration(display_name, value, key));
+    } else if (key == "max_jobs") {
+      config.max_jobs = read_count(display_name, value, key);
+    } else if (key == "max_jobs_per_submitter") {
+      config.max_jobs_per_submitter = read_count(display_name, value, key);
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

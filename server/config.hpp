@@ -24,16 +24,28 @@ unsigned default_thread_count();
 struct DaemonConfig {
   std::string listen = kDefaultListen;        // HOST:PORT; port 0 picks a free one
   unsigned threads = default_thread_count();  // render worker threads
-  // Created at start if missing. Empty: none (in-process daemons in tests); tesserad
-  // defaults to ./var. Holds nothing yet; job persistence will live here.
+  // Created at start if missing; holds the job store (jobs.sqlite3 and its WAL files).
+  // Empty: the jobs live in memory only (in-process daemons in tests); tesserad defaults
+  // to ./var.
   std::filesystem::path data_dir;
   // trace, debug, info, warn, error, critical, off. Process-wide, so tesserad's main()
   // applies it; an in-process Daemon leaves the host's logging alone.
   std::string log_level = "info";
   std::size_t max_receive_message_bytes = std::size_t{256} << 20;  // large inline meshes
   SceneLimits limits;
-  // How long shutdown waits for RPCs in progress before cancelling them.
+  // How long shutdown lets tiles in flight finish (and be stored) before abandoning them;
+  // an abandoned tile stops within about a second and is rendered again after a restart.
+  // Shutdown takes at most this plus about 2 s, so a container's stop grace period must be
+  // longer.
   std::chrono::milliseconds shutdown_grace{5000};
+  // Retention of finished jobs: deleted once finished longer than job_ttl ago (0: kept
+  // however old), and the oldest finished deleted while more than max_jobs jobs are kept
+  // (0: no limit). Unfinished jobs are never deleted.
+  std::chrono::seconds job_ttl{7 * 24 * 3600};
+  std::size_t max_jobs = 10000;
+  // Queued and running jobs one submitter may have; more are refused with
+  // RESOURCE_EXHAUSTED (0: no limit).
+  std::size_t max_jobs_per_submitter = 1000;
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -45,11 +57,17 @@ class ConfigError : public std::runtime_error {
 
 std::optional<spdlog::level::level_enum> parse_log_level(const std::string& name);
 
+// "500ms", "30s", "15m", "12h", "7d"; a plain number is seconds. Nothing when malformed,
+// negative or beyond 100 years.
+std::optional<std::chrono::milliseconds> parse_duration(const std::string& text);
+
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data and log_level from a YAML file on top of `base`.
-// Unknown keys are reported in `warnings`; bad values throw ConfigError naming file and key.
+// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs and
+// max_jobs_per_submitter from a YAML file on top of `base`. Durations are a number with a unit:
+// 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad values throw ConfigError
+// naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

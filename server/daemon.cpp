@@ -12,16 +12,48 @@
 #include <system_error>
 #include <variant>
 
-#include "server/job_store.hpp"
+#include <cstdio>
+#include <random>
+#include <thread>
+
+#include "server/job_registry.hpp"
 #include "server/listen_address.hpp"
 #include "server/render_service.hpp"
+#include "convert/scene_proto.hpp"
 #include "server/scheduler.hpp"
+#include "server/sqlite_job_store.hpp"
 
 namespace tessera::server {
 
 namespace {
 constexpr const char* kServiceName = "tessera.v1.RenderService";
-constexpr const char* kShutdownReason = "daemon shutting down";
+// After the tiles' grace period, calls still open (streams) get this long to end.
+constexpr std::chrono::seconds kRpcShutdownGrace{1};
+// Retention also runs on this period, so job_ttl applies to an idle daemon too.
+constexpr std::chrono::seconds kRetentionPeriod{60};
+
+// Reads a job's scene back from the store and converts it as at submission.
+SceneDescription load_scene(JobStore& store, const Job& job, const SceneLimits& limits) {
+  const auto source = store.scene(job.id());
+  if (!source) throw std::runtime_error("the job's scene is missing from the store");
+  v1::Scene scene;
+  v1::RenderSettings settings;
+  if (!scene.ParseFromString(source->scene_proto) ||
+      !settings.ParseFromString(source->settings_proto))
+    throw std::runtime_error("the job's stored scene is unreadable");
+  SceneConversion conversion = scene_from_proto(scene, settings, limits);
+  if (!conversion.ok())
+    throw std::runtime_error("the stored scene no longer passes the checks: " +
+                             describe_issues(conversion.issues));
+  return std::move(*conversion.scene);
+}
+
+std::string random_owner() {
+  std::random_device device;
+  char text[32];
+  std::snprintf(text, sizeof text, "tesserad-%08x", device());
+  return text;
+}
 
 // A client cannot dial the wildcard address the server listens on; loopback reaches it.
 std::string connectable_host(const std::string& host) {
@@ -42,10 +74,56 @@ struct Daemon::Impl {
   int port = 0;
   std::string host;
 
-  InMemoryJobStore store;
+  std::unique_ptr<JobStore> store;
+  std::unique_ptr<JobRegistry> jobs;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<RenderServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
+
+  // Retention runs on its own thread, woken when a job finishes, so no RPC or worker
+  // waits on deletions.
+  std::thread retention_thread;
+  std::mutex retention_mutex;
+  std::condition_variable retention_cv;
+  bool retention_due = true;
+  bool retention_stop = false;
+
+  void apply_retention() {
+    RetentionPolicy policy;
+    policy.ttl_ms = std::chrono::duration_cast<std::chrono::milliseconds>(config.job_ttl).count();
+    policy.max_jobs = config.max_jobs;
+    if (policy.ttl_ms == 0 && policy.max_jobs == 0) return;
+    try {
+      const auto deleted = store->apply_retention(policy, unix_millis_now());
+      for (const std::string& id : deleted) jobs->forget(id);
+      if (!deleted.empty()) spdlog::info("retention deleted {} finished jobs", deleted.size());
+    } catch (const std::exception& e) {
+      spdlog::error("retention failed: {}", e.what());
+    }
+  }
+
+  void retention_loop() {
+    std::unique_lock lock(retention_mutex);
+    while (!retention_stop) {
+      if (retention_due) {
+        retention_due = false;
+        lock.unlock();
+        apply_retention();
+        lock.lock();
+        continue;
+      }
+      retention_cv.wait_for(lock, kRetentionPeriod);
+      retention_due = true;
+    }
+  }
+
+  void request_retention() {
+    {
+      std::lock_guard lock(retention_mutex);
+      retention_due = true;
+    }
+    retention_cv.notify_one();
+  }
 
   void set_state(State s, int bound_port, std::string bound_host) {
     {
@@ -79,10 +157,29 @@ int Daemon::start() {
                         "': " + (ec ? ec.message() : "not a directory"));
   }
 
+  d.store = std::make_unique<SqliteJobStore>(d.config.data_dir.empty()
+                                                 ? std::filesystem::path(":memory:")
+                                                 : d.config.data_dir / SqliteJobStore::kFileName);
+  d.jobs = std::make_unique<JobRegistry>(*d.store);
+
   SchedulerOptions options;
   options.threads = d.config.threads;
+  options.owner = random_owner();
+  options.load_scene = [&d](const Job& job) { return load_scene(*d.store, job, d.config.limits); };
+  options.on_job_released = [&d](const Job& job) {
+    d.jobs->forget(job.id());
+    d.request_retention();
+  };
   d.scheduler = std::make_unique<Scheduler>(std::move(options));
-  d.service = std::make_unique<RenderServiceImpl>(d.store, *d.scheduler, d.config.limits);
+  d.service = std::make_unique<RenderServiceImpl>(*d.jobs, *d.scheduler, d.config.limits,
+                                                  d.config.max_jobs_per_submitter);
+
+  // Jobs a previous run left queued or running carry on where they stopped.
+  const std::vector<JobRecord> unfinished = d.store->unfinished_jobs();
+  for (const JobRecord& record : unfinished) d.scheduler->submit(d.jobs->adopt(record));
+  if (!unfinished.empty())
+    spdlog::info("resuming {} unfinished jobs from {}", unfinished.size(),
+                 d.config.data_dir.string());
 
   // Both register process-wide hooks that ServerBuilder consults; calling them again is
   // harmless.
@@ -99,11 +196,12 @@ int Daemon::start() {
   d.server = builder.BuildAndStart();
   if (!d.server || bound_port == 0) {
     d.server.reset();
-    d.scheduler->stop(kShutdownReason);
+    d.scheduler->stop();
     throw std::runtime_error("listen: cannot listen on " + d.config.listen +
                              " (address in use, or not an address of this machine?)");
   }
   d.scheduler->start();
+  d.retention_thread = std::thread([&d] { d.retention_loop(); });
   if (auto* health = d.server->GetHealthCheckService())
     health->SetServingStatus(kServiceName, true);
   d.set_state(Impl::State::kRunning, bound_port, connectable_host(listen.host));
@@ -119,12 +217,21 @@ void Daemon::shutdown() {
   spdlog::info("tesserad shutting down");
   if (auto* health = d.server->GetHealthCheckService()) health->Shutdown();
   d.service->stop_accepting();
-  // Cancelling the jobs first ends every StreamTiles call, so the server's shutdown below
-  // rarely needs its grace period.
-  d.scheduler->stop(kShutdownReason);
-  d.server->Shutdown(std::chrono::system_clock::now() + d.config.shutdown_grace);
+  // Tiles in flight get the grace period to finish and be stored; the jobs themselves stay
+  // queued or running in the store, for the next start to resume.
+  d.scheduler->stop(d.config.shutdown_grace);
+  // Streams of unfinished jobs notice stop_accepting() within their poll interval and end
+  // with UNAVAILABLE; streams of finished jobs may take longer and are cut off below.
+  d.service->wait_for_streams(kRpcShutdownGrace);
+  d.server->Shutdown(std::chrono::system_clock::now() + kRpcShutdownGrace);
   d.server->Wait();
   d.server.reset();
+  {
+    std::lock_guard lock(d.retention_mutex);
+    d.retention_stop = true;
+  }
+  d.retention_cv.notify_all();
+  if (d.retention_thread.joinable()) d.retention_thread.join();
   d.set_state(Impl::State::kStopped, d.port, d.host);
   spdlog::info("tesserad stopped");
 }

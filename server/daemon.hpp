@@ -6,8 +6,9 @@
 
 namespace tessera::server {
 
-// The whole render daemon in one object: job store, scheduler with its worker threads
-// and the gRPC server (RenderService, the standard health service and reflection).
+// The whole render daemon in one object: job store (SQLite in the data directory, or in
+// memory without one), scheduler with its worker threads and the gRPC server
+// (RenderService, the standard health service and reflection).
 // tesserad's main() is a Daemon plus signal handling; tests run one in-process on port 0.
 class Daemon {
  public:
@@ -16,15 +17,17 @@ class Daemon {
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;
 
-  // Validates the config, creates the data directory, starts the workers and binds the
-  // listening address. Returns the bound port (the one chosen when the config says 0).
-  // Throws ConfigError for a bad config and std::runtime_error when it cannot listen.
-  // Call once.
+  // Validates the config, creates the data directory, opens the job store and queues the
+  // jobs it holds unfinished, starts the workers and binds the listening address. Returns the bound
+  // port (the one chosen when the config says 0). Throws ConfigError for a bad config and
+  // std::runtime_error when it cannot listen. Call once.
   int start();
 
-  // Stops accepting jobs, cancels queued and running ones (their streams end CANCELLED),
-  // waits up to config().shutdown_grace for calls in progress, then joins every thread.
-  // Idempotent and safe from any thread except a gRPC handler's.
+  // Stops accepting jobs, lets tiles in flight finish for up to config().shutdown_grace
+  // (then abandons the rest, which stop within about a second), ends the streams of
+  // unfinished jobs with UNAVAILABLE and joins every thread. Jobs are not cancelled: they
+  // stay queued or running in the store and resume at the next start. Idempotent and safe
+  // from any thread except a gRPC handler's.
   void shutdown();
 
   // Blocks until shutdown() has finished; returns at once if the daemon never started.

@@ -24,115 +24,162 @@ std::int64_t unix_millis_now() {
       .count();
 }
 
-Job::Job(std::string id, std::string name, int priority, RenderSettings settings,
-         std::uint32_t tiles_total, std::int64_t submitted_unix_ms)
-    : id_(std::move(id)),
-      name_(std::move(name)),
-      priority_(priority),
-      settings_(settings),
-      submitted_unix_ms_(submitted_unix_ms),
-      tiles_total_(tiles_total) {}
+namespace {
 
-JobProgress Job::progress_locked(Clock::time_point now) const {
+// Progress of a job that had `done` of `total` tiles and `rays` when `elapsed_ms` had passed
+// since it started.
+JobProgress progress_at(std::uint32_t done, std::uint32_t total, std::uint64_t rays,
+                        std::int64_t elapsed_ms, bool running) {
   JobProgress p;
-  p.tiles_done = static_cast<std::uint32_t>(tiles_.size());
-  p.tiles_total = tiles_total_;
-  p.rays_traced = rays_traced_;
-  if (state_ == JobState::kQueued || started_ == Clock::time_point{}) return p;
-  const Clock::time_point end = is_finished(state_) ? finished_ : now;
-  p.elapsed_seconds = std::chrono::duration<double>(end - started_).count();
-  if (p.elapsed_seconds > 0.0)
-    p.rays_per_second = static_cast<double>(rays_traced_) / p.elapsed_seconds;
-  if (state_ == JobState::kRunning && p.tiles_done > 0 && p.tiles_done < p.tiles_total)
-    p.eta_seconds = p.elapsed_seconds * (p.tiles_total - p.tiles_done) / p.tiles_done;
+  p.tiles_done = done;
+  p.tiles_total = total;
+  p.rays_traced = rays;
+  p.elapsed_seconds = static_cast<double>(std::max<std::int64_t>(elapsed_ms, 0)) / 1000.0;
+  if (p.elapsed_seconds > 0.0) p.rays_per_second = static_cast<double>(rays) / p.elapsed_seconds;
+  if (running && done > 0 && done < total)
+    p.eta_seconds = p.elapsed_seconds * (total - done) / done;
   return p;
 }
 
-void Job::finish_locked(JobState state) {
-  state_ = state;
-  finished_ = Clock::now();
-  finished_unix_ms_ = unix_millis_now();
+}  // namespace
+
+JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
+  JobInfo info;
+  info.id = r.id;
+  info.name = r.name;
+  info.submitter = r.submitter;
+  info.priority = r.priority;
+  info.state = r.state;
+  info.settings = r.settings;
+  const std::int64_t end = is_finished(r.state) ? r.finished_unix_ms : now_ms;
+  const std::int64_t elapsed = r.started_unix_ms == 0 ? 0 : end - r.started_unix_ms;
+  info.progress = progress_at(r.tiles_done, r.tiles_total, r.rays_traced, elapsed,
+                              r.state == JobState::kRunning);
+  info.error = r.error;
+  info.cancel_reason = r.cancel_reason;
+  info.submitted_unix_ms = r.submitted_unix_ms;
+  info.finished_unix_ms = r.finished_unix_ms;
+  return info;
+}
+
+JobProgress tile_progress(const JobRecord& job, const StoredTile& tile) {
+  const std::int64_t elapsed =
+      job.started_unix_ms == 0 ? 0 : tile.finished_unix_ms - job.started_unix_ms;
+  return progress_at(tile.ordinal, job.tiles_total, tile.rays_after, elapsed, true);
+}
+
+Job::Job(JobStore& store, JobRecord record)
+    : store_(store),
+      id_(record.id),
+      name_(record.name),
+      submitter_(record.submitter),
+      priority_(record.priority),
+      sequence_(record.sequence),
+      settings_(record.settings),
+      record_(std::move(record)) {
+  if (is_finished(record_.state)) stop_ = true;
+}
+
+void Job::set_locked(const JobRecord& record) {
+  record_ = record;
+  if (is_finished(record_.state)) stop_ = true;
   changed_.notify_all();
 }
 
 JobInfo Job::info() const {
   std::lock_guard lock(mutex_);
-  JobInfo info;
-  info.id = id_;
-  info.name = name_;
-  info.priority = priority_;
-  info.state = state_;
-  info.settings = settings_;
-  info.progress = progress_locked(Clock::now());
-  info.error = error_;
-  info.cancel_reason = cancel_reason_;
-  info.submitted_unix_ms = submitted_unix_ms_;
-  info.finished_unix_ms = finished_unix_ms_;
-  return info;
+  return job_info(record_, unix_millis_now());
+}
+
+JobRecord Job::record() const {
+  std::lock_guard lock(mutex_);
+  return record_;
 }
 
 JobState Job::state() const {
   std::lock_guard lock(mutex_);
-  return state_;
+  return record_.state;
 }
 
 bool Job::mark_running() {
   std::lock_guard lock(mutex_);
-  if (state_ != JobState::kQueued) return false;
-  state_ = JobState::kRunning;
-  started_ = Clock::now();
-  changed_.notify_all();
+  if (is_finished(record_.state)) return false;
+  const auto updated = store_.mark_running(id_, unix_millis_now());
+  if (!updated) return false;
+  set_locked(*updated);
   return true;
 }
 
-AddTileResult Job::add_tile(const TileRect& rect, std::vector<std::uint8_t> exr,
-                            std::uint64_t rays) {
+bool Job::claim_tile(std::uint32_t index, const std::string& owner) {
+  // A lease long enough for any tile: only a store shared between daemons looks at it.
+  constexpr std::int64_t kLeaseMs = 24 * 3600 * 1000;
+  const std::int64_t now = unix_millis_now();
+  return store_.claim_tile(id_, index, owner, now + kLeaseMs, now);
+}
+
+void Job::release_tile(std::uint32_t index, const std::string& owner) {
+  store_.release_tile(id_, index, owner);
+}
+
+AddTileResult Job::add_tile(const TileRect& rect, const std::string& owner,
+                            const std::vector<std::uint8_t>& exr, std::uint64_t rays) {
   std::lock_guard lock(mutex_);
-  if (state_ != JobState::kRunning)
+  if (record_.state != JobState::kRunning) {
+    store_.release_tile(id_, rect.index, owner);
     return AddTileResult::kDropped;  // cancelled or failed meanwhile
-  rays_traced_ += rays;
-  FinishedTile tile;
-  tile.rect = rect;
-  tile.exr = std::make_shared<const std::vector<std::uint8_t>>(std::move(exr));
-  tiles_.push_back(std::move(tile));
-  const bool last = tiles_.size() >= tiles_total_;
-  if (last) finish_locked(JobState::kCompleted);
-  // Computed after a possible completion, so the last tile reports elapsed time and no ETA.
-  tiles_.back().progress = progress_locked(Clock::now());
-  changed_.notify_all();
-  return last ? AddTileResult::kCompletedJob : AddTileResult::kStored;
+  }
+  const TileCommitResult result =
+      store_.commit_tile(id_, rect.index, owner, exr, rays, unix_millis_now());
+  if (result.outcome == TileCommit::kJobNotRunning || result.outcome == TileCommit::kDuplicate)
+    return AddTileResult::kDropped;
+  set_locked(result.job);
+  return result.outcome == TileCommit::kCompletedJob ? AddTileResult::kCompletedJob
+                                                     : AddTileResult::kStored;
 }
 
 bool Job::fail(std::string error) {
   std::lock_guard lock(mutex_);
-  if (is_finished(state_)) return false;
-  if (started_ == Clock::time_point{}) started_ = Clock::now();
-  error_ = std::move(error);
-  finish_locked(JobState::kFailed);
+  if (is_finished(record_.state)) return false;
+  const auto updated = store_.finish_job(id_, JobState::kFailed, error, unix_millis_now());
+  if (!updated) return false;
+  set_locked(*updated);
   return true;
 }
 
 CancelResult Job::cancel(std::string reason) {
   std::lock_guard lock(mutex_);
-  if (state_ == JobState::kCancelled) return CancelResult::kAlreadyCancelled;
-  if (is_finished(state_)) return CancelResult::kAlreadyFinished;
-  if (started_ == Clock::time_point{}) started_ = Clock::now();
-  cancel_reason_ = std::move(reason);
-  finish_locked(JobState::kCancelled);
+  if (record_.state == JobState::kCancelled) return CancelResult::kAlreadyCancelled;
+  if (is_finished(record_.state)) return CancelResult::kAlreadyFinished;
+  const auto updated = store_.finish_job(id_, JobState::kCancelled, reason, unix_millis_now());
+  if (!updated) {
+    // Finished in the store by someone else (another daemon sharing it): report that state.
+    if (const auto current = store_.find_job(id_)) set_locked(*current);
+    return record_.state == JobState::kCancelled ? CancelResult::kAlreadyCancelled
+                                                 : CancelResult::kAlreadyFinished;
+  }
+  set_locked(*updated);
   return CancelResult::kCancelled;
+}
+
+std::vector<std::uint32_t> Job::stored_tile_indices() const {
+  return store_.stored_tile_indices(id_);
+}
+
+std::vector<StoredTile> Job::tiles_after(std::uint32_t after_ordinal, std::size_t limit) const {
+  return store_.tiles_after(id_, after_ordinal, limit);
 }
 
 TileUpdate Job::wait_for_tiles(std::size_t already_seen, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, timeout,
-                    [&] { return tiles_.size() > already_seen || is_finished(state_); });
+  changed_.wait_for(lock, timeout, [&] {
+    return record_.tiles_done > already_seen || is_finished(record_.state);
+  });
   TileUpdate update;
-  if (already_seen < tiles_.size())
-    update.tiles.assign(tiles_.begin() + static_cast<std::ptrdiff_t>(already_seen), tiles_.end());
-  update.finished = is_finished(state_);
-  update.state = state_;
-  update.error = error_;
-  update.cancel_reason = cancel_reason_;
+  update.tiles_done = record_.tiles_done;
+  update.finished = is_finished(record_.state);
+  update.state = record_.state;
+  update.error = record_.error;
+  update.cancel_reason = record_.cancel_reason;
   return update;
 }
 

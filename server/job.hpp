@@ -1,4 +1,5 @@
 #pragma once
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -7,18 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "server/job_store.hpp"
 #include "tessera/render/tile.hpp"
-#include "tessera/scene/scene_description.hpp"
 
 namespace tessera::server {
-
-enum class JobState { kQueued, kRunning, kCompleted, kFailed, kCancelled };
-
-const char* to_string(JobState state);
-inline bool is_finished(JobState state) {
-  return state == JobState::kCompleted || state == JobState::kFailed ||
-         state == JobState::kCancelled;
-}
 
 struct JobProgress {
   std::uint32_t tiles_done = 0;
@@ -29,18 +22,11 @@ struct JobProgress {
   double eta_seconds = 0.0;  // 0 when unknown or finished
 };
 
-// One rendered tile as every subscriber receives it. The EXR bytes are shared, not copied
-// per subscriber.
-struct FinishedTile {
-  TileRect rect;
-  std::shared_ptr<const std::vector<std::uint8_t>> exr;
-  JobProgress progress;  // the job's progress including this tile
-};
-
 // A consistent copy of a job's observable state.
 struct JobInfo {
   std::string id;
   std::string name;
+  std::string submitter;
   int priority = 0;
   JobState state = JobState::kQueued;
   RenderSettings settings;  // defaults filled in
@@ -51,11 +37,16 @@ struct JobInfo {
   std::int64_t finished_unix_ms = 0;  // 0 until finished
 };
 
-// What a subscriber gets from wait_for_tiles: the tiles after the ones it already has and,
-// once the job has finished, its final state. A finished job gains no more tiles, so a
-// subscriber that has sent `tiles` and sees `finished` has sent every tile exactly once.
+JobInfo job_info(const JobRecord& record, std::int64_t now_ms);
+// The progress a tile reports: the job's as it was when the tile was stored.
+JobProgress tile_progress(const JobRecord& job, const StoredTile& tile);
+
+// What a subscriber gets from wait_for_tiles: how many tiles are stored (they are read
+// from the store by ordinal) and, once the job has finished, its final state. A finished
+// job gains no more tiles, so a subscriber that has sent `tiles_done` tiles and sees
+// `finished` has sent every tile exactly once.
 struct TileUpdate {
-  std::vector<FinishedTile> tiles;
+  std::uint32_t tiles_done = 0;
   bool finished = false;
   JobState state = JobState::kQueued;
   std::string error;          // when kFailed
@@ -65,63 +56,73 @@ struct TileUpdate {
 enum class CancelResult { kCancelled, kAlreadyCancelled, kAlreadyFinished };
 enum class AddTileResult { kDropped, kStored, kCompletedJob };
 
-// One render job's record: identity, state machine, progress and finished tiles. All
-// members are thread-safe; the scheduler drives the transitions and any number of
-// subscribers wait for tiles. The scene itself is not kept here (the scheduler owns it
-// until it is prepared).
+// A job live in this daemon: its record as last written to the store, and a condition
+// variable for subscribers. Every transition is written to the store first, under this
+// job's lock, so the cached record never runs ahead of what a restart would find.
+// Finished tiles are not kept here but read from the store. Thread-safe.
 class Job {
  public:
-  Job(std::string id, std::string name, int priority, RenderSettings settings,
-      std::uint32_t tiles_total, std::int64_t submitted_unix_ms);
+  Job(JobStore& store, JobRecord record);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
+  const std::string& submitter() const { return submitter_; }
   int priority() const { return priority_; }
+  std::int64_t sequence() const { return sequence_; }
   const RenderSettings& settings() const { return settings_; }
 
   JobInfo info() const;
+  JobRecord record() const;
   JobState state() const;
   bool finished() const { return is_finished(state()); }
 
   // Transitions used by the scheduler. They change nothing when the job has already
   // finished (typically: cancelled meanwhile), and mark_running and fail then return false.
+  // mark_running also accepts a job already running (resumed after a restart).
   bool mark_running();
+  // Claims tile `index` for `owner` in the store; false when it is stored already or
+  // claimed by another owner.
+  bool claim_tile(std::uint32_t index, const std::string& owner);
+  void release_tile(std::uint32_t index, const std::string& owner);
   // Stores a rendered tile; the job completes with its last tile. A job that is no longer
   // running drops the tile.
-  AddTileResult add_tile(const TileRect& rect, std::vector<std::uint8_t> exr, std::uint64_t rays);
+  AddTileResult add_tile(const TileRect& rect, const std::string& owner,
+                         const std::vector<std::uint8_t>& exr, std::uint64_t rays);
   bool fail(std::string error);
-
   CancelResult cancel(std::string reason = {});
 
-  // Blocks until there are tiles beyond the first `already_seen`, the job finishes, or
-  // `timeout` passes (so a caller can check whether its client is still there).
+  // Tiles already stored (after a restart: those not to render again).
+  std::vector<std::uint32_t> stored_tile_indices() const;
+  // Stored tiles after the first `after_ordinal`, at most `limit`, in completion order.
+  std::vector<StoredTile> tiles_after(std::uint32_t after_ordinal, std::size_t limit) const;
+
+  // Blocks until more than `already_seen` tiles are stored, the job finishes, or `timeout`
+  // passes (so a caller can check whether its client is still there).
   TileUpdate wait_for_tiles(std::size_t already_seen, std::chrono::milliseconds timeout) const;
 
+  // Raised when the job finishes and when the daemon stops: a tile being rendered checks it
+  // and gives up. A tile rendered while it was raised is incomplete and must not be stored.
+  const std::atomic<bool>& stop_flag() const { return stop_; }
+  bool stop_requested() const { return stop_.load(std::memory_order_relaxed); }
+  void request_stop() { stop_.store(true, std::memory_order_relaxed); }
+
  private:
-  using Clock = std::chrono::steady_clock;
+  void set_locked(const JobRecord& record);
 
-  JobProgress progress_locked(Clock::time_point now) const;
-  void finish_locked(JobState state);
-
+  JobStore& store_;
   const std::string id_;
   const std::string name_;
+  const std::string submitter_;
   const int priority_;
+  const std::int64_t sequence_;
   const RenderSettings settings_;
-  const std::int64_t submitted_unix_ms_;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
-  JobState state_ = JobState::kQueued;
-  std::uint32_t tiles_total_;
-  std::uint64_t rays_traced_ = 0;
-  Clock::time_point started_{};
-  Clock::time_point finished_{};
-  std::int64_t finished_unix_ms_ = 0;
-  std::string error_;
-  std::string cancel_reason_;
-  std::vector<FinishedTile> tiles_;
+  JobRecord record_;
+  std::atomic<bool> stop_{false};
 };
 
 std::int64_t unix_millis_now();

@@ -1,5 +1,7 @@
 #include "server/job_proto.hpp"
 
+#include <algorithm>
+
 #include "convert/scene_proto.hpp"
 
 namespace tessera::server {
@@ -20,6 +22,23 @@ v1::JobState job_state_to_proto(JobState state) {
   return v1::JOB_STATE_UNSPECIFIED;
 }
 
+std::optional<JobState> job_state_from_proto(int state) {
+  switch (state) {
+    case v1::JOB_STATE_QUEUED:
+      return JobState::kQueued;
+    case v1::JOB_STATE_RUNNING:
+      return JobState::kRunning;
+    case v1::JOB_STATE_COMPLETED:
+      return JobState::kCompleted;
+    case v1::JOB_STATE_FAILED:
+      return JobState::kFailed;
+    case v1::JOB_STATE_CANCELLED:
+      return JobState::kCancelled;
+    default:
+      return std::nullopt;
+  }
+}
+
 void job_progress_to_proto(const JobProgress& progress, v1::JobProgress& out) {
   out.set_tiles_done(progress.tiles_done);
   out.set_tiles_total(progress.tiles_total);
@@ -32,6 +51,7 @@ void job_progress_to_proto(const JobProgress& progress, v1::JobProgress& out) {
 void job_info_to_proto(const JobInfo& info, v1::Job& out) {
   out.set_id(info.id);
   out.set_name(info.name);
+  out.set_submitter(info.submitter);
   out.set_priority(info.priority);
   out.set_state(job_state_to_proto(info.state));
   *out.mutable_settings() = settings_to_proto(info.settings);
@@ -41,17 +61,23 @@ void job_info_to_proto(const JobInfo& info, v1::Job& out) {
   out.set_finished_unix_ms(info.finished_unix_ms);
 }
 
-void finished_tile_to_proto(const std::string& job_id, const FinishedTile& tile, v1::Tile& out) {
-  out.set_job_id(job_id);
+void stored_tile_to_proto(const JobRecord& job, const StoredTile& tile, v1::Tile& out) {
+  const RenderSettings& s = job.settings;
+  // The rectangle follows from the index and the job's tile grid, so the store keeps
+  // only the index.
+  const std::uint32_t columns = (s.width + s.tile_size - 1) / s.tile_size;
+  const std::uint32_t x = (tile.index % columns) * s.tile_size;
+  const std::uint32_t y = (tile.index / columns) * s.tile_size;
+  out.set_job_id(job.id);
   v1::TileRect& rect = *out.mutable_rect();
-  rect.set_index(tile.rect.index);
-  rect.set_x(tile.rect.x);
-  rect.set_y(tile.rect.y);
-  rect.set_width(tile.rect.width);
-  rect.set_height(tile.rect.height);
+  rect.set_index(tile.index);
+  rect.set_x(x);
+  rect.set_y(y);
+  rect.set_width(std::min(s.tile_size, s.width - x));
+  rect.set_height(std::min(s.tile_size, s.height - y));
   out.set_pass("beauty");
-  out.set_exr(tile.exr->data(), tile.exr->size());
-  job_progress_to_proto(tile.progress, *out.mutable_progress());
+  out.set_exr(tile.exr.data(), tile.exr.size());
+  job_progress_to_proto(tile_progress(job, tile), *out.mutable_progress());
 }
 
 }  // namespace tessera::server

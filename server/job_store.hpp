@@ -1,39 +1,151 @@
 #pragma once
-#include <memory>
-#include <mutex>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
-#include "server/job.hpp"
+#include "tessera/scene/scene_description.hpp"
 
 namespace tessera::server {
 
-// Where jobs are kept. In memory for now; the interface is what a persistent store will
-// implement, so the service and scheduler never depend on how jobs are kept.
+enum class JobState { kQueued, kRunning, kCompleted, kFailed, kCancelled };
+
+const char* to_string(JobState state);
+inline bool is_finished(JobState state) {
+  return state == JobState::kCompleted || state == JobState::kFailed ||
+         state == JobState::kCancelled;
+}
+
+// A job as the store keeps it: everything but its scene and tiles.
+struct JobRecord {
+  std::string id;
+  std::string name;
+  std::string submitter;  // who submitted it: fair scheduling and per-submitter caps
+  int priority = 0;
+  JobState state = JobState::kQueued;
+  RenderSettings settings;  // defaults filled in
+  std::uint32_t tiles_total = 0;
+  std::uint32_t tiles_done = 0;
+  std::uint64_t rays_traced = 0;
+  std::string error;          // why it failed, when kFailed
+  std::string cancel_reason;  // why it was cancelled, when kCancelled
+  std::int64_t submitted_unix_ms = 0;
+  std::int64_t started_unix_ms = 0;   // 0 until a worker first picked it up
+  std::int64_t finished_unix_ms = 0;  // 0 until finished
+  // Submission order, assigned by the store, increasing across restarts: orders the queue
+  // and ListJobs, and is the ListJobs page token.
+  std::int64_t sequence = 0;
+};
+
+// The scene of a job as it was submitted: the serialized tessera.v1.Scene and the job's
+// resolved tessera.v1.RenderSettings. Kept as bytes so the store does not depend on the
+// scene model, and converted again when the job is prepared (also after a restart).
+struct SceneSource {
+  std::string scene_proto;
+  std::string settings_proto;
+};
+
+// One finished tile. `ordinal` is its place in the job's completion order (1 for the first
+// tile finished), the sequence number streams resume from; the rays and time are the job's
+// totals when it was stored, so its progress can be reported at any later time.
+struct StoredTile {
+  std::uint32_t index = 0;
+  std::uint32_t ordinal = 0;
+  std::uint64_t rays_after = 0;
+  std::int64_t finished_unix_ms = 0;
+  std::vector<std::uint8_t> exr;
+};
+
+enum class TileCommit {
+  kStored,        // the tile is stored; the job has more to render
+  kCompletedJob,  // the tile was the job's last: the job is now completed
+  kDuplicate,     // the tile had been stored before; nothing changed but its counter
+  kJobNotRunning  // the job is queued, finished or gone; nothing was stored
+};
+
+struct TileCommitResult {
+  TileCommit outcome = TileCommit::kJobNotRunning;
+  JobRecord job;  // after the commit (when the job exists)
+};
+
+struct JobQuery {
+  std::size_t limit = 100;
+  std::optional<std::int64_t> before_sequence;  // only jobs submitted before this one
+  std::optional<JobState> state;
+  std::optional<std::string> submitter;
+};
+
+// What retention keeps: finished jobs are deleted once finished longer than `ttl_ms` ago
+// (0: no age limit), and the oldest finished ones are deleted while there are more than
+// `max_jobs` jobs in all (0: no count limit). Unfinished jobs are never deleted.
+struct RetentionPolicy {
+  std::int64_t ttl_ms = 0;
+  std::size_t max_jobs = 0;
+};
+
+// Thrown by create_job for an id already in use.
+class DuplicateJobId : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// Where jobs live: records, scenes and finished tiles, and the tile work between them
+// (claims with leases, then completion) as store operations, so the scheduler never holds
+// the only copy of anything. Every operation is atomic: a daemon killed at any instant
+// leaves each job either before or after it. The embedded implementation is SQLite
+// (SqliteJobStore); the interface is shaped so a shared database (PostgreSQL) can serve
+// several daemons: claims name an owner and expire, and completion checks the job's state
+// in the same transaction that stores the tile. Thread-safe.
 class JobStore {
  public:
   virtual ~JobStore() = default;
 
-  // Adds a new job; throws std::invalid_argument if its id is already taken.
-  virtual void add(std::shared_ptr<Job> job) = 0;
-  // The job with `id`, or null.
-  virtual std::shared_ptr<Job> find(std::string_view id) const = 0;
-  // Every job, newest (most recently added) first.
-  virtual std::vector<std::shared_ptr<Job>> list() const = 0;
-};
+  // Stores a new job (state kQueued) with its scene. Returns the record with its sequence.
+  // Throws DuplicateJobId when the id is taken.
+  virtual JobRecord create_job(const JobRecord& job, const SceneSource& scene) = 0;
+  virtual std::optional<JobRecord> find_job(std::string_view id) const = 0;
+  // Newest first.
+  virtual std::vector<JobRecord> list_jobs(const JobQuery& query) const = 0;
+  // Queued and running jobs, oldest first: what a starting daemon resumes.
+  virtual std::vector<JobRecord> unfinished_jobs() const = 0;
+  virtual std::optional<SceneSource> scene(std::string_view id) const = 0;
+  // Queued and running jobs of one submitter.
+  virtual std::size_t unfinished_count(std::string_view submitter) const = 0;
 
-class InMemoryJobStore final : public JobStore {
- public:
-  void add(std::shared_ptr<Job> job) override;
-  std::shared_ptr<Job> find(std::string_view id) const override;
-  std::vector<std::shared_ptr<Job>> list() const override;
+  // State transitions. Each applies only to an unfinished job and returns the record after
+  // it, or nothing when the job is finished or unknown.
+  virtual std::optional<JobRecord> mark_running(std::string_view id, std::int64_t now_ms) = 0;
+  // `state` is kCompleted, kFailed or kCancelled; `message` is the error or cancel reason.
+  virtual std::optional<JobRecord> finish_job(std::string_view id, JobState state,
+                                              const std::string& message, std::int64_t now_ms) = 0;
 
- private:
-  mutable std::mutex mutex_;
-  std::vector<std::shared_ptr<Job>> in_order_;  // oldest first
-  std::unordered_map<std::string, std::shared_ptr<Job>> by_id_;
+  // Tiles. A worker claims a tile before rendering it and commits it after; a claim held
+  // by another live owner, or a tile already stored, is refused. A claim lapses at
+  // `lease_until_ms` (an owner that died gives its tiles back by not renewing them).
+  virtual bool claim_tile(std::string_view id, std::uint32_t index, std::string_view owner,
+                          std::int64_t lease_until_ms, std::int64_t now_ms) = 0;
+  virtual void release_tile(std::string_view id, std::uint32_t index, std::string_view owner) = 0;
+  // Stores a rendered tile and adds its rays to the job, completing the job with its last
+  // tile, in one transaction; releases the claim.
+  virtual TileCommitResult commit_tile(std::string_view id, std::uint32_t index,
+                                       std::string_view owner, const std::vector<std::uint8_t>& exr,
+                                       std::uint64_t rays, std::int64_t now_ms) = 0;
+  virtual std::vector<std::uint32_t> stored_tile_indices(std::string_view id) const = 0;
+  // Tiles with ordinal > `after_ordinal`, in ordinal order, at most `limit`.
+  virtual std::vector<StoredTile> tiles_after(std::string_view id, std::uint32_t after_ordinal,
+                                              std::size_t limit) const = 0;
+  // How many times each tile was committed (a re-rendered finished tile shows as 2): the
+  // counter tests use to prove that no finished tile is rendered again. 0 when not stored.
+  virtual std::uint32_t tile_commit_count(std::string_view id, std::uint32_t index) const = 0;
+
+  // Deletes a finished job with its tiles (and its scene, unless another job shares it).
+  // Returns false, deleting nothing, for an unfinished or unknown job.
+  virtual bool delete_job(std::string_view id) = 0;
+  // Applies `policy`; returns the ids deleted.
+  virtual std::vector<std::string> apply_retention(const RetentionPolicy& policy,
+                                                   std::int64_t now_ms) = 0;
 };
 
 }  // namespace tessera::server

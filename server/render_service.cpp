@@ -2,13 +2,18 @@
 
 #include <spdlog/spdlog.h>
 
+#include <charconv>
+
 #include "convert/scene_proto.hpp"
 #include "server/job_proto.hpp"
+#include "server/log_text.hpp"
 
 namespace tessera::server {
 namespace {
 
-constexpr std::size_t kMaxNameLength = 256;
+// Tiles read from the store per batch while streaming: bounds a stream's memory whatever
+// the job's size.
+constexpr std::size_t kTilesPerRead = 16;
 
 // No request, however malformed, may take the daemon down: whatever escapes a handler
 // becomes INTERNAL for that call alone.
@@ -17,7 +22,7 @@ grpc::Status guarded(const char* method, Fn&& fn) {
   try {
     return fn();
   } catch (const std::exception& e) {
-    spdlog::error("{} failed: {}", method, e.what());
+    spdlog::error("{} failed: {}", method, escape_client_text(e.what(), 1024));
     return grpc::Status(grpc::StatusCode::INTERNAL, std::string(method) + ": " + e.what());
   } catch (...) {
     spdlog::error("{} failed with an unknown exception", method);
@@ -25,94 +30,212 @@ grpc::Status guarded(const char* method, Fn&& fn) {
   }
 }
 
+// Reads the request of a unary call, runs `fn(request, response)` and sends the response
+// when it returns OK.
+template <typename Request, typename Response, typename Fn>
+grpc::Status unary(const char* method, grpc::ServerUnaryStreamer<Request, Response>& streamer,
+                   Fn&& fn) {
+  Request request;
+  if (!streamer.Read(&request))
+    return grpc::Status(
+        grpc::StatusCode::INVALID_ARGUMENT,
+        std::string("request: not a valid ") + Request::descriptor()->full_name() + " message");
+  Response response;
+  const grpc::Status status = guarded(method, [&] { return fn(request, response); });
+  if (status.ok() && !streamer.Write(response))
+    return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
+  return status;
+}
+
 std::string cancelled_message(const std::string& job_id, const std::string& reason) {
   return "job " + job_id + " was cancelled" + (reason.empty() ? "" : " (" + reason + ")");
 }
 
+grpc::Status invalid(std::string message) {
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::move(message));
+}
+
+// The host part of a gRPC peer ("ipv4:10.0.0.7:51234" -> "ipv4:10.0.0.7"): a client that
+// names no submitter is known by its machine, not by its connection.
+std::string peer_host(const std::string& peer) {
+  if (peer.rfind("ipv4:", 0) == 0 || peer.rfind("ipv6:", 0) == 0) {
+    const auto colon = peer.rfind(':');
+    if (colon > 5) return peer.substr(0, colon);
+  }
+  return peer;
+}
+
 }  // namespace
 
-RenderServiceImpl::RenderServiceImpl(JobStore& store, Scheduler& scheduler, SceneLimits limits,
+RenderServiceImpl::RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
+                                     std::size_t max_jobs_per_submitter,
                                      std::chrono::milliseconds poll_interval)
-    : store_(store), scheduler_(scheduler), limits_(limits), poll_interval_(poll_interval) {}
+    : jobs_(jobs),
+      scheduler_(scheduler),
+      limits_(limits),
+      max_jobs_per_submitter_(max_jobs_per_submitter),
+      poll_interval_(poll_interval) {}
 
 std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id,
                                                  grpc::Status& status) const {
   if (job_id.empty()) {
-    status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "job_id: must not be empty");
+    status = invalid("job_id: must not be empty");
     return nullptr;
   }
-  auto job = store_.find(job_id);
-  if (!job) status = grpc::Status(grpc::StatusCode::NOT_FOUND, "job '" + job_id + "' not found");
+  // Not echoed: an id this long is not one of ours, and a reply or log line must not
+  // become a carrier for whatever it holds.
+  if (job_id.size() > kMaxJobIdLength) {
+    status = invalid("job_id: must be at most " + std::to_string(kMaxJobIdLength) + " bytes, got " +
+                     std::to_string(job_id.size()));
+    return nullptr;
+  }
+  auto job = const_cast<JobRegistry&>(jobs_).find(job_id);
+  if (!job)
+    status = grpc::Status(grpc::StatusCode::NOT_FOUND,
+                          "job '" + escape_client_text(job_id) + "' not found");
   return job;
 }
 
-grpc::Status RenderServiceImpl::SubmitJob(grpc::ServerContext*, const v1::SubmitJobRequest* request,
-                                          v1::SubmitJobResponse* response) {
-  return guarded("SubmitJob", [&] { return submit(*request, *response); });
+grpc::Status RenderServiceImpl::StreamedSubmitJob(
+    grpc::ServerContext* context,
+    grpc::ServerUnaryStreamer<v1::SubmitJobRequest, v1::SubmitJobResponse>* streamer) {
+  return unary("SubmitJob", *streamer, [&](const auto& request, auto& response) {
+    return submit(*context, request, response);
+  });
 }
 
-grpc::Status RenderServiceImpl::submit(const v1::SubmitJobRequest& request,
+grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
+                                       const v1::SubmitJobRequest& request,
                                        v1::SubmitJobResponse& response) {
   if (!accepting_)
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
-  if (!request.has_scene())
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "scene: is required but missing");
-  if (request.name().size() > kMaxNameLength)
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        "name: must be at most " + std::to_string(kMaxNameLength) + " bytes, got " +
-                            std::to_string(request.name().size()));
+  if (!request.has_scene()) return invalid("scene: is required but missing");
+  if (request.name().size() > kMaxJobNameLength)
+    return invalid("name: must be at most " + std::to_string(kMaxJobNameLength) + " bytes, got " +
+                   std::to_string(request.name().size()));
+  if (request.submitter().size() > kMaxSubmitterLength)
+    return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
+                   " bytes, got " + std::to_string(request.submitter().size()));
+  const std::string logged_name = escape_client_text(request.name());
   SceneConversion conversion = scene_from_proto(request.scene(), request.settings(), limits_);
   if (!conversion.ok()) {
     const std::string message = describe_issues(conversion.issues);
-    spdlog::info("rejected job '{}': {}", request.name(), message);
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message);
+    spdlog::info("rejected job '{}': {}", logged_name, escape_client_text(message, 1024));
+    return invalid(message);
   }
-  SceneDescription& scene = *conversion.scene;
-  const RenderSettings settings = scene.render;
+  const RenderSettings settings = conversion.scene->render;
   const auto tiles = make_tiles(settings.width, settings.height, settings.tile_size).size();
+  // The scene is read back from the store when the job is prepared; this copy is not kept.
+  conversion.scene.reset();
 
-  auto job = std::make_shared<Job>(ids_.next(), request.name(), request.priority(), settings,
-                                   static_cast<std::uint32_t>(tiles), unix_millis_now());
-  store_.add(job);
+  // A client that gave up while its scene was checked must not find a job it never heard
+  // of running anyway: past this point the job exists.
+  if (context.IsCancelled())
+    return grpc::Status(grpc::StatusCode::CANCELLED, "the call was cancelled; no job was created");
+  if (context.deadline() <= std::chrono::system_clock::now())
+    return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
+                        "the call's deadline passed; no job was created");
+
+  JobRecord record;
+  record.name = request.name();
+  record.submitter = request.submitter().empty() ? peer_host(context.peer()) : request.submitter();
+  record.priority = request.priority();
+  record.settings = settings;
+  record.tiles_total = static_cast<std::uint32_t>(tiles);
+  record.submitted_unix_ms = unix_millis_now();
+  SceneSource source;
+  source.scene_proto = request.scene().SerializeAsString();
+  source.settings_proto = settings_to_proto(settings).SerializeAsString();
+  std::shared_ptr<Job> job;
+  for (int attempt = 0; !job; ++attempt) {
+    record.id = ids_.next();
+    try {
+      job = jobs_.create(record, source, max_jobs_per_submitter_);
+    } catch (const DuplicateJobId&) {
+      if (attempt == 3) throw;  // ids from an earlier run collided: try fresh ones
+    } catch (const SubmitterQuotaExceeded& e) {
+      spdlog::info("refused job '{}' of '{}': {}", logged_name,
+                   escape_client_text(record.submitter), e.what());
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          "submitter '" + escape_client_text(record.submitter) + "': " + e.what());
+    }
+  }
   // The response describes the job as submitted (QUEUED), before a worker can pick it up.
   job_info_to_proto(job->info(), *response.mutable_job());
-  if (!scheduler_.submit(job, std::move(scene))) {
-    job->cancel("daemon shutting down");
-    return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
-  }
+  if (!scheduler_.submit(job))
+    // Stored, so not lost: the next start of the daemon runs it.
+    spdlog::info("job {} stored while the daemon stops; it runs after a restart", job->id());
   // The feature summary (with light count) is logged once the scene is prepared.
-  spdlog::info("job {} '{}' submitted: priority {}, {}x{}, {} spp, depth {}, {} tiles", job->id(),
-               job->name(), job->priority(), settings.width, settings.height,
-               settings.samples_per_pixel, settings.max_depth, tiles);
+  spdlog::info("job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp, depth {}, {} tiles",
+               job->id(), logged_name, escape_client_text(record.submitter), job->priority(),
+               settings.width, settings.height, settings.samples_per_pixel, settings.max_depth,
+               tiles);
   return grpc::Status::OK;
 }
 
-grpc::Status RenderServiceImpl::StreamTiles(grpc::ServerContext* context,
-                                            const v1::StreamTilesRequest* request,
-                                            grpc::ServerWriter<v1::Tile>* writer) {
-  return guarded("StreamTiles", [&] { return stream(*context, request->job_id(), *writer); });
+grpc::Status RenderServiceImpl::StreamedStreamTiles(
+    grpc::ServerContext* context,
+    grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>* streamer) {
+  {
+    std::lock_guard lock(streams_mutex_);
+    ++active_streams_;
+  }
+  struct StreamEnd {
+    RenderServiceImpl& service;
+    ~StreamEnd() {
+      std::lock_guard lock(service.streams_mutex_);
+      if (--service.active_streams_ == 0) service.streams_ended_.notify_all();
+    }
+  } stream_end{*this};
+  v1::StreamTilesRequest request;
+  if (!streamer->Read(&request))
+    return invalid("request: not a valid tessera.v1.StreamTilesRequest message");
+  return guarded("StreamTiles", [&] { return stream(*context, request, *streamer); });
 }
 
-grpc::Status RenderServiceImpl::stream(grpc::ServerContext& context, const std::string& job_id,
-                                       grpc::ServerWriter<v1::Tile>& writer) {
+grpc::Status RenderServiceImpl::stream(
+    grpc::ServerContext& context, const v1::StreamTilesRequest& request,
+    grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(request.job_id(), status);
   if (!job) return status;
-  std::size_t sent = 0;
+  const std::uint32_t tiles_total = job->record().tiles_total;
+  if (request.after_tiles() > tiles_total)
+    return invalid("after_tiles: must be at most the job's " + std::to_string(tiles_total) +
+                   " tiles, got " + std::to_string(request.after_tiles()));
+  // Tiles are numbered by completion order in the store, so re-attaching is resuming there.
+  std::uint32_t sent = request.after_tiles();
   v1::Tile message;
   for (;;) {
     if (context.IsCancelled())
       return grpc::Status(grpc::StatusCode::CANCELLED, "the client cancelled the stream");
     const TileUpdate update = job->wait_for_tiles(sent, poll_interval_);
-    for (const FinishedTile& tile : update.tiles) {
-      message.Clear();
-      finished_tile_to_proto(job->id(), tile, message);
-      if (!writer.Write(message))
-        return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
-      ++sent;
+    while (sent < update.tiles_done) {
+      const std::vector<StoredTile> tiles = job->tiles_after(sent, kTilesPerRead);
+      if (tiles.empty())  // deleted (DeleteJob or retention) while this stream read it
+        return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                            "job " + job->id() + " was deleted while its tiles were streamed");
+      const JobRecord record = job->record();
+      for (const StoredTile& tile : tiles) {
+        message.Clear();
+        stored_tile_to_proto(record, tile, message);
+        if (!writer.Write(message))
+          return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
+        sent = tile.ordinal;
+      }
     }
-    // A finished job gains no tiles, so `update.tiles` held every one still unsent.
-    if (!update.finished) continue;
+    if (!update.finished) {
+      if (!accepting_) {
+        // Tells a client that re-attaching later is worth it (tessera_client's
+        // kJobResumesMetadataKey; the server does not depend on the client library).
+        context.AddTrailingMetadata("tessera-job-resumes", "1");
+        return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                            "the daemon is shutting down; job " + job->id() +
+                                " is kept and resumes when it restarts");
+      }
+      continue;
+    }
+    // A finished job gains no tiles, so every one has been sent.
     switch (update.state) {
       case JobState::kCompleted:
         return grpc::Status::OK;
@@ -129,27 +252,66 @@ grpc::Status RenderServiceImpl::stream(grpc::ServerContext& context, const std::
   }
 }
 
-grpc::Status RenderServiceImpl::GetJob(grpc::ServerContext*, const v1::GetJobRequest* request,
-                                       v1::Job* response) {
-  return guarded("GetJob", [&] {
+bool RenderServiceImpl::wait_for_streams(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(streams_mutex_);
+  return streams_ended_.wait_for(lock, timeout, [&] { return active_streams_ == 0; });
+}
+
+grpc::Status RenderServiceImpl::StreamedGetJob(
+    grpc::ServerContext*, grpc::ServerUnaryStreamer<v1::GetJobRequest, v1::Job>* streamer) {
+  return unary("GetJob", *streamer, [&](const auto& request, v1::Job& response) {
     grpc::Status status;
-    const auto job = find_job(request->job_id(), status);
-    if (job) job_info_to_proto(job->info(), *response);
+    const auto job = find_job(request.job_id(), status);
+    if (job) job_info_to_proto(job->info(), response);
     return status;
   });
 }
 
-grpc::Status RenderServiceImpl::ListJobs(grpc::ServerContext*, const v1::ListJobsRequest*,
-                                         v1::ListJobsResponse* response) {
-  return guarded("ListJobs", [&] {
-    for (const auto& job : store_.list()) job_info_to_proto(job->info(), *response->add_jobs());
-    return grpc::Status::OK;
-  });
+grpc::Status RenderServiceImpl::StreamedListJobs(
+    grpc::ServerContext*,
+    grpc::ServerUnaryStreamer<v1::ListJobsRequest, v1::ListJobsResponse>* streamer) {
+  return unary("ListJobs", *streamer,
+               [&](const auto& request, auto& response) { return list(request, response); });
 }
 
-grpc::Status RenderServiceImpl::CancelJob(grpc::ServerContext*, const v1::CancelJobRequest* request,
-                                          v1::CancelJobResponse* response) {
-  return guarded("CancelJob", [&] { return cancel(request->job_id(), *response); });
+grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
+                                     v1::ListJobsResponse& response) {
+  JobQuery query;
+  // Larger pages are served at the maximum, as the API guidelines (AIP-158) suggest.
+  query.limit =
+      request.page_size() == 0 ? kDefaultPageSize : std::min(request.page_size(), kMaxPageSize);
+  if (!request.page_token().empty()) {
+    // The token is the sequence of the last job of the previous page.
+    const std::string& token = request.page_token();
+    std::int64_t sequence = 0;
+    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), sequence);
+    if (error != std::errc() || end != token.data() + token.size() || sequence <= 0)
+      return invalid("page_token: not a token this server issued");
+    query.before_sequence = sequence;
+  }
+  if (!request.submitter().empty()) query.submitter = request.submitter();
+  if (request.state() != v1::JOB_STATE_UNSPECIFIED) {
+    query.state = job_state_from_proto(request.state());
+    if (!query.state) return invalid("state: unknown job state " + std::to_string(request.state()));
+  }
+  const std::size_t page = query.limit;
+  ++query.limit;  // one more tells whether there is a next page
+  std::vector<JobRecord> records = jobs_.store().list_jobs(query);
+  const bool more = records.size() > page;
+  if (more) records.resize(page);
+  const std::int64_t now = unix_millis_now();
+  for (const JobRecord& record : records)
+    job_info_to_proto(job_info(record, now), *response.add_jobs());
+  if (more) response.set_next_page_token(std::to_string(records.back().sequence));
+  return grpc::Status::OK;
+}
+
+grpc::Status RenderServiceImpl::StreamedCancelJob(
+    grpc::ServerContext*,
+    grpc::ServerUnaryStreamer<v1::CancelJobRequest, v1::CancelJobResponse>* streamer) {
+  return unary("CancelJob", *streamer, [&](const auto& request, auto& response) {
+    return cancel(request.job_id(), response);
+  });
 }
 
 grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobResponse& response) {
@@ -160,13 +322,35 @@ grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobR
   const JobInfo info = job->info();
   if (result == CancelResult::kAlreadyFinished)
     return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
-                        "job " + job_id + " has already " + to_string(info.state));
+                        "job " + job->id() + " has already " + to_string(info.state));
   if (result == CancelResult::kCancelled) {
     scheduler_.job_changed();
-    spdlog::info("job {} cancelled by a client after {}/{} tiles", job_id, info.progress.tiles_done,
-                 info.progress.tiles_total);
+    spdlog::info("job {} cancelled by a client after {}/{} tiles", job->id(),
+                 info.progress.tiles_done, info.progress.tiles_total);
   }
   job_info_to_proto(info, *response.mutable_job());
+  return grpc::Status::OK;
+}
+
+grpc::Status RenderServiceImpl::StreamedDeleteJob(
+    grpc::ServerContext*,
+    grpc::ServerUnaryStreamer<v1::DeleteJobRequest, v1::DeleteJobResponse>* streamer) {
+  return unary("DeleteJob", *streamer,
+               [&](const auto& request, auto&) { return remove(request.job_id()); });
+}
+
+grpc::Status RenderServiceImpl::remove(const std::string& job_id) {
+  grpc::Status status;
+  const auto job = find_job(job_id, status);
+  if (!job) return status;
+  if (!job->finished())
+    return grpc::Status(
+        grpc::StatusCode::FAILED_PRECONDITION,
+        "job " + job->id() + " is " + to_string(job->state()) + "; cancel it before deleting it");
+  if (!jobs_.store().delete_job(job->id()))
+    return grpc::Status(grpc::StatusCode::NOT_FOUND, "job '" + job->id() + "' not found");
+  jobs_.forget(job->id());
+  spdlog::info("job {} deleted by a client", job->id());
   return grpc::Status::OK;
 }
 

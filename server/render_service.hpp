@@ -1,50 +1,86 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 
 #include "server/job_id.hpp"
-#include "server/job_store.hpp"
+#include "server/job_registry.hpp"
 #include "server/scheduler.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 
 namespace tessera::server {
 
+// Longest job id a request may name; ids this daemon makes are 16 bytes.
+inline constexpr std::size_t kMaxJobIdLength = 64;
+inline constexpr std::size_t kMaxJobNameLength = 256;
+inline constexpr std::size_t kMaxSubmitterLength = 128;
+inline constexpr std::uint32_t kDefaultPageSize = 100;
+inline constexpr std::uint32_t kMaxPageSize = 1000;
+
 // tessera.v1.RenderService on the synchronous gRPC API: requests are validated and turned
-// into jobs for the scheduler; StreamTiles waits on the job for tiles, checking between
-// waits whether its client is still there.
-class RenderServiceImpl final : public v1::RenderService::Service {
+// into jobs in the store and the scheduler; StreamTiles reads tiles from the store as the
+// job stores them, checking between waits whether its client is still there.
+//
+// Every method is registered in its "streamed" form, where the handler reads the request
+// itself: that way a request whose bytes are not a valid message is answered with
+// INVALID_ARGUMENT (the plain form lets gRPC answer INTERNAL with an empty message).
+class RenderServiceImpl final : public v1::RenderService::StreamedService {
  public:
-  RenderServiceImpl(JobStore& store, Scheduler& scheduler, SceneLimits limits,
+  // `max_jobs_per_submitter`: queued and running jobs one submitter may have (0: no limit).
+  RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
+                    std::size_t max_jobs_per_submitter = 0,
                     std::chrono::milliseconds poll_interval = std::chrono::milliseconds(100));
 
-  grpc::Status SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
-                         v1::SubmitJobResponse* response) override;
-  grpc::Status StreamTiles(grpc::ServerContext* context, const v1::StreamTilesRequest* request,
-                           grpc::ServerWriter<v1::Tile>* writer) override;
-  grpc::Status GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
-                      v1::Job* response) override;
-  grpc::Status ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
-                        v1::ListJobsResponse* response) override;
-  grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
-                         v1::CancelJobResponse* response) override;
+  grpc::Status StreamedSubmitJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::SubmitJobRequest, v1::SubmitJobResponse>* streamer) override;
+  grpc::Status StreamedStreamTiles(
+      grpc::ServerContext* context,
+      grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>* streamer) override;
+  grpc::Status StreamedGetJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::GetJobRequest, v1::Job>* streamer) override;
+  grpc::Status StreamedListJobs(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::ListJobsRequest, v1::ListJobsResponse>* streamer) override;
+  grpc::Status StreamedCancelJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::CancelJobRequest, v1::CancelJobResponse>* streamer) override;
+  grpc::Status StreamedDeleteJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::DeleteJobRequest, v1::DeleteJobResponse>* streamer) override;
 
-  // From now on SubmitJob answers UNAVAILABLE.
+  // From now on SubmitJob answers UNAVAILABLE, and streams of unfinished jobs end with
+  // UNAVAILABLE (their jobs resume when the daemon restarts).
   void stop_accepting() { accepting_ = false; }
 
+  // After stop_accepting(): waits up to `timeout` for every StreamTiles call to have
+  // returned, so each ends with its own status (UNAVAILABLE and the resume hint) rather
+  // than being cut off by the server's shutdown. Returns false on timeout.
+  bool wait_for_streams(std::chrono::milliseconds timeout);
+
  private:
-  grpc::Status submit(const v1::SubmitJobRequest& request, v1::SubmitJobResponse& response);
-  grpc::Status stream(grpc::ServerContext& context, const std::string& job_id,
-                      grpc::ServerWriter<v1::Tile>& writer);
+  grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
+                      v1::SubmitJobResponse& response);
+  grpc::Status stream(grpc::ServerContext& context, const v1::StreamTilesRequest& request,
+                      grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer);
+  grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);
   grpc::Status cancel(const std::string& job_id, v1::CancelJobResponse& response);
-  // The job, or the status to answer when `job_id` is empty or unknown.
+  grpc::Status remove(const std::string& job_id);
+  // The job, or the status to answer when `job_id` is empty, too long or unknown.
   std::shared_ptr<Job> find_job(const std::string& job_id, grpc::Status& status) const;
 
-  JobStore& store_;
+  JobRegistry& jobs_;
   Scheduler& scheduler_;
   SceneLimits limits_;
+  std::size_t max_jobs_per_submitter_;
   std::chrono::milliseconds poll_interval_;
   JobIdGenerator ids_;
   std::atomic<bool> accepting_{true};
+  std::mutex streams_mutex_;
+  std::condition_variable streams_ended_;
+  int active_streams_ = 0;
 };
 
 }  // namespace tessera::server

@@ -7,6 +7,7 @@
 
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
+#include "tessera/render/tile_cancel.hpp"
 
 namespace tessera::server {
 
@@ -15,10 +16,10 @@ namespace tessera::server {
 struct Scheduler::Entry {
   std::shared_ptr<Job> job;
   std::uint64_t sequence = 0;
-  std::unique_ptr<SceneDescription> scene;  // released once prepared
+  std::unique_ptr<SceneDescription> scene;  // released once prepared; null: load_scene
   std::shared_ptr<const PreparedScene> prepared;
-  std::vector<TileRect> tiles;
-  std::size_t next_tile = 0;  // tiles before it have been handed out
+  std::vector<TileRect> tiles;  // those still to render, known once prepared
+  std::size_t next_tile = 0;    // tiles before it have been handed out
   bool preparing = false;
   unsigned in_flight = 0;  // tasks of this entry running on workers
 };
@@ -35,7 +36,7 @@ Scheduler::Scheduler(SchedulerOptions options) : options_(std::move(options)) {
 }
 
 Scheduler::~Scheduler() {
-  stop("daemon shutting down");
+  stop();
 }
 
 void Scheduler::start() {
@@ -45,14 +46,43 @@ void Scheduler::start() {
   for (unsigned i = 0; i < options_.threads; ++i) workers_.emplace_back([this] { worker_loop(); });
 }
 
+namespace {
+
+std::size_t tile_count(const RenderSettings& r) {
+  return make_tiles(r.width, r.height, r.tile_size).size();
+}
+
+// Failing a job writes to the store, which can itself fail (a full disk); that must not
+// take the worker thread down with it.
+void fail_job(Job& job, const std::string& message) {
+  try {
+    if (job.fail(message)) spdlog::error("job {} failed: {}", job.id(), message);
+  } catch (const std::exception& e) {
+    spdlog::error("job {} failed ({}) and the failure could not be stored: {}", job.id(), message,
+                  e.what());
+    job.request_stop();
+  }
+}
+
+}  // namespace
+
 bool Scheduler::submit(std::shared_ptr<Job> job, SceneDescription scene) {
-  auto entry = std::make_shared<Entry>();
-  const auto& r = scene.render;
-  entry->tiles = make_tiles(r.width, r.height, r.tile_size);
-  if (entry->tiles.size() != job->info().progress.tiles_total)
+  if (tile_count(scene.render) != job->record().tiles_total)
     throw std::logic_error("job " + job->id() + " has a tile count that does not match its scene");
+  auto entry = std::make_shared<Entry>();
   entry->job = std::move(job);
   entry->scene = std::make_unique<SceneDescription>(std::move(scene));
+  return enqueue(std::move(entry));
+}
+
+bool Scheduler::submit(std::shared_ptr<Job> job) {
+  if (!options_.load_scene) throw std::logic_error("scheduler has no load_scene to read scenes");
+  auto entry = std::make_shared<Entry>();
+  entry->job = std::move(job);
+  return enqueue(std::move(entry));
+}
+
+bool Scheduler::enqueue(std::shared_ptr<Entry> entry) {
   {
     std::lock_guard lock(mutex_);
     if (stopping_) return false;
@@ -76,19 +106,29 @@ void Scheduler::wait_idle() {
   std::unique_lock lock(mutex_);
   idle_.wait(lock, [&] {
     prune_locked();
-    return queue_.empty();
+    return queue_.empty() || (stopping_ && in_flight_ == 0);
   });
 }
 
-void Scheduler::stop(const std::string& reason) {
+void Scheduler::stop(std::chrono::milliseconds grace) {
   std::vector<std::thread> workers;
   {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     if (stopping_ && workers_.empty()) return;
     stopping_ = true;
-    for (const auto& entry : queue_)
-      if (entry->job->cancel(reason) == CancelResult::kCancelled)
-        spdlog::info("job {} cancelled: {}", entry->job->id(), reason);
+    work_available_.notify_all();
+    if (!idle_.wait_for(lock, grace, [&] { return in_flight_ == 0; })) {
+      unsigned aborted = 0;
+      for (const auto& entry : queue_)
+        if (entry->in_flight > 0) {
+          entry->job->request_stop();
+          aborted += entry->in_flight;
+        }
+      spdlog::info(
+          "{} tiles still rendering after the {} ms grace period are abandoned; they "
+          "are rendered again after a restart",
+          aborted, grace.count());
+    }
     workers.swap(workers_);
   }
   work_available_.notify_all();
@@ -100,31 +140,70 @@ void Scheduler::stop(const std::string& reason) {
 
 // Forgets finished jobs whose tasks have all returned, freeing their prepared scenes.
 void Scheduler::prune_locked() {
-  const auto removed = std::remove_if(queue_.begin(), queue_.end(), [](const auto& entry) {
-    return entry->in_flight == 0 && entry->job->finished();
+  const auto removed = std::remove_if(queue_.begin(), queue_.end(), [&](const auto& entry) {
+    if (entry->in_flight != 0 || !entry->job->finished()) return false;
+    if (options_.on_job_released) options_.on_job_released(*entry->job);
+    return true;
   });
   if (removed == queue_.end()) return;
   queue_.erase(removed, queue_.end());
+  // Submitters with nothing queued start afresh.
+  std::erase_if(last_served_, [&](const auto& served) {
+    return std::none_of(queue_.begin(), queue_.end(),
+                        [&](const auto& entry) { return entry->job->submitter() == served.first; });
+  });
   if (queue_.empty()) idle_.notify_all();
 }
 
+namespace {
+
+template <typename Entry>
+bool has_work(const Entry& entry) {
+  if (entry.job->finished()) return false;  // tasks still in flight; nothing new to hand out
+  if (!entry.prepared) return !entry.preparing;
+  return entry.next_tile < entry.tiles.size();  // else every tile is handed out
+}
+
+}  // namespace
+
 bool Scheduler::take_task_locked(Task& task) {
   prune_locked();
+  if (stopping_) return false;
+  // queue_ is ordered by priority, then submission: the first entry with work sets the
+  // priority, and the least recently served submitter at that priority gets the task.
+  std::shared_ptr<Entry> chosen;
+  std::uint64_t chosen_served = 0;
   for (const auto& entry : queue_) {
-    if (entry->job->finished()) continue;  // tasks still in flight; nothing new to hand out
-    if (!entry->prepared) {
-      if (entry->preparing) continue;  // another worker is building it
-      entry->preparing = true;
-      task = Task{entry, true, {}};
-    } else if (entry->next_tile < entry->tiles.size()) {
-      task = Task{entry, false, entry->tiles[entry->next_tile++]};
-    } else {
-      continue;  // every tile handed out: lower-priority jobs may use this worker
+    if (!has_work(*entry)) continue;
+    if (chosen && entry->job->priority() != chosen->job->priority()) break;
+    const auto it = last_served_.find(entry->job->submitter());
+    const std::uint64_t served = it == last_served_.end() ? 0 : it->second;
+    if (!chosen || served < chosen_served) {
+      chosen = entry;
+      chosen_served = served;
+      if (served == 0) break;  // never served: none can come before it
     }
-    ++entry->in_flight;
-    return true;
   }
-  return false;
+  if (!chosen) return false;
+  if (chosen->prepared && options_.yield_every > 0 &&
+      chosen->next_tile >= options_.long_job_tiles && (served_ + 1) % options_.yield_every == 0) {
+    for (const auto& entry : queue_)
+      if (entry->job->priority() < chosen->job->priority() && has_work(*entry)) {
+        chosen = entry;
+        break;
+      }
+  }
+  if (!chosen->prepared) {
+    chosen->preparing = true;
+    task = Task{chosen, true, {}};
+  } else {
+    task = Task{chosen, false, chosen->tiles[chosen->next_tile++]};
+    ++served_;
+  }
+  last_served_[chosen->job->submitter()] = served_ + 1;
+  ++chosen->in_flight;
+  ++in_flight_;
+  return true;
 }
 
 void Scheduler::worker_loop() {
@@ -142,7 +221,9 @@ void Scheduler::worker_loop() {
     {
       std::lock_guard lock(mutex_);
       --task.entry->in_flight;
+      --in_flight_;
       prune_locked();
+      if (in_flight_ == 0) idle_.notify_all();
     }
     // A prepared job has tiles for every idle worker; a finished one may free a waiter.
     work_available_.notify_all();
@@ -152,50 +233,83 @@ void Scheduler::worker_loop() {
 void Scheduler::prepare(Entry& entry) {
   Job& job = *entry.job;
   std::shared_ptr<const PreparedScene> prepared;
-  if (job.mark_running()) {
-    try {
-      prepared = options_.prepare(*entry.scene);
+  std::vector<TileRect> pending;
+  std::size_t stored = 0;
+  try {
+    if (job.mark_running()) {
+      std::optional<SceneDescription> loaded;
+      if (!entry.scene) loaded = options_.load_scene(job);
+      const SceneDescription& scene = entry.scene ? *entry.scene : *loaded;
+      const RenderSettings& r = scene.render;
+      if (tile_count(r) != job.record().tiles_total)
+        throw std::runtime_error("the stored scene's tile grid does not match the job's");
+      prepared = options_.prepare(scene);
       if (!prepared) throw std::runtime_error("no scene was built");
-    } catch (const std::exception& e) {
-      job.fail(std::string("scene preparation failed: ") + e.what());
-      spdlog::error("job {} failed: scene preparation failed: {}", job.id(), e.what());
-    } catch (...) {
-      job.fail("scene preparation failed: unknown error");
-      spdlog::error("job {} failed: scene preparation failed: unknown error", job.id());
+      // Tiles stored before (by a daemon that stopped or died) are not rendered again.
+      const std::vector<std::uint32_t> done = job.stored_tile_indices();
+      stored = done.size();
+      for (const TileRect& tile : make_tiles(r.width, r.height, r.tile_size))
+        if (!std::binary_search(done.begin(), done.end(), tile.index)) pending.push_back(tile);
     }
+  } catch (const std::exception& e) {
+    prepared.reset();
+    fail_job(job, std::string("scene preparation failed: ") + e.what());
+  } catch (...) {
+    prepared.reset();
+    fail_job(job, "scene preparation failed: unknown error");
   }
   if (prepared) {
     const auto& s = prepared->settings();
-    spdlog::info("job {} started: {}x{}, {} spp, {} tiles, {}; prepared in {:.3f} s, BVH depth {}",
-                 job.id(), s.width, s.height, s.samples_per_pixel, entry.tiles.size(),
-                 prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
+    spdlog::info(
+        "job {} started: {}x{}, {} spp, {} tiles ({} stored before), {}; prepared in {:.3f} s, "
+        "BVH depth {}",
+        job.id(), s.width, s.height, s.samples_per_pixel, pending.size() + stored, stored,
+        prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
     if (options_.on_job_started) options_.on_job_started(job);
   }
   std::lock_guard lock(mutex_);
   entry.scene.reset();
+  entry.tiles = std::move(pending);
   entry.prepared = std::move(prepared);
   entry.preparing = false;
 }
 
 void Scheduler::render(Entry& entry, const TileRect& rect) {
   Job& job = *entry.job;
-  if (job.finished()) return;  // cancelled after the tile was handed out
-  thread_local TilePasses passes;
+  if (job.stop_requested()) return;  // cancelled after the tile was handed out
   AddTileResult added = AddTileResult::kDropped;
+  bool claimed = false;
   try {
-    const TileStats stats = entry.prepared->render_tile(rect, passes);
-    const std::uint32_t aovs = entry.prepared->settings().aovs;
-    std::vector<std::uint8_t> exr =
-        aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
-                  : encode_exr(interleave_passes(passes, aovs), rect.width, rect.height,
-                               output_channels(aovs), rect.x, rect.y);
-    added = job.add_tile(rect, std::move(exr), stats.rays);
+    if (!job.claim_tile(rect.index, options_.owner)) return;  // stored, or another's
+    claimed = true;
+    thread_local TilePasses passes;
+    TileStats stats;
+    if (options_.on_tile_started) options_.on_tile_started(job, rect);
+    {
+      const TileCancelScope cancel(&job.stop_flag());
+      stats = entry.prepared->render_tile(rect, passes);
+    }
+    // A raised flag may have cut the tile short: it is incomplete, so never stored.
+    if (!job.stop_requested()) {
+      const std::uint32_t aovs = entry.prepared->settings().aovs;
+      const std::vector<std::uint8_t> exr =
+          aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
+                    : encode_exr(interleave_passes(passes, aovs), rect.width, rect.height,
+                                 output_channels(aovs), rect.x, rect.y);
+      added = job.add_tile(rect, options_.owner, exr, stats.rays);
+      claimed = false;  // committed or released by add_tile
+    }
   } catch (const std::exception& e) {
-    const std::string message = "tile " + std::to_string(rect.index) + " failed: " + e.what();
-    if (job.fail(message)) spdlog::error("job {} failed: {}", job.id(), message);
+    fail_job(job, "tile " + std::to_string(rect.index) + " failed: " + e.what());
   } catch (...) {
-    const std::string message = "tile " + std::to_string(rect.index) + " failed: unknown error";
-    if (job.fail(message)) spdlog::error("job {} failed: {}", job.id(), message);
+    fail_job(job, "tile " + std::to_string(rect.index) + " failed: unknown error");
+  }
+  if (claimed) {
+    try {
+      job.release_tile(rect.index, options_.owner);
+    } catch (...) {
+      // Claims lapse anyway; nothing is lost by keeping this one.
+    }
   }
   if (options_.on_tile_rendered)
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);

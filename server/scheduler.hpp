@@ -1,4 +1,5 @@
 #pragma once
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -6,6 +7,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "server/job.hpp"
@@ -19,25 +21,54 @@ inline std::shared_ptr<const PreparedScene> default_prepare(const SceneDescripti
   return PreparedScene::build(scene);
 }
 
+// Reads a job's scene back from where it is kept (the daemon: the job store). Throws when
+// the scene cannot be read or no longer converts.
+using LoadSceneFn = std::function<SceneDescription(const Job&)>;
+
 struct SchedulerOptions {
   unsigned threads = 1;
   // Builds a job's render-ready scene; replaceable so tests can make preparation fail.
   PrepareSceneFn prepare = default_prepare;
+  // For jobs submitted without a scene in memory (every job the daemon runs, so a queued
+  // job costs no scene memory and a resumed one takes the same path).
+  LoadSceneFn load_scene;
+  // Names this scheduler's tile claims in the store.
+  std::string owner = "scheduler";
+  // Fairness across priorities: once a job has been handed `long_job_tiles` tiles, every
+  // `yield_every`-th tile it would get goes to the best job of a lower priority instead
+  // (0: strict priority).
+  std::uint32_t long_job_tiles = 32;
+  std::uint32_t yield_every = 8;
   // Called on the worker thread; for tests and instrumentation. Must not throw.
   std::function<void(const Job&)> on_job_started;
+  // Called on the worker thread just before a claimed tile starts rendering.
+  std::function<void(const Job&, const TileRect&)> on_tile_started;
   // `kept` is false when the job had finished (been cancelled) while the tile rendered.
   std::function<void(const Job&, const TileRect&, bool kept)> on_tile_rendered;
+  // Called, under the scheduler's lock, when the scheduler lets go of a finished job.
+  // Must be quick and must not call the scheduler.
+  std::function<void(const Job&)> on_job_released;
 };
 
 // Runs jobs on a pool of worker threads. Each job's scene is prepared once (by whichever
-// worker picks the job up first) and shared by all its tiles; the tiles of every running
-// job are handed out in order of job priority (higher first, then submission order), so
-// a lower-priority job only gets workers that the jobs above it cannot use. Exceptions
-// from preparing or rendering fail that job alone.
+// worker picks the job up first) and shared by all its tiles.
+//
+// Which tile next: the highest priority with work wins, and within it the submitter served
+// least recently (round-robin by submitter, then submission order within a submitter), so
+// one client's thousand jobs cannot starve another's one at the same priority. Priority
+// stays nearly strict but not absolute: a long job (options.long_job_tiles handed out)
+// yields every options.yield_every-th tile to the best lower-priority job, so a short
+// low-priority job advances at a known share of the workers instead of waiting for days.
+// Round-robin by submitter rather than weighted fair share: no weights to configure,
+// nothing to tune, and the share each submitter gets is obvious from the queue. Tiles the store
+// already holds (a job resumed after a restart) are not rendered again; every tile is
+// claimed in the store before it is rendered and committed to it after. A tile being
+// rendered checks its job's stop flag, so a cancel reaches it within a fraction of a
+// second. Exceptions from preparing or rendering fail that job alone.
 class Scheduler {
  public:
   explicit Scheduler(SchedulerOptions options);
-  ~Scheduler();  // stop("daemon shutting down")
+  ~Scheduler();  // stop()
   Scheduler(const Scheduler&) = delete;
   Scheduler& operator=(const Scheduler&) = delete;
 
@@ -47,6 +78,8 @@ class Scheduler {
   // Queues a job with its validated scene. The job's tile count must match the scene's
   // render settings. Returns false, leaving the job untouched, once stop() has begun.
   bool submit(std::shared_ptr<Job> job, SceneDescription scene);
+  // Queues a job whose scene options.load_scene reads when the job is prepared.
+  bool submit(std::shared_ptr<Job> job);
 
   // Call after cancelling a job from outside, so its remaining tiles are not handed out
   // and the scheduler forgets it.
@@ -55,9 +88,11 @@ class Scheduler {
   // Blocks until every submitted job has finished and no tile is in flight.
   void wait_idle();
 
-  // Cancels every unfinished job with `reason`, lets tiles in flight finish (their
-  // results are dropped) and joins the workers. Idempotent.
-  void stop(const std::string& reason);
+  // Stops handing out work, gives the tiles in flight up to `grace` to finish (they are
+  // stored), then makes the rest give up (they are discarded: a restart renders them
+  // again), and joins the workers. Jobs are left as they are, queued or running, for a
+  // restarted daemon to resume. Idempotent.
+  void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(0));
 
   unsigned threads() const { return options_.threads; }
 
@@ -70,6 +105,7 @@ class Scheduler {
   void prune_locked();
   void prepare(Entry& entry);
   void render(Entry& entry, const TileRect& rect);
+  bool enqueue(std::shared_ptr<Entry> entry);
 
   SchedulerOptions options_;
   std::mutex mutex_;
@@ -77,6 +113,11 @@ class Scheduler {
   std::condition_variable idle_;
   std::vector<std::shared_ptr<Entry>> queue_;  // priority descending, then submission order
   std::uint64_t next_sequence_ = 0;
+  unsigned in_flight_ = 0;  // tasks running on workers, over every entry
+  // Round-robin state: when each submitter with queued work was last served, and how many
+  // tiles have been handed out in all (for yielding).
+  std::unordered_map<std::string, std::uint64_t> last_served_;
+  std::uint64_t served_ = 0;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
 };

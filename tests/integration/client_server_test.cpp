@@ -338,6 +338,35 @@ TEST_F(CliAgainstDaemonTest, CancelledJobMakesWatchFail) {
   EXPECT_FALSE(std::filesystem::exists(watch.output_exr));
 }
 
+// `tessera delete JOB` removes a finished job; the daemon forgets it.
+TEST_F(CliAgainstDaemonTest, DeleteRemovesAFinishedJob) {
+  const char* argv[] = {"tessera", "delete", "job-x", "--server", "127.0.0.1:1"};
+  std::ostringstream parse_out, parse_err;
+  const ParsedCommandLine parsed = parse_command_line(5, argv, parse_out, parse_err);
+  ASSERT_TRUE(parsed.command) << parse_err.str();
+  EXPECT_EQ(parsed.command->kind, CommandKind::kDelete);
+  EXPECT_EQ(parsed.command->job_id, "job-x");
+
+  const v1::Job job = client_.submit(make_submit_request(cornell(16, 16, 1, 16), "short", 0));
+  stream_all(client_, job);
+  CliCommand remove;
+  remove.kind = CommandKind::kDelete;
+  remove.server = address();
+  remove.job_id = job.id();
+  const CliRun removed = run_cli(remove);
+  ASSERT_EQ(removed.exit_code, kExitOk) << removed.err;
+  EXPECT_EQ(removed.out, "job " + job.id() + ": deleted\n");
+  try {
+    client_.get(job.id());
+    FAIL() << "a deleted job was found";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::NOT_FOUND) << e.what();
+  }
+  const CliRun again = run_cli(remove);
+  EXPECT_EQ(again.exit_code, kExitFailed);
+  EXPECT_NE(again.err.find("NOT_FOUND"), std::string::npos) << again.err;
+}
+
 }  // namespace
 }  // namespace tessera
 

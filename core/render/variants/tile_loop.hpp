@@ -5,15 +5,28 @@
 #include "tessera/render/path_tracer.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/shadow_integrator.hpp"
+#include "tessera/render/tile_cancel.hpp"
 #include "tessera/render/transparency_integrator.hpp"
 
 namespace tessera::variants {
 
+// Checks the thread's cancel flag (TileCancelScope) every kCancelCheckSamples samples, so a
+// cancel reaches a tile within a fraction of a second whatever its size and spp.
+inline constexpr std::uint32_t kCancelCheckSamples = 256;
+
 template <typename P>
 void run_tile(const P& pipeline, const TileRect& tile, std::uint32_t samples_per_pixel) {
+  const std::atomic<bool>* cancel = current_tile_cancel_flag();
+  std::uint32_t until_check = 0;
   for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
     for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x)
-      for (std::uint32_t s = 0; s < samples_per_pixel; ++s) pipeline.launch(x, y, s);
+      for (std::uint32_t s = 0; s < samples_per_pixel; ++s) {
+        if (until_check-- == 0) {
+          if (cancel && cancel->load(std::memory_order_relaxed)) return;
+          until_check = kCancelCheckSamples - 1;
+        }
+        pipeline.launch(x, y, s);
+      }
 }
 
 template <unsigned kShapes>

@@ -129,6 +129,35 @@ TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
   EXPECT_EQ(overridden.config.log_level, "warn");
 }
 
+TEST_F(ConfigFile, ShutdownGraceAndRetentionAreRead) {
+  const CommandLine defaults = parse({});
+  ASSERT_FALSE(defaults.exit_code) << defaults.message;
+  EXPECT_EQ(defaults.config.shutdown_grace, std::chrono::seconds(5));
+  EXPECT_EQ(defaults.config.job_ttl, std::chrono::hours(7 * 24));
+  EXPECT_EQ(defaults.config.max_jobs, 10000u);
+
+  const CommandLine cl = parse({"--config", write("shutdown_grace: 1500ms\njob_ttl: 12h\nmax_jobs: "
+                                                  "0\nmax_jobs_per_submitter: 7\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.shutdown_grace, std::chrono::milliseconds(1500));
+  EXPECT_EQ(cl.config.job_ttl, std::chrono::hours(12));
+  EXPECT_EQ(cl.config.max_jobs, 0u);
+  EXPECT_EQ(cl.config.max_jobs_per_submitter, 7u);
+  EXPECT_EQ(defaults.config.max_jobs_per_submitter, 1000u);
+  EXPECT_TRUE(cl.warnings.empty());
+}
+
+TEST(ParseDuration, AcceptsANumberWithAUnit) {
+  EXPECT_EQ(parse_duration("250ms"), std::chrono::milliseconds(250));
+  EXPECT_EQ(parse_duration("30"), std::chrono::seconds(30));
+  EXPECT_EQ(parse_duration("30s"), std::chrono::seconds(30));
+  EXPECT_EQ(parse_duration("15m"), std::chrono::minutes(15));
+  EXPECT_EQ(parse_duration("2d"), std::chrono::hours(48));
+  EXPECT_EQ(parse_duration("0"), std::chrono::milliseconds(0));
+  for (const char* bad : {"", "s", "-1s", "1.5s", "1 s", "3y", "99999999999d", "1s2"})
+    EXPECT_FALSE(parse_duration(bad)) << bad;
+}
+
 TEST_F(ConfigFile, UnknownKeysWarnWithTheirLine) {
   const CommandLine cl = parse({"--config", write("threads: 2\nworkers: 9\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
@@ -148,6 +177,11 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
       {"data: ''\n", "data: must not be empty"},
       {"- just\n- a list\n", "must be a YAML map"},
       {"threads: [1\n", "YAML syntax error"},
+      {"shutdown_grace: soon\n", ":1: shutdown_grace: must be a duration such as 30s"},
+      {"job_ttl: -1d\n", "job_ttl: must be a duration"},
+      {"job_ttl: 5w\n", "job_ttl: must be a duration"},
+      {"max_jobs: -3\n", "max_jobs: must be a whole number, 0 for no limit, got '-3'"},
+      {"max_jobs: lots\n", "max_jobs: must be a whole number"},
   };
   for (const auto& [text, expected] : cases) {
     const CommandLine cl = parse({"--config", write(text)});

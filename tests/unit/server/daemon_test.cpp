@@ -1,6 +1,8 @@
 // The daemon in-process on an ephemeral port, driven through the generated gRPC stub.
 #include "server/daemon.hpp"
 
+#include "server/sqlite_job_store.hpp"
+
 #include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
@@ -32,15 +34,46 @@ class DaemonTest : public ::testing::Test {
   void SetUp() override {
     data_dir_ = std::filesystem::temp_directory_path() /
                 ("tesserad-daemon-test-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(data_dir_);
+    restart();
+  }
+
+  // (Re)starts the daemon on the same data directory.
+  void restart(const std::function<void(DaemonConfig&)>& adjust = {}) {
+    daemon_.reset();
     DaemonConfig config;
     config.listen = "127.0.0.1:0";
     config.threads = 2;
     config.data_dir = data_dir_;
     config.log_level = "warn";
+    config.shutdown_grace = 0ms;  // nothing here needs tiles to finish at shutdown
+    if (adjust) adjust(config);
     daemon_ = std::make_unique<Daemon>(config);
     port_ = daemon_->start();
     channel_ = grpc::CreateChannel(daemon_->address(), grpc::InsecureChannelCredentials());
     stub_ = v1::RenderService::NewStub(channel_);
+  }
+
+  grpc::Status remove(const std::string& job_id) {
+    grpc::ClientContext context;
+    v1::DeleteJobRequest request;
+    request.set_job_id(job_id);
+    v1::DeleteJobResponse response;
+    return stub_->DeleteJob(&context, request, &response);
+  }
+
+  // Sends `bytes` as the request of unary `method`, as a client with a broken encoder would.
+  grpc::Status raw_unary_call(const std::string& method, const std::string& bytes) {
+    grpc::GenericStub generic(channel_);
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + 10s);
+    grpc::Slice slice(bytes);
+    grpc::ByteBuffer request(&slice, 1);
+    grpc::ByteBuffer response;
+    std::promise<grpc::Status> done;
+    generic.UnaryCall(&context, method, grpc::StubOptions(), &request, &response,
+                      [&](grpc::Status s) { done.set_value(std::move(s)); });
+    return done.get_future().get();
   }
   void TearDown() override {
     daemon_.reset();
@@ -55,13 +88,14 @@ class DaemonTest : public ::testing::Test {
     return status;
   }
 
-  v1::Job submit_ok(v1::RenderSettings settings, const std::string& name = "test",
-                    int priority = 0) {
+  v1::Job submit_ok(v1::RenderSettings settings, const std::string& name = "test", int priority = 0,
+                    const std::string& submitter = "") {
     v1::SubmitJobRequest request;
     *request.mutable_scene() = tiny_scene();
     *request.mutable_settings() = settings;
     request.set_name(name);
     request.set_priority(priority);
+    request.set_submitter(submitter);
     v1::Job job;
     const grpc::Status status = submit(request, &job);
     EXPECT_TRUE(status.ok()) << status.error_message();
@@ -70,11 +104,12 @@ class DaemonTest : public ::testing::Test {
 
   // Reads the whole stream; `after_first` runs once the first tile has arrived.
   StreamResult stream(const std::string& job_id, std::function<void()> after_first = {},
-                      std::chrono::milliseconds deadline = 30s) {
+                      std::chrono::milliseconds deadline = 30s, std::uint32_t after_tiles = 0) {
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + deadline);
     v1::StreamTilesRequest request;
     request.set_job_id(job_id);
+    request.set_after_tiles(after_tiles);
     auto reader = stub_->StreamTiles(&context, request);
     StreamResult result;
     v1::Tile tile;
@@ -167,6 +202,27 @@ TEST_F(DaemonTest, SubmitThenStreamEveryTileOnce) {
   EXPECT_EQ(done.progress().tiles_done(), 6u);
   EXPECT_GE(done.finished_unix_ms(), done.submitted_unix_ms());
   EXPECT_GT(done.progress().rays_per_second(), 0.0);
+}
+
+// A client that lost its stream re-attaches after the last tile it got (its
+// progress.tiles_done) and receives exactly the rest, in the same order.
+TEST_F(DaemonTest, StreamTilesReattachesAfterTheTilesAlreadyReceived) {
+  const v1::Job job = submit_ok(tiny_settings(24, 16, 8), "reattach");  // 6 tiles
+  const StreamResult all = stream(job.id());
+  ASSERT_TRUE(all.status.ok());
+  ASSERT_EQ(all.tiles.size(), 6u);
+  const StreamResult rest = stream(job.id(), {}, 30s, all.tiles[3].progress().tiles_done());
+  ASSERT_TRUE(rest.status.ok()) << rest.status.error_message();
+  ASSERT_EQ(rest.tiles.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rest.tiles[i].rect().index(), all.tiles[4 + i].rect().index());
+    EXPECT_EQ(rest.tiles[i].exr(), all.tiles[4 + i].exr());
+    EXPECT_EQ(rest.tiles[i].progress().tiles_done(), 5 + i);
+  }
+  EXPECT_TRUE(stream(job.id(), {}, 30s, 6).tiles.empty());
+  const StreamResult beyond = stream(job.id(), {}, 30s, 7);
+  EXPECT_EQ(beyond.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(beyond.status.error_message(), "after_tiles: must be at most the job's 6 tiles, got 7");
 }
 
 TEST_F(DaemonTest, AnInvalidSceneIsInvalidArgumentNamingTheField) {
@@ -274,7 +330,7 @@ TEST_F(DaemonTest, HealthServiceReportsServing) {
   EXPECT_EQ(bytes, std::string("\x08\x01", 2));  // HealthCheckResponse{status: SERVING}
 }
 
-TEST_F(DaemonTest, ShutdownCancelsRunningJobsAndEndsTheirStreams) {
+TEST_F(DaemonTest, ShutdownKeepsJobsForTheNextStartAndEndsTheirStreams) {
   const v1::Job job = submit_ok(long_settings(), "long");
   StreamResult result;
   std::promise<void> streaming;
@@ -284,9 +340,9 @@ TEST_F(DaemonTest, ShutdownCancelsRunningJobsAndEndsTheirStreams) {
   daemon_->shutdown();
   watcher.join();
   ASSERT_TRUE(live);
-  EXPECT_EQ(result.status.error_code(), grpc::StatusCode::CANCELLED)
+  EXPECT_EQ(result.status.error_code(), grpc::StatusCode::UNAVAILABLE)
       << result.status.error_message();
-  EXPECT_NE(result.status.error_message().find("daemon shutting down"), std::string::npos);
+  EXPECT_NE(result.status.error_message().find("resumes when it restarts"), std::string::npos);
   daemon_->wait();      // returns at once: already stopped
   daemon_->shutdown();  // idempotent
 
@@ -294,6 +350,209 @@ TEST_F(DaemonTest, ShutdownCancelsRunningJobsAndEndsTheirStreams) {
   context.set_deadline(std::chrono::system_clock::now() + 2s);
   v1::ListJobsResponse list;
   EXPECT_FALSE(stub_->ListJobs(&context, v1::ListJobsRequest(), &list).ok());
+
+  // The job is still in the store, unfinished, with the tiles it had.
+  daemon_.reset();
+  SqliteJobStore store(data_dir_ / SqliteJobStore::kFileName);
+  const auto record = store.find_job(job.id());
+  ASSERT_TRUE(record);
+  EXPECT_FALSE(is_finished(record->state)) << to_string(record->state);
+  EXPECT_GE(record->tiles_done, result.tiles.size());
+}
+
+// A daemon started on the same data directory finishes the job; tiles stored before the
+// restart are streamed from the store and not rendered again.
+TEST_F(DaemonTest, ARestartedDaemonFinishesTheJob) {
+  v1::RenderSettings settings = tiny_settings(64, 64, 8);  // 64 tiles
+  settings.set_samples_per_pixel(64);
+  const v1::Job job = submit_ok(settings, "resumed");
+  std::promise<void> first_tile;
+  StreamResult before;
+  std::thread watcher([&] { before = stream(job.id(), [&] { first_tile.set_value(); }); });
+  ASSERT_EQ(first_tile.get_future().wait_for(30s), std::future_status::ready);
+  daemon_->shutdown();
+  watcher.join();
+
+  restart();
+  const StreamResult after = stream(job.id());
+  ASSERT_TRUE(after.status.ok()) << after.status.error_message();
+  std::set<std::uint32_t> indices;
+  for (const v1::Tile& tile : after.tiles) indices.insert(tile.rect().index());
+  EXPECT_EQ(indices.size(), 64u);
+  EXPECT_EQ(after.tiles.size(), 64u);
+  EXPECT_EQ(get(job.id()).state(), v1::JOB_STATE_COMPLETED);
+  daemon_.reset();
+  SqliteJobStore store(data_dir_ / SqliteJobStore::kFileName);
+  for (std::uint32_t i = 0; i < 64; ++i) EXPECT_EQ(store.tile_commit_count(job.id(), i), 1u) << i;
+}
+
+// Bytes that are not a protobuf message: INVALID_ARGUMENT saying so, for every method.
+TEST_F(DaemonTest, MalformedRequestBytesAreInvalidArgument) {
+  // A field tag followed by a length running past the end of the message.
+  const std::string garbage("\x0a\xff\xff\xff\x0f\x01", 6);
+  for (const char* method : {"SubmitJob", "GetJob", "ListJobs", "CancelJob", "DeleteJob"}) {
+    const grpc::Status status =
+        raw_unary_call(std::string("/tessera.v1.RenderService/") + method, garbage);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << method;
+    EXPECT_NE(status.error_message().find("not a valid tessera.v1."), std::string::npos)
+        << method << ": " << status.error_message();
+  }
+}
+
+TEST_F(DaemonTest, JobIdsAreLengthLimitedAndNotEchoedRaw) {
+  const std::string long_id(10'000, 'x');
+  grpc::Status status;
+  get(long_id, &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "job_id: must be at most 64 bytes, got 10000");
+  EXPECT_EQ(cancel(long_id).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(stream(long_id).status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  // A short unknown id comes back escaped: no raw newline in the message.
+  get("job-1\n[critical] forged", &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(status.error_message(), "job 'job-1\\x0a[critical] forged' not found");
+}
+
+TEST_F(DaemonTest, ListJobsPagesNewestFirstAndFiltersByState) {
+  std::vector<std::string> submitted;  // oldest first
+  for (int i = 0; i < 5; ++i) {
+    const v1::Job job = submit_ok(tiny_settings(), "done-" + std::to_string(i));
+    ASSERT_TRUE(stream(job.id()).status.ok());
+    submitted.push_back(job.id());
+  }
+  for (int i = 0; i < 2; ++i) {
+    const v1::Job job = submit_ok(long_settings(), "cancelled-" + std::to_string(i));
+    ASSERT_TRUE(cancel(job.id()).ok());
+    submitted.push_back(job.id());
+  }
+  const auto list = [&](const v1::ListJobsRequest& request, grpc::Status* status = nullptr) {
+    grpc::ClientContext context;
+    v1::ListJobsResponse response;
+    const grpc::Status s = stub_->ListJobs(&context, request, &response);
+    if (status) *status = s;
+    return response;
+  };
+
+  // Pages of 3: 3 + 3 + 1, newest first, each job once, the last page without a token.
+  std::vector<std::string> paged;
+  v1::ListJobsRequest request;
+  request.set_page_size(3);
+  int pages = 0;
+  for (;;) {
+    const v1::ListJobsResponse page = list(request);
+    ++pages;
+    for (const v1::Job& job : page.jobs()) paged.push_back(job.id());
+    if (page.next_page_token().empty()) break;
+    EXPECT_EQ(page.jobs_size(), 3);
+    request.set_page_token(page.next_page_token());
+  }
+  EXPECT_EQ(pages, 3);
+  EXPECT_EQ(paged, std::vector<std::string>(submitted.rbegin(), submitted.rend()));
+
+  v1::ListJobsRequest by_state;
+  by_state.set_state(v1::JOB_STATE_CANCELLED);
+  const v1::ListJobsResponse cancelled = list(by_state);
+  ASSERT_EQ(cancelled.jobs_size(), 2);
+  EXPECT_EQ(cancelled.jobs(0).id(), submitted[6]);
+  EXPECT_EQ(cancelled.jobs(1).id(), submitted[5]);
+  by_state.set_state(v1::JOB_STATE_COMPLETED);
+  EXPECT_EQ(list(by_state).jobs_size(), 5);
+
+  grpc::Status status;
+  v1::ListJobsRequest bad;
+  bad.set_page_token("not-a-token\n");
+  list(bad, &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "page_token: not a token this server issued");
+  bad.Clear();
+  bad.set_state(static_cast<v1::JobState>(99));
+  list(bad, &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+}
+
+TEST_F(DaemonTest, DeleteJobRemovesFinishedJobsOnly) {
+  const v1::Job running = submit_ok(long_settings(), "long");
+  grpc::Status status = remove(running.id());
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << status.error_message();
+  ASSERT_TRUE(cancel(running.id()).ok());
+  EXPECT_TRUE(remove(running.id()).ok());
+  get(running.id(), &status);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(remove(running.id()).error_code(), grpc::StatusCode::NOT_FOUND);
+
+  const v1::Job done = submit_ok(tiny_settings(), "done");
+  ASSERT_TRUE(stream(done.id()).status.ok());
+  EXPECT_TRUE(remove(done.id()).ok());
+  EXPECT_EQ(stream(done.id()).status.error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// max_jobs: finished jobs beyond the limit are deleted, oldest first; the unfinished one
+// stays even though it is the oldest.
+TEST_F(DaemonTest, RetentionDeletesTheOldestFinishedJobsOnly) {
+  restart([](DaemonConfig& config) { config.max_jobs = 3; });
+  const v1::Job running = submit_ok(long_settings(), "long", 10);
+  std::vector<std::string> finished;
+  for (int i = 0; i < 5; ++i) {
+    // Lower priority than the long job, so they wait for it: raise theirs instead.
+    const v1::Job job = submit_ok(tiny_settings(), "done-" + std::to_string(i), 20);
+    ASSERT_TRUE(stream(job.id()).status.ok());
+    finished.push_back(job.id());
+  }
+  // Retention runs on its own thread once a job is released; wait for it to catch up.
+  grpc::Status status;
+  for (int attempt = 0; attempt < 3000; ++attempt) {
+    get(finished[2], &status);
+    if (status.error_code() == grpc::StatusCode::NOT_FOUND) break;
+    std::this_thread::sleep_for(10ms);
+  }
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  for (int i = 0; i < 3; ++i) {
+    get(finished[static_cast<std::size_t>(i)], &status);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND) << i;
+  }
+  for (int i = 3; i < 5; ++i) {
+    get(finished[static_cast<std::size_t>(i)], &status);
+    EXPECT_TRUE(status.ok()) << i;
+  }
+  EXPECT_EQ(get(running.id(), &status).state(), v1::JOB_STATE_RUNNING);
+  EXPECT_TRUE(status.ok());
+  EXPECT_TRUE(cancel(running.id()).ok());
+}
+
+// max_jobs_per_submitter caps each submitter's unfinished jobs, not anyone else's; a
+// submitter without a name is known by its host.
+TEST_F(DaemonTest, UnfinishedJobsArePerSubmitterCapped) {
+  restart([](DaemonConfig& config) { config.max_jobs_per_submitter = 2; });
+  const v1::Job first = submit_ok(long_settings(), "a1", 0, "alice");
+  EXPECT_EQ(first.submitter(), "alice");
+  submit_ok(long_settings(), "a2", 0, "alice");
+  v1::SubmitJobRequest request;
+  *request.mutable_scene() = tiny_scene();
+  *request.mutable_settings() = tiny_settings();
+  request.set_submitter("alice");
+  grpc::Status status = submit(request);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(status.error_message().find("submitter 'alice'"), std::string::npos)
+      << status.error_message();
+  const v1::Job bobs = submit_ok(long_settings(), "b", 0, "bob");
+  const v1::Job anonymous = submit_ok(tiny_settings(), "anonymous");
+  EXPECT_EQ(anonymous.submitter(), "ipv4:127.0.0.1");
+  ASSERT_TRUE(cancel(first.id()).ok());
+  EXPECT_TRUE(submit(request).ok());  // a place freed up
+
+  grpc::ClientContext context;
+  v1::ListJobsRequest by_submitter;
+  by_submitter.set_submitter("bob");
+  v1::ListJobsResponse list;
+  ASSERT_TRUE(stub_->ListJobs(&context, by_submitter, &list).ok());
+  ASSERT_EQ(list.jobs_size(), 1);
+  EXPECT_EQ(list.jobs(0).id(), bobs.id());
+
+  request.set_submitter(std::string(129, 's'));
+  status = submit(request);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "submitter: must be at most 128 bytes, got 129");
 }
 
 TEST(Daemon, ShutdownFromAnotherThreadReleasesWait) {

@@ -6,6 +6,7 @@
 
 #include "server/job_id.hpp"
 #include "server/scheduler.hpp"
+#include "server/sqlite_job_store.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "test_scenes.hpp"
@@ -70,20 +71,26 @@ TEST(IntegratorSettings, AovJobTilesCarryTheAovChannels) {
   options.threads = 1;
   Scheduler scheduler(options);
   static JobIdGenerator ids(7);
-  auto job = std::make_shared<Job>(ids.next(), "aovs", 0, scene.render, 4u, unix_millis_now());
+  static SqliteJobStore store(":memory:");
+  JobRecord record;
+  record.id = ids.next();
+  record.name = "aovs";
+  record.settings = scene.render;
+  record.tiles_total = 4;
+  auto job = std::make_shared<Job>(store, store.create_job(record, {}));
   ASSERT_TRUE(scheduler.submit(job, scene));
   scheduler.start();
   scheduler.wait_idle();
   ASSERT_EQ(job->state(), JobState::kCompleted);
 
   const auto prepared = PreparedScene::build(scene);
-  const TileUpdate update = job->wait_for_tiles(0, 10ms);
-  ASSERT_EQ(update.tiles.size(), 4u);
-  for (const FinishedTile& tile : update.tiles) {
-    const ChannelImage decoded = select_channels(decode_exr_channels(*tile.exr),
+  const std::vector<StoredTile> tiles = job->tiles_after(0, 10);
+  ASSERT_EQ(tiles.size(), 4u);
+  for (const StoredTile& tile : tiles) {
+    const ChannelImage decoded = select_channels(decode_exr_channels(tile.exr),
                                                  output_channels(kAovDepth | kAovPrimitiveId));
     TilePasses passes;
-    prepared->render_tile(tile.rect, passes);
+    prepared->render_tile(make_tiles(16, 16, 8).at(tile.index), passes);
     EXPECT_EQ(decoded.pixels, interleave_passes(passes, kAovDepth | kAovPrimitiveId));
   }
 }

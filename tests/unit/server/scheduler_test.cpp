@@ -4,12 +4,16 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
+#include <future>
+#include <iostream>
 #include <numeric>
 #include <set>
 #include <stdexcept>
 #include <thread>
 
 #include "server/job_id.hpp"
+#include "server/sqlite_job_store.hpp"
 #include "tessera/image/exr.hpp"
 #include "test_scenes.hpp"
 
@@ -19,25 +23,45 @@ namespace {
 using namespace std::chrono_literals;
 using testing::tiny_description;
 
-std::shared_ptr<Job> make_job(const std::string& name, int priority,
-                              const SceneDescription& scene) {
+// Every job of these tests lives in one in-memory store, as the daemon's would.
+JobStore& test_store() {
+  static SqliteJobStore store(":memory:");
+  return store;
+}
+
+JobRecord make_record(const std::string& name, int priority, const SceneDescription& scene,
+                      const std::string& submitter = "") {
   static JobIdGenerator ids(1);
   const auto& r = scene.render;
-  const auto tiles = static_cast<std::uint32_t>(make_tiles(r.width, r.height, r.tile_size).size());
-  return std::make_shared<Job>(ids.next(), name, priority, r, tiles, unix_millis_now());
+  JobRecord record;
+  record.id = ids.next();
+  record.name = name;
+  record.submitter = submitter;
+  record.priority = priority;
+  record.settings = r;
+  record.tiles_total =
+      static_cast<std::uint32_t>(make_tiles(r.width, r.height, r.tile_size).size());
+  record.submitted_unix_ms = unix_millis_now();
+  return record;
+}
+
+std::shared_ptr<Job> make_job(const std::string& name, int priority, const SceneDescription& scene,
+                              const std::string& submitter = "") {
+  return std::make_shared<Job>(
+      test_store(), test_store().create_job(make_record(name, priority, scene, submitter), {}));
 }
 
 // Collects every tile of a job the way StreamTiles does; returns the tile indices in the
 // order received.
-std::vector<std::uint32_t> subscribe(const Job& job, std::vector<FinishedTile>* tiles = nullptr) {
+std::vector<std::uint32_t> subscribe(const Job& job, std::vector<StoredTile>* tiles = nullptr) {
   std::vector<std::uint32_t> indices;
   for (;;) {
     const TileUpdate update = job.wait_for_tiles(indices.size(), 50ms);
-    for (const FinishedTile& tile : update.tiles) {
-      indices.push_back(tile.rect.index);
-      if (tiles) tiles->push_back(tile);
+    for (StoredTile& tile : job.tiles_after(static_cast<std::uint32_t>(indices.size()), 1000)) {
+      indices.push_back(tile.index);
+      if (tiles) tiles->push_back(std::move(tile));
     }
-    if (update.finished) return indices;
+    if (update.finished && indices.size() >= update.tiles_done) return indices;
   }
 }
 
@@ -197,7 +221,7 @@ TEST(Scheduler, AFailingJobDoesNotAffectTheOthers) {
   scheduler.submit(before, good);
   scheduler.submit(failing, bad);
   scheduler.start();
-  std::vector<FinishedTile> tiles;
+  std::vector<StoredTile> tiles;
   EXPECT_TRUE(subscribe(*failing, &tiles).empty());
   scheduler.submit(after, good);
   scheduler.wait_idle();
@@ -220,7 +244,7 @@ TEST(Scheduler, EveryTileReachesEachSubscriberExactlyOnce) {
   scheduler.submit(job, scene);
 
   std::vector<std::uint32_t> early, late, after_the_end;
-  std::vector<FinishedTile> early_tiles;
+  std::vector<StoredTile> early_tiles;
   std::thread early_subscriber([&] { early = subscribe(*job, &early_tiles); });
   scheduler.start();
   // The late subscriber joins once some tiles are done, so it gets the backlog first.
@@ -244,40 +268,211 @@ TEST(Scheduler, EveryTileReachesEachSubscriberExactlyOnce) {
 
   // Each tile's EXR holds exactly what rendering that rectangle directly gives.
   const auto prepared = PreparedScene::build(scene);
-  for (const FinishedTile& tile : early_tiles) {
-    const RgbaImage decoded = decode_exr(*tile.exr);
-    ASSERT_EQ(decoded.width, tile.rect.width);
-    ASSERT_EQ(decoded.height, tile.rect.height);
-    std::vector<float> expected(tile.rect.pixel_count() * 4);
-    prepared->render_tile(tile.rect, expected);
-    EXPECT_EQ(decoded.pixels, expected) << "tile " << tile.rect.index;
+  const std::vector<TileRect> grid = make_tiles(32, 24, 8);
+  for (const StoredTile& tile : early_tiles) {
+    const TileRect& rect = grid.at(tile.index);
+    const RgbaImage decoded = decode_exr(tile.exr);
+    ASSERT_EQ(decoded.width, rect.width);
+    ASSERT_EQ(decoded.height, rect.height);
+    std::vector<float> expected(rect.pixel_count() * 4);
+    prepared->render_tile(rect, expected);
+    EXPECT_EQ(decoded.pixels, expected) << "tile " << tile.index;
   }
   // Progress counts up one tile at a time, and the last tile reports the job done.
+  const JobRecord record = job->record();
   std::set<std::uint32_t> done_counts;
-  for (const FinishedTile& tile : early_tiles) done_counts.insert(tile.progress.tiles_done);
+  for (const StoredTile& tile : early_tiles)
+    done_counts.insert(tile_progress(record, tile).tiles_done);
   EXPECT_EQ(done_counts.size(), 12u);
-  EXPECT_EQ(early_tiles.back().progress.tiles_done, 12u);
-  EXPECT_EQ(early_tiles.back().progress.eta_seconds, 0.0);
+  EXPECT_EQ(tile_progress(record, early_tiles.back()).tiles_done, 12u);
+  EXPECT_EQ(tile_progress(record, early_tiles.back()).eta_seconds, 0.0);
 }
 
-TEST(Scheduler, StopCancelsUnfinishedJobsAndRejectsNewOnes) {
+TEST(Scheduler, StopLeavesJobsForARestartAndRejectsNewOnes) {
   SchedulerOptions options;
   options.threads = 1;
   Scheduler scheduler(options);
   const SceneDescription scene = tiny_description();
   auto queued = make_job("queued", 0, scene);
   scheduler.submit(queued, scene);  // never started: no workers yet
-  scheduler.stop("daemon shutting down");
-  EXPECT_EQ(queued->state(), JobState::kCancelled);
-  EXPECT_EQ(queued->info().cancel_reason, "daemon shutting down");
+  scheduler.stop();
+  // Not cancelled: the store still has it queued, for the next daemon to run.
+  EXPECT_EQ(queued->state(), JobState::kQueued);
+  EXPECT_EQ(test_store().find_job(queued->id())->state, JobState::kQueued);
   EXPECT_FALSE(scheduler.submit(make_job("late", 0, scene), scene));
-  scheduler.stop("again");  // idempotent
+  scheduler.stop();  // idempotent
+}
+
+// A job resumed after a restart: the tiles its store already holds are not rendered again,
+// and the finished job holds every tile exactly once.
+TEST(Scheduler, AResumedJobRendersOnlyTheTilesNotStored) {
+  const SceneDescription scene = tiny_description(32, 32, 8);  // 16 tiles
+  auto job = make_job("resumed", 0, scene);
+  // A previous run stored tiles 0, 5 and 9 (any bytes do: they are not looked at again).
+  ASSERT_TRUE(job->mark_running());
+  for (const std::uint32_t index : {0u, 5u, 9u})
+    ASSERT_EQ(job->add_tile(make_tiles(32, 32, 8)[index], "before", {1}, 1),
+              AddTileResult::kStored);
+  auto resumed = std::make_shared<Job>(test_store(), *test_store().find_job(job->id()));
+
+  std::mutex mutex;
+  std::vector<std::uint32_t> rendered;
+  SchedulerOptions options;
+  options.threads = 2;
+  options.load_scene = [&](const Job&) { return scene; };
+  options.on_tile_rendered = [&](const Job&, const TileRect& rect, bool) {
+    std::lock_guard lock(mutex);
+    rendered.push_back(rect.index);
+  };
+  Scheduler scheduler(options);
+  scheduler.submit(resumed);  // scene read through load_scene, as the daemon does
+  scheduler.start();
+  scheduler.wait_idle();
+
+  std::sort(rendered.begin(), rendered.end());
+  std::vector<std::uint32_t> expected;
+  for (std::uint32_t i = 0; i < 16; ++i)
+    if (i != 0 && i != 5 && i != 9) expected.push_back(i);
+  EXPECT_EQ(rendered, expected);
+  EXPECT_EQ(resumed->state(), JobState::kCompleted);
+  for (std::uint32_t i = 0; i < 16; ++i)
+    EXPECT_EQ(test_store().tile_commit_count(job->id(), i), 1u) << "tile " << i;
+}
+
+// One tile far too big to finish (hours of work at 65,536 spp): a cancel must reach it
+// while it renders, and the cut-short tile must not be stored. Without the check in the
+// tile loop this test would not end.
+TEST(Scheduler, CancelReachesATileBeingRendered) {
+  SceneDescription scene = tiny_description(1024, 1024, 1024);
+  scene.render.samples_per_pixel = 65536;
+  auto job = make_job("huge", 0, scene);
+  std::promise<void> started;
+  std::atomic<int> kept{-1};
+  SchedulerOptions options;
+  options.threads = 1;
+  options.on_tile_started = [&](const Job&, const TileRect&) { started.set_value(); };
+  options.on_tile_rendered = [&](const Job&, const TileRect&, bool was_kept) {
+    kept = was_kept ? 1 : 0;
+  };
+  Scheduler scheduler(options);
+  scheduler.submit(job, scene);
+  scheduler.start();
+  started.get_future().wait();
+  EXPECT_EQ(job->cancel("test"), CancelResult::kCancelled);
+  scheduler.job_changed();
+  scheduler.wait_idle();
+  EXPECT_EQ(kept.load(), 0);
+  EXPECT_EQ(job->info().progress.tiles_done, 0u);
+  EXPECT_EQ(test_store().tile_commit_count(job->id(), 0), 0u);
+}
+
+// Stopping the daemon abandons a tile that outlasts the grace period: it stops, is not
+// stored, and the job stays running in the store for the next start.
+TEST(Scheduler, StopAbandonsATileThatOutlastsTheGracePeriod) {
+  SceneDescription scene = tiny_description(1024, 1024, 1024);
+  scene.render.samples_per_pixel = 65536;
+  auto job = make_job("huge", 0, scene);
+  std::promise<void> started;
+  std::atomic<int> kept{-1};
+  SchedulerOptions options;
+  options.threads = 1;
+  options.on_tile_started = [&](const Job&, const TileRect&) { started.set_value(); };
+  options.on_tile_rendered = [&](const Job&, const TileRect&, bool was_kept) {
+    kept = was_kept ? 1 : 0;
+  };
+  Scheduler scheduler(options);
+  scheduler.submit(job, scene);
+  scheduler.start();
+  started.get_future().wait();
+  scheduler.stop(10ms);
+  EXPECT_EQ(kept.load(), 0);
+  EXPECT_EQ(test_store().find_job(job->id())->state, JobState::kRunning);
+  EXPECT_EQ(test_store().tile_commit_count(job->id(), 0), 0u);
+}
+
+// Records which job each rendered tile belonged to, in order (one worker: a total order).
+struct RenderOrder {
+  std::mutex mutex;
+  std::vector<std::string> names;
+  // How many tiles `name` had rendered when `other` rendered its last.
+  std::size_t count_before_last(const std::string& name, const std::string& other) {
+    std::lock_guard lock(mutex);
+    const auto last = std::find(names.rbegin(), names.rend(), other);
+    return static_cast<std::size_t>(std::count(names.begin(), last.base(), name));
+  }
+  std::function<void(const Job&, const TileRect&, bool)> recorder() {
+    return [this](const Job& job, const TileRect&, bool) {
+      std::lock_guard lock(mutex);
+      names.push_back(job.name());
+    };
+  }
+};
+
+// Same priority, two submitters: "a" queued two big jobs first, "b" a small one after. The
+// worker alternates between the submitters, so b finishes after four of a1's tiles, and
+// a2 (a's second job) has not begun.
+TEST(Scheduler, SubmittersOfOnePriorityShareTheWorkersRoundRobin) {
+  const SceneDescription big = tiny_description(32, 32, 8);    // 16 tiles
+  const SceneDescription small = tiny_description(16, 16, 8);  // 4 tiles
+  RenderOrder order;
+  SchedulerOptions options;
+  options.threads = 1;
+  options.on_tile_rendered = order.recorder();
+  Scheduler scheduler(options);
+  auto a1 = make_job("a1", 0, big, "a");
+  auto a2 = make_job("a2", 0, big, "a");
+  auto b = make_job("b", 0, small, "b");
+  scheduler.submit(a1, big);
+  scheduler.submit(a2, big);
+  scheduler.submit(b, small);
+  scheduler.start();
+  scheduler.wait_idle();
+  EXPECT_EQ(order.count_before_last("a1", "b"), 4u);
+  EXPECT_EQ(order.count_before_last("a2", "b"), 0u);
+  EXPECT_EQ(b->state(), JobState::kCompleted);
+  EXPECT_EQ(a2->state(), JobState::kCompleted);
+}
+
+// A long high-priority job yields every 8th tile once it has had 32: a short low-priority
+// job finishes long before it instead of after it.
+TEST(Scheduler, ALongHighPriorityJobYieldsAShareToLowerOnes) {
+  const SceneDescription long_scene = tiny_description(128, 128, 8);  // 256 tiles
+  const SceneDescription short_scene = tiny_description(16, 16, 8);   // 4 tiles
+  for (const std::uint32_t yield_every : {8u, 0u}) {
+    RenderOrder order;
+    SchedulerOptions options;
+    options.threads = 1;
+    options.yield_every = yield_every;
+    options.on_tile_rendered = order.recorder();
+    Scheduler scheduler(options);
+    auto high = make_job("high", 10, long_scene);
+    auto low = make_job("low", 0, short_scene);
+    scheduler.submit(high, long_scene);
+    scheduler.submit(low, short_scene);
+    scheduler.start();
+    scheduler.wait_idle();
+    EXPECT_EQ(high->state(), JobState::kCompleted);
+    EXPECT_EQ(low->state(), JobState::kCompleted);
+    const std::size_t high_before_low_done = order.count_before_last("high", "low");
+    std::cout << "yield_every " << yield_every << ": the 4-tile low job finished after "
+              << high_before_low_done << " of the high job's 256 tiles\n";
+    if (yield_every == 0) {
+      EXPECT_EQ(high_before_low_done, 256u);  // strict priority: low waits for all of it
+    } else {
+      // 32 tiles of its own, then one hand-out in 8 to the low job: its preparation and
+      // its 4 tiles take 5 of them.
+      EXPECT_GE(high_before_low_done, 32u);
+      EXPECT_LE(high_before_low_done, 32u + 5 * 8);
+    }
+  }
 }
 
 TEST(Scheduler, RejectsAJobWhoseTileCountDoesNotMatchItsScene) {
   Scheduler scheduler(SchedulerOptions{});
   const SceneDescription scene = tiny_description(16, 16, 8);
-  auto job = std::make_shared<Job>("job-x", "x", 0, scene.render, 5, 0);
+  JobRecord record = make_record("x", 0, scene);
+  record.tiles_total = 5;
+  auto job = std::make_shared<Job>(test_store(), test_store().create_job(record, {}));
   EXPECT_THROW(scheduler.submit(job, scene), std::logic_error);
 }
 

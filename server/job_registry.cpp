@@ -1,0 +1,49 @@
+#include "server/job_registry.hpp"
+
+namespace tessera::server {
+
+std::shared_ptr<Job> JobRegistry::create(const JobRecord& record, const SceneSource& scene,
+                                         std::size_t max_unfinished_per_submitter) {
+  // Under the lock, so find() never sees a job in the store that is not yet live here and
+  // hands out a second, unshared object for it, and two submissions cannot both take the
+  // last place under the cap.
+  std::lock_guard lock(mutex_);
+  if (max_unfinished_per_submitter > 0) {
+    const std::size_t unfinished = store_.unfinished_count(record.submitter);
+    if (unfinished >= max_unfinished_per_submitter)
+      throw SubmitterQuotaExceeded("submitter already has " + std::to_string(unfinished) +
+                                   " queued or running jobs, the most this daemon accepts "
+                                   "(max_jobs_per_submitter)");
+  }
+  auto job = std::make_shared<Job>(store_, store_.create_job(record, scene));
+  live_.emplace(job->id(), job);
+  return job;
+}
+
+std::shared_ptr<Job> JobRegistry::adopt(const JobRecord& record) {
+  std::lock_guard lock(mutex_);
+  auto job = std::make_shared<Job>(store_, record);
+  live_[job->id()] = job;
+  return job;
+}
+
+std::shared_ptr<Job> JobRegistry::find(std::string_view id) {
+  std::lock_guard lock(mutex_);
+  if (const auto it = live_.find(std::string(id)); it != live_.end()) return it->second;
+  auto record = store_.find_job(id);
+  if (!record) return nullptr;
+  return std::make_shared<Job>(store_, std::move(*record));
+}
+
+void JobRegistry::forget(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  const auto it = live_.find(id);
+  if (it != live_.end() && it->second->finished()) live_.erase(it);
+}
+
+std::size_t JobRegistry::live_count() const {
+  std::lock_guard lock(mutex_);
+  return live_.size();
+}
+
+}  // namespace tessera::server

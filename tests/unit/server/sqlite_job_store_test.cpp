@@ -1,0 +1,243 @@
+#include "server/sqlite_job_store.hpp"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+
+#include "server/log_text.hpp"
+
+namespace tessera::server {
+namespace {
+
+class SqliteJobStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tesserad-store-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::filesystem::path file() const { return dir_ / SqliteJobStore::kFileName; }
+
+  static JobRecord record(const std::string& id, std::uint32_t tiles = 4) {
+    JobRecord r;
+    r.id = id;
+    r.name = "name of " + id;
+    r.priority = 2;
+    r.settings.width = 16;
+    r.settings.height = 16;
+    r.settings.tile_size = 8;
+    r.settings.seed = 99;
+    r.tiles_total = tiles;
+    r.submitted_unix_ms = 1000;
+    return r;
+  }
+  static SceneSource scene(const std::string& text = "scene") { return {text, "settings"}; }
+
+  // Rows of a table, counted behind the store's back.
+  std::int64_t rows(const std::string& table) const {
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+    sqlite3_stmt* q = nullptr;
+    sqlite3_prepare_v2(db, ("SELECT COUNT(*) FROM " + table).c_str(), -1, &q, nullptr);
+    sqlite3_step(q);
+    const std::int64_t n = sqlite3_column_int64(q, 0);
+    sqlite3_finalize(q);
+    sqlite3_close(db);
+    return n;
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(SqliteJobStoreTest, JobsTilesAndScenesSurviveReopening) {
+  {
+    SqliteJobStore store(file());
+    const JobRecord created = store.create_job(record("job-a"), scene("the scene"));
+    EXPECT_GT(created.sequence, 0);
+    EXPECT_EQ(created.state, JobState::kQueued);
+    EXPECT_EQ(created.settings, record("job-a").settings);
+    ASSERT_TRUE(store.mark_running("job-a", 2000));
+    EXPECT_TRUE(store.claim_tile("job-a", 2, "w", 1'000'000, 2000));
+    const TileCommitResult commit = store.commit_tile("job-a", 2, "w", {5, 6, 7}, 40, 2500);
+    EXPECT_EQ(commit.outcome, TileCommit::kStored);
+    EXPECT_EQ(commit.job.tiles_done, 1u);
+    EXPECT_EQ(commit.job.rays_traced, 40u);
+  }
+  SqliteJobStore reopened(file());
+  const auto unfinished = reopened.unfinished_jobs();
+  ASSERT_EQ(unfinished.size(), 1u);
+  const JobRecord& job = unfinished[0];
+  EXPECT_EQ(job.id, "job-a");
+  EXPECT_EQ(job.name, "name of job-a");
+  EXPECT_EQ(job.priority, 2);
+  EXPECT_EQ(job.state, JobState::kRunning);
+  EXPECT_EQ(job.started_unix_ms, 2000);
+  EXPECT_EQ(job.settings.seed, 99u);
+  EXPECT_EQ(reopened.stored_tile_indices("job-a"), std::vector<std::uint32_t>{2});
+  const auto tiles = reopened.tiles_after("job-a", 0, 10);
+  ASSERT_EQ(tiles.size(), 1u);
+  EXPECT_EQ(tiles[0].exr, (std::vector<std::uint8_t>{5, 6, 7}));
+  EXPECT_EQ(tiles[0].ordinal, 1u);
+  EXPECT_EQ(tiles[0].rays_after, 40u);
+  EXPECT_EQ(tiles[0].finished_unix_ms, 2500);
+  const auto source = reopened.scene("job-a");
+  ASSERT_TRUE(source);
+  EXPECT_EQ(source->scene_proto, "the scene");
+  EXPECT_EQ(source->settings_proto, "settings");
+  EXPECT_FALSE(reopened.scene("job-b"));
+}
+
+TEST_F(SqliteJobStoreTest, ATileIsStoredOnceAndARepeatIsCounted) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a", 2), scene());
+  EXPECT_EQ(store.commit_tile("job-a", 0, "w", {1}, 1, 1).outcome, TileCommit::kJobNotRunning);
+  store.mark_running("job-a", 1);
+  EXPECT_EQ(store.commit_tile("job-a", 0, "w", {1}, 1, 1).outcome, TileCommit::kStored);
+  EXPECT_FALSE(store.claim_tile("job-a", 0, "w", 100, 1));  // stored: nothing to claim
+  EXPECT_EQ(store.commit_tile("job-a", 0, "w", {2}, 1, 1).outcome, TileCommit::kDuplicate);
+  EXPECT_EQ(store.tile_commit_count("job-a", 0), 2u);
+  EXPECT_EQ(store.tiles_after("job-a", 0, 10).at(0).exr, std::vector<std::uint8_t>{1});
+  const TileCommitResult last = store.commit_tile("job-a", 1, "w", {3}, 1, 7);
+  EXPECT_EQ(last.outcome, TileCommit::kCompletedJob);
+  EXPECT_EQ(last.job.state, JobState::kCompleted);
+  EXPECT_EQ(last.job.finished_unix_ms, 7);
+  EXPECT_EQ(last.job.rays_traced, 2u);  // the repeat added nothing
+  EXPECT_TRUE(store.unfinished_jobs().empty());
+  EXPECT_THROW(store.create_job(record("job-a"), scene()), DuplicateJobId);
+}
+
+TEST_F(SqliteJobStoreTest, ClaimsBelongToOneOwnerUntilTheirLeaseLapses) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a"), scene());
+  EXPECT_TRUE(store.claim_tile("job-a", 1, "one", 100, 10));
+  EXPECT_TRUE(store.claim_tile("job-a", 1, "one", 200, 20));   // renewing
+  EXPECT_FALSE(store.claim_tile("job-a", 1, "two", 300, 50));  // held by another
+  EXPECT_TRUE(store.claim_tile("job-a", 1, "two", 300, 250));  // the lease lapsed
+  store.release_tile("job-a", 1, "one");                       // not one's any more
+  EXPECT_FALSE(store.claim_tile("job-a", 1, "one", 400, 260));
+  store.release_tile("job-a", 1, "two");
+  EXPECT_TRUE(store.claim_tile("job-a", 1, "one", 400, 260));
+}
+
+TEST_F(SqliteJobStoreTest, FinishingAppliesOnlyToUnfinishedJobs) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a"), scene());
+  const auto cancelled = store.finish_job("job-a", JobState::kCancelled, "asked", 5);
+  ASSERT_TRUE(cancelled);
+  EXPECT_EQ(cancelled->cancel_reason, "asked");
+  EXPECT_EQ(cancelled->error, "");
+  EXPECT_FALSE(store.finish_job("job-a", JobState::kFailed, "late", 6));
+  EXPECT_FALSE(store.mark_running("job-a", 6));
+  EXPECT_FALSE(store.mark_running("job-x", 6));
+  EXPECT_EQ(store.find_job("job-a")->state, JobState::kCancelled);
+}
+
+TEST_F(SqliteJobStoreTest, ListsNewestFirstByPageAndState) {
+  SqliteJobStore store(file());
+  std::vector<std::int64_t> sequences;
+  for (int i = 0; i < 5; ++i)
+    sequences.push_back(store.create_job(record("job-" + std::to_string(i)), scene()).sequence);
+  store.finish_job("job-1", JobState::kFailed, "x", 1);
+  store.finish_job("job-3", JobState::kFailed, "x", 1);
+  JobQuery query;
+  query.limit = 2;
+  auto page = store.list_jobs(query);
+  ASSERT_EQ(page.size(), 2u);
+  EXPECT_EQ(page[0].id, "job-4");
+  EXPECT_EQ(page[1].id, "job-3");
+  query.before_sequence = page[1].sequence;
+  page = store.list_jobs(query);
+  ASSERT_EQ(page.size(), 2u);
+  EXPECT_EQ(page[0].id, "job-2");
+  EXPECT_EQ(page[1].id, "job-1");
+  query = JobQuery{};
+  query.state = JobState::kFailed;
+  page = store.list_jobs(query);
+  ASSERT_EQ(page.size(), 2u);
+  EXPECT_EQ(page[0].id, "job-3");
+  EXPECT_EQ(page[1].id, "job-1");
+}
+
+TEST_F(SqliteJobStoreTest, AScenePutTwiceIsStoredOnceAndOutlivesOneOfItsJobs) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a"), scene("shared"));
+  store.create_job(record("job-b"), scene("shared"));
+  store.create_job(record("job-c"), scene("other"));
+  EXPECT_EQ(rows("scenes"), 2);
+  EXPECT_FALSE(store.delete_job("job-a"));  // unfinished
+  store.finish_job("job-a", JobState::kCancelled, "", 1);
+  EXPECT_TRUE(store.delete_job("job-a"));
+  EXPECT_FALSE(store.find_job("job-a"));
+  EXPECT_EQ(store.scene("job-b")->scene_proto, "shared");
+  EXPECT_EQ(rows("scenes"), 2);
+  store.finish_job("job-b", JobState::kCancelled, "", 1);
+  EXPECT_TRUE(store.delete_job("job-b"));
+  EXPECT_EQ(rows("scenes"), 1);  // no job uses "shared" any more
+  EXPECT_FALSE(store.delete_job("job-b"));
+}
+
+TEST_F(SqliteJobStoreTest, DeletingAJobDeletesItsTiles) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a", 1), scene());
+  store.mark_running("job-a", 1);
+  store.commit_tile("job-a", 0, "w", {1, 2}, 1, 2);
+  EXPECT_EQ(rows("tiles"), 1);
+  EXPECT_TRUE(store.delete_job("job-a"));
+  EXPECT_EQ(rows("tiles"), 0);
+}
+
+TEST_F(SqliteJobStoreTest, RetentionDeletesOldFinishedJobsFirstAndNeverUnfinishedOnes) {
+  SqliteJobStore store(file());
+  for (int i = 0; i < 6; ++i) store.create_job(record("job-" + std::to_string(i)), scene());
+  // job-0 stays queued; the others finish at times 100, 200, ... in reverse order of
+  // submission, so "oldest finished" and "oldest submitted" disagree.
+  for (int i = 1; i < 6; ++i)
+    store.finish_job("job-" + std::to_string(i), JobState::kCancelled, "", 100 * (6 - i));
+  // job_ttl: finished more than 250 ms before now (1000) are job-5 (100) and job-4 (200).
+  auto deleted = store.apply_retention({750, 0}, 1000);
+  EXPECT_EQ(deleted, (std::vector<std::string>{"job-4", "job-5"}));
+  // max_jobs 2 of the 4 left: the oldest finished go, job-3 (300) then job-2 (400).
+  deleted = store.apply_retention({0, 2}, 1000);
+  EXPECT_EQ(deleted, (std::vector<std::string>{"job-3", "job-2"}));
+  // max_jobs 0 of 2 would mean no limit; 1 deletes job-1 and never the queued job-0.
+  EXPECT_TRUE(store.apply_retention({0, 0}, 1000).empty());
+  EXPECT_EQ(store.apply_retention({0, 1}, 1000), std::vector<std::string>{"job-1"});
+  EXPECT_TRUE(store.apply_retention({1, 0}, 1'000'000).empty());
+  EXPECT_TRUE(store.find_job("job-0"));
+}
+
+TEST_F(SqliteJobStoreTest, AFileOfAnotherSchemaIsRefusedNamingIt) {
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+    sqlite3_exec(db, "PRAGMA user_version = 42", nullptr, nullptr, nullptr);
+    sqlite3_close(db);
+  }
+  try {
+    SqliteJobStore store(file());
+    FAIL() << "opened a store of schema version 42";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(file().string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("schema version 42"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir_ / "garbage") << "this is not a database, just text long enough to tell";
+  EXPECT_THROW(SqliteJobStore(dir_ / "garbage"), std::runtime_error);
+}
+
+TEST(EscapeClientText, KeepsPrintableAsciiAndEscapesEverythingElse) {
+  EXPECT_EQ(escape_client_text("plain name 1"), "plain name 1");
+  EXPECT_EQ(escape_client_text("a\nb\r\x1b[31m"), "a\\x0ab\\x0d\\x1b[31m");
+  EXPECT_EQ(escape_client_text("back\\slash"), "back\\\\slash");
+  EXPECT_EQ(escape_client_text("caf\xc3\xa9"), "caf\\xc3\\xa9");
+  EXPECT_EQ(escape_client_text("abcdef", 3), "abc...");
+}
+
+}  // namespace
+}  // namespace tessera::server
