@@ -348,22 +348,12 @@ class SceneBuilder {
     return keys;
   }
 
-  static std::span<const std::string_view> shape_type_names() {
+  // The YAML type names (and aliases) of every kind of a tuple, for messages and suggestions.
+  template <typename Kinds>
+  static std::span<const std::string_view> type_names() {
     static const std::vector<std::string_view> names = [] {
       std::vector<std::string_view> all;
-      schema::for_each_kind<schema::ShapeKinds>([&](auto kind) {
-        using Kind = decltype(kind);
-        all.push_back(Kind::name);
-        for (const auto& alias : Kind::aliases) all.push_back(alias.name);
-      });
-      return all;
-    }();
-    return names;
-  }
-  static std::span<const std::string_view> surface_type_names() {
-    static const std::vector<std::string_view> names = [] {
-      std::vector<std::string_view> all;
-      schema::for_each_kind<schema::SurfaceKinds>([&](auto kind) {
+      schema::for_each_kind<Kinds>([&](auto kind) {
         using Kind = decltype(kind);
         all.push_back(Kind::name);
         for (const auto& alias : Kind::aliases) all.push_back(alias.name);
@@ -411,8 +401,8 @@ class SceneBuilder {
       if (!found)
         in_.fail(g["type"], path + ".type",
                  "unknown geometry type '" + type + "'" +
-                     schema::did_you_mean(type, shape_type_names()) + " (expected " +
-                     joined(shape_type_names()) + ")");
+                     schema::did_you_mean(type, type_names<schema::ShapeKinds>()) + " (expected " +
+                     joined(type_names<schema::ShapeKinds>()) + ")");
     }
   }
 
@@ -565,8 +555,8 @@ class SceneBuilder {
     if (!surface)
       in_.fail(s["type"], path + ".type",
                "unknown surface type '" + type + "' for a trimmed face" +
-                   schema::did_you_mean(type, surface_type_names()) + " (expected " +
-                   joined(surface_type_names()) + ")");
+                   schema::did_you_mean(type, type_names<schema::SurfaceKinds>()) + " (expected " +
+                   joined(type_names<schema::SurfaceKinds>()) + ")");
     return *surface;
   }
 
