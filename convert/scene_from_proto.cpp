@@ -291,7 +291,9 @@ bool already_reported(const std::vector<SceneIssue>& structural, const SceneIssu
 
 RenderSettings settings_from_proto(const v1::RenderSettings& in) {
   RenderSettings out;
-  std::vector<SceneIssue> ignored;  // zero means default; nothing else to report here
+  // Every render field is an integer: nothing can be non-finite, so no issue is raised here
+  // (range checks are validate_scene's).
+  std::vector<SceneIssue> ignored;
   Reader reader(ignored);
   proto_fields::read(in, schema::RenderKind::fields, out, "settings", reader);
   out.seed = in.seed();
