@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build run test clean
+.PHONY: all deps configure build run test sanitize tsan clean
 
 all: build
 
@@ -24,6 +24,22 @@ run: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) --timeout 600
+
+# Every unit and integration test under AddressSanitizer + UndefinedBehaviorSanitizer
+# (build-asan/), and the server's and the CLI's tests under ThreadSanitizer (build-tsan/).
+# Not part of `make test`: they take several times as long (see README, "Sanitizers").
+SANITIZER_FLAGS = -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_CUDA=OFF -DTESSERA_BUILD_BENCH=OFF
+sanitize: deps
+	cmake -S . -B build-asan $(SANITIZER_FLAGS) -DTESSERA_SANITIZE=ON
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS) -L "unit|integration" --timeout 1200
+
+tsan: deps
+	cmake -S . -B build-tsan $(SANITIZER_FLAGS) -DTESSERA_TSAN=ON
+	cmake --build build-tsan -j $(JOBS) --target unit_server unit_client integration_tests tesserad
+	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS) -R "^(Daemon|Scheduler|Job|SqliteJobStore|CliAgainstDaemon|ClientServer|DaemonProcess)" --timeout 1200
 
 clean:
 	rm -rf $(BUILD_DIR)
