@@ -38,7 +38,7 @@ sanitize: deps
 tsan: deps
 	cmake -S . -B build-tsan $(SANITIZER_FLAGS) -DTESSERA_TSAN=ON
 	cmake --build build-tsan -j $(JOBS) --target unit_server unit_client integration_tests tesserad
-	cd build-tsan && TSAN_OPTIONS=halt_on_error=1 \
+	cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/tests/tsan.supp" \
 	  ctest --output-on-failure -j $(JOBS) -R "^(Daemon|Scheduler|Job|SqliteJobStore|CliAgainstDaemon|ClientServer|DaemonProcess)" --timeout 1200
 
 clean:
