@@ -43,7 +43,6 @@ class Reader {
       out[i] = number(field + "." + kAxes[i], r->GetDouble(vec, d->FindFieldByName(kAxes[i])));
     return out;
   }
-  std::size_t issue_count() const { return issues_.size(); }
 
  private:
   std::vector<SceneIssue>& issues_;

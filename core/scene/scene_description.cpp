@@ -183,10 +183,4 @@ std::size_t SceneDescription::triangle_count() const {
   return count;
 }
 
-std::optional<std::uint32_t> SceneDescription::find_material(const std::string& name) const {
-  for (std::size_t i = 0; i < materials.size(); ++i)
-    if (materials[i].name == name) return static_cast<std::uint32_t>(i);
-  return std::nullopt;
-}
-
 }  // namespace tessera

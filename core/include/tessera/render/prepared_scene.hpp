@@ -21,7 +21,7 @@ namespace tessera {
 
 // A rendered tile: the beauty pass and the AOV planes the job asked for, each
 // tile.width * tile.height RGBA floats. aovs[i] is empty unless bit i of the job's AOV
-// mask is set (order of kAovNames).
+// mask is set (order of aov_names()).
 struct TilePasses {
   std::vector<float> beauty;
   std::array<std::vector<float>, 4> aovs;

@@ -312,7 +312,6 @@ enum AovBit : std::uint32_t {
   kAovPrimitiveId = 1u << 3,
 };
 inline constexpr std::uint32_t kAllAovs = kAovAlbedo | kAovNormal | kAovDepth | kAovPrimitiveId;
-inline constexpr const char* kAovNames[] = {"albedo", "normal", "depth", "primitive_id"};
 std::optional<AovBit> aov_from_string(const std::string& name);
 std::span<const std::string_view> aov_names();  // bit i is aov_names()[i]
 
@@ -354,8 +353,6 @@ struct SceneDescription {
   std::size_t triangle_count() const;
   // Every geometry entry except mesh triangles counted one by one (spheres, quads, ...).
   std::size_t analytic_shape_count() const;
-  // Index of the material called `name`, if any.
-  std::optional<std::uint32_t> find_material(const std::string& name) const;
 
   friend bool operator==(const SceneDescription&, const SceneDescription&) = default;
 };

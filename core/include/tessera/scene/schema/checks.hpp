@@ -17,18 +17,13 @@ class Checks {
   Checks(std::vector<SceneIssue>& issues, std::string prefix, PathStyle style)
       : issues_(issues), prefix_(std::move(prefix)), style_(style) {}
 
-  PathStyle style() const { return style_; }
   bool yaml() const { return style_ == PathStyle::kYaml; }
-  const std::string& prefix() const { return prefix_; }
   std::string path(std::string_view field) const {
     if (field.empty()) return prefix_;
     return prefix_.empty() ? std::string(field) : prefix_ + "." + std::string(field);
   }
   // The same checks under a longer prefix (a transform's `rotate`, a face's `surface`).
   Checks nested(std::string_view field) const { return Checks(issues_, path(field), style_); }
-  Checks with_prefix(std::string prefix) const {
-    return Checks(issues_, std::move(prefix), style_);
-  }
 
   void fail(std::string_view field, std::string message) {
     issues_.push_back(SceneIssue{"", 0, path(field), std::move(message)});
