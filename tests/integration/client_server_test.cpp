@@ -2,7 +2,9 @@
 // streamed image equals the in-process render bit for bit, bad scenes are rejected without
 // disturbing other jobs, cancellation ends the stream, and job state is reported.
 #include <gtest/gtest.h>
+
 #include <spdlog/spdlog.h>
+#include "cornell_scene.hpp"
 
 #include <cstring>
 #include <filesystem>
@@ -24,17 +26,8 @@
 namespace tessera {
 namespace {
 
-const std::string kCornell = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";
-
-SceneDescription cornell(std::uint32_t width, std::uint32_t height, std::uint32_t spp,
-                         std::uint32_t tile_size) {
-  SceneDescription scene = load_scene_file(kCornell).scene;
-  scene.render.width = width;
-  scene.render.height = height;
-  scene.render.samples_per_pixel = spp;
-  scene.render.tile_size = tile_size;
-  return scene;
-}
+using test::cornell;
+using test::kCornell;
 
 // What a client receives for one job.
 struct StreamedJob {

@@ -5,10 +5,12 @@
 // bit for bit.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "cornell_scene.hpp"
 
 #include <chrono>
 #include <cstring>
@@ -33,16 +35,8 @@ namespace {
 using namespace std::chrono_literals;
 using server::SqliteJobStore;
 
-const std::string kCornell = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";
-
-SceneDescription cornell(std::uint32_t size, std::uint32_t spp, std::uint32_t tile_size) {
-  SceneDescription scene = load_scene_file(kCornell).scene;
-  scene.render.width = size;
-  scene.render.height = size;
-  scene.render.samples_per_pixel = spp;
-  scene.render.tile_size = tile_size;
-  return scene;
-}
+using test::cornell;
+using test::kCornell;
 
 // One tesserad process on a free port, its log appended to `log`.
 class TesseradProcess {
@@ -196,7 +190,7 @@ v1::Job wait_for_tiles(Client& client, const std::string& id, std::uint32_t tile
 }
 
 TEST_F(DaemonProcessTest, KillNineAtRandomPointsLosesNothingAndRendersNoTileTwice) {
-  const SceneDescription scene = cornell(128, 16, 16);  // 64 tiles
+  const SceneDescription scene = cornell(128, 128, 16, 16);  // 64 tiles
   const std::uint32_t tiles = 64;
   const unsigned seed = std::random_device{}();
   std::mt19937 rng(seed);
@@ -242,7 +236,7 @@ TEST_F(DaemonProcessTest, KillNineAtRandomPointsLosesNothingAndRendersNoTileTwic
 }
 
 TEST_F(DaemonProcessTest, SigtermMidJobExitsCleanlyAndARestartCompletesTheJob) {
-  const SceneDescription scene = cornell(64, 16, 16);  // 16 tiles
+  const SceneDescription scene = cornell(64, 64, 16, 16);  // 16 tiles
   std::string id;
   {
     TesseradProcess daemon(data(), log());
@@ -275,7 +269,7 @@ TEST_F(DaemonProcessTest, SigtermMidJobExitsCleanlyAndARestartCompletesTheJob) {
 // A client streaming a job while the daemon restarts (SIGTERM, then a new process on the
 // same port) re-attaches after the tiles it has and receives every tile exactly once.
 TEST_F(DaemonProcessTest, AStreamReattachesAcrossADaemonRestart) {
-  const SceneDescription scene = cornell(64, 16, 16);  // 16 tiles
+  const SceneDescription scene = cornell(64, 64, 16, 16);  // 16 tiles
   auto daemon = std::make_unique<TesseradProcess>(data(), log());
   const std::string address = daemon->address();
   Client client(ClientOptions{.target = address});
@@ -305,13 +299,14 @@ TEST_F(DaemonProcessTest, AStreamReattachesAcrossADaemonRestart) {
 TEST_F(DaemonProcessTest, CancellingAHugeRunningTileFreesTheWorker) {
   TesseradProcess daemon(data(), log(), 1);
   Client client(ClientOptions{.target = daemon.address()});
-  const v1::Job huge = client.submit(make_submit_request(cornell(1024, 65536, 1024), "huge", 0));
+  const v1::Job huge =
+      client.submit(make_submit_request(cornell(1024, 1024, 65536, 1024), "huge", 0));
   while (client.get(huge.id()).state() != v1::JOB_STATE_RUNNING) std::this_thread::sleep_for(5ms);
   std::this_thread::sleep_for(200ms);  // well into the tile
 
   const auto cancelled_at = std::chrono::steady_clock::now();
   EXPECT_EQ(client.cancel(huge.id()).state(), v1::JOB_STATE_CANCELLED);
-  const SceneDescription small = cornell(32, 1, 16);
+  const SceneDescription small = cornell(32, 32, 1, 16);
   const v1::Job next = client.submit(make_submit_request(small, "next", 0));
   const Streamed streamed = stream_all(client, next);
   const double seconds =
@@ -330,7 +325,7 @@ TEST_F(DaemonProcessTest, AJobNameCannotForgeALogLine) {
     TesseradProcess daemon(data(), log());
     Client client(ClientOptions{.target = daemon.address()});
     const std::string forged = "x\n[2001-01-01 00:00:00.000] [tesserad] [critical] forged";
-    const v1::Job job = client.submit(make_submit_request(cornell(16, 1, 16), forged, 0));
+    const v1::Job job = client.submit(make_submit_request(cornell(16, 16, 1, 16), forged, 0));
     stream_all(client, job);
     EXPECT_EQ(client.get(job.id()).name(), forged);  // stored as given, escaped only in logs
     EXPECT_EQ(daemon.terminate(), 0);
