@@ -2,7 +2,10 @@
 // The light list (SceneView::lights): the emitters next-event estimation samples. Which
 // emitters are in it, and in what order, decides the image, so the rule lives in one place.
 #include <cstdint>
+#include <span>
 #include <vector>
+
+#include "tessera/math/alias_table.hpp"
 
 #include "tessera/render/material.hpp"
 #include "tessera/render/scene_data.hpp"
@@ -20,6 +23,13 @@ float sampled_light_area(PrimitiveType type, const Shape& shape) {
 // Appends `primitive` (a tagged reference) to `lights` when its material emits and it has a
 // sampled area; hidden emitters count too, since they light the scene unseen.
 void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
-                            std::uint32_t primitive, float sampled_area);
+                            std::uint32_t primitive, float sampled_area, bool visible);
+
+// Once every emitter is in: sorts the list by primitive reference (find_light searches it)
+// and gives each light its pick probability, in proportion to its power (emitted radiance's
+// luminance times area), with the alias table that draws by it.
+std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
+                                         std::span<const Material> materials,
+                                         const SceneView& shapes);
 
 }  // namespace tessera

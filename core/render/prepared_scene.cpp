@@ -112,6 +112,7 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   scene->camera_ = Camera::from_description(description.camera, description.render.width,
                                             description.render.height);
   scene->background_ = vec3(description.background.color * description.background.intensity);
+  scene->light_alias_ = finish_light_list(scene->lights_, scene->materials_, scene->view());
   scene->features_.light_count = static_cast<std::uint32_t>(scene->lights_.size());
   const auto& f = scene->features_;
   scene->required_ = required_pipeline_features(f, description.render.integrator);
@@ -136,6 +137,7 @@ SceneView PreparedScene::view() const {
   v.triangle_attributes = triangle_attributes_.empty() ? nullptr : triangle_attributes_.data();
   v.materials = materials_.data();
   v.lights = lights_.data();
+  v.light_alias = light_alias_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());
   v.bvh = bvh_.view();
   if (triangle_accel_.stats().triangles > 0) v.bvh.triangles = &triangle_accel_;

@@ -9,7 +9,7 @@ void PrimitiveList::add(PrimitiveType type, std::uint32_t index, const Aabb& box
     boxes_.push_back(box);
     references_.push_back(reference);
   }
-  add_if_sampled_emitter(lights_, materials_[material], reference, light_area);
+  add_if_sampled_emitter(lights_, materials_[material], reference, light_area, visible);
 }
 
 void PrimitiveList::build_accelerators(std::span<const Triangle> triangles,

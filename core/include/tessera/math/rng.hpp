@@ -41,6 +41,8 @@ class SampleStream {
   // The next dimension's value in [0, 1).
   TESSERA_HD float next() { return uint_to_unit_float(hash_combine(key_, dimension_++)); }
   TESSERA_HD std::uint32_t dimension() const { return dimension_; }
+  // Jumps to `dimension`, so each bounce of a path draws from its own fixed block.
+  TESSERA_HD void set_dimension(std::uint32_t dimension) { dimension_ = dimension; }
 
  private:
   std::uint32_t key_ = 0;

@@ -32,6 +32,9 @@ struct Frame {
   TESSERA_HD vec3 to_world(const vec3& local) const {
     return tangent * local.x + bitangent * local.y + normal * local.z;
   }
+  TESSERA_HD vec3 to_local(const vec3& world) const {
+    return vec3(glm::dot(world, tangent), glm::dot(world, bitangent), glm::dot(world, normal));
+  }
 };
 
 }  // namespace tessera

@@ -8,14 +8,17 @@
 #include "tessera/pipeline/pipeline.hpp"
 #include "tessera/render/bsdf.hpp"
 #include "tessera/render/film.hpp"
+#include "tessera/render/light_sampling.hpp"
+#include "tessera/render/light_strategy.hpp"
 #include "tessera/render/pipeline_features.hpp"
 #include "tessera/render/scene_data.hpp"
 
 namespace tessera {
 
 // The path tracer as pipeline programs: ray generation shoots camera rays and writes the
-// film, the hit program does next-event estimation with any-hit shadow rays and picks the
-// continuation ray, the miss program adds the background. PipelineFeatures decide what is
+// film, the hit program does next-event estimation with any-hit shadow rays, weighted
+// against BSDF sampling by multiple importance sampling, and samples the BSDF for the
+// continuation ray; the miss program adds the background. PipelineFeatures decide what is
 // compiled in.
 
 struct NoAovs {};
@@ -28,6 +31,8 @@ struct PathPayload {
   std::uint32_t depth = 0;
   std::uint32_t rays = 0;      // every ray traced for this sample, for rays/s
   bool count_emission = true;  // camera rays and specular bounces see emitters directly
+  float previous_pdf = 0.0f;   // of the BSDF sample that led here, for MIS at emitters
+  vec3 previous_position{0.0f};
   bool has_next_ray = false;
   Ray next_ray;
   [[no_unique_address]] std::conditional_t<kAovs, FirstHitAovs, NoAovs> aov;
@@ -84,82 +89,84 @@ struct BackgroundMiss {
   }
 };
 
-// One light chosen uniformly, one point uniformly on its area, one any-hit shadow ray.
-// Returns the radiance arriving at `si` (times cos / pi: a Lambertian response for unit
-// albedo), zero when occluded.
+// Random dimensions: the camera takes the first kCameraDimensions, each bounce a block
+// of kBounceDimensions, so a dimension means the same decision in every sample of a pixel
+// and the low-discrepancy sampler stratifies it. Pairs start at even dimensions.
+inline constexpr std::uint32_t kCameraDimensions = 2;
+inline constexpr std::uint32_t kBounceDimensions = 8;
+struct BounceSamples {
+  float light_pick, lobe;  // one pair
+  float light_u1, light_u2;
+  float bsdf_u1, bsdf_u2;
+  float roulette;
+
+  TESSERA_HD static BounceSamples draw(SampleStream& rng, std::uint32_t depth) {
+    rng.set_dimension(kCameraDimensions + depth * kBounceDimensions);
+    BounceSamples b;
+    b.light_pick = rng.next();
+    b.lobe = rng.next();
+    b.light_u1 = rng.next();
+    b.light_u2 = rng.next();
+    b.bsdf_u1 = rng.next();
+    b.bsdf_u2 = rng.next();
+    b.roulette = rng.next();
+    return b;
+  }
+};
+
+// Next-event estimation at a surface point: one light picked by power, one direction towards
+// it by that light's sampler, one any-hit shadow ray. Returns f cos Li / pdf, weighted
+// against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
+template <typename T>
+TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction& si,
+                                const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                                const BounceSamples& u, LightStrategy strategy, const T& tracer,
+                                std::uint32_t& rays) {
+  const LightPick pick = pick_light(scene, u.light_pick);
+  const LightSource& light = scene.lights[pick.index];
+  // BSDF sampling finds every emitter a ray can hit; hidden ones only light sampling finds.
+  if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
+  LightSample ls;
+  if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls)) return vec3(0.0f);
+  // Shading normals must not let light through the geometric surface.
+  if (glm::dot(ls.wi, si.geometric_normal) <= 0.0f) return vec3(0.0f);
+  const vec3 wi = frame.to_local(ls.wi);
+  const vec3 f = bsdf.eval(wo, wi) * std::fabs(wi.z);
+  if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
+  const float pdf = pick.pmf * ls.pdf;
+  if (!(pdf > 0.0f)) return vec3(0.0f);
+  ++rays;
+  const vec3 origin = offset_ray_origin(si.position, si.geometric_normal);
+  // Stop just short of the light so the shadow ray cannot hit the light itself.
+  if (tracer.occluded(Ray{origin, ls.wi, 0.0f, ls.distance * (1.0f - 1e-4f)})) return vec3(0.0f);
+  const float weight = strategy == LightStrategy::kMis && light.visible
+                           ? power_heuristic(pdf, bsdf.pdf(wo, wi))
+                           : 1.0f;
+  return f * ls.radiance * (weight / pdf);
+}
+
+// The Lambertian response (unit albedo) to one light sample at `si`, for the shadow
+// preview integrator.
 template <typename T>
 TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInteraction& si,
                                     SampleStream& rng, const T& tracer, std::uint32_t& rays) {
   if (scene.light_count == 0) return vec3(0.0f);
-  const float pick = rng.next() * static_cast<float>(scene.light_count);
-  const std::uint32_t light_index =
-      glm::min(static_cast<std::uint32_t>(pick), scene.light_count - 1);
-  const LightSource& light = scene.lights[light_index];
-  const float u1 = rng.next();
-  const float u2 = rng.next();
-  vec3 point(0.0f), light_normal(0.0f, 0.0f, 1.0f);
-  std::uint32_t material = 0;
-  const std::uint32_t index = primitive_index(light.primitive);
-  switch (primitive_type(light.primitive)) {
-    case PrimitiveType::kSphere: {
-      const Sphere& s = scene.spheres[index];
-      light_normal = sample_uniform_sphere(u1, u2);
-      point = s.center + s.radius * light_normal;
-      material = s.material;
-      break;
-    }
-    case PrimitiveType::kQuad: {
-      const Quad& q = scene.quads[index];
-      point = q.corner + u1 * q.u + u2 * q.v;
-      light_normal = q.normal;
-      material = q.material;
-      break;
-    }
-    case PrimitiveType::kTriangle: {
-      const Triangle& t = scene.triangles[index];
-      const vec2 b = sample_uniform_triangle(u1, u2);
-      point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
-      light_normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
-      material = t.material;
-      break;
-    }
-    case PrimitiveType::kDisk: {
-      // Uniform in area over the annulus: radius by the inverse of its area CDF.
-      const Disk& d = scene.disks[index];
-      const float r2 = d.inner_radius * d.inner_radius;
-      const float rho = std::sqrt(r2 + u1 * (d.radius * d.radius - r2));
-      const float phi = 2.0f * kPi * u2;
-      const Frame frame = Frame::from_normal(d.normal);
-      point = d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
-      light_normal = d.normal;
-      material = d.material;
-      break;
-    }
-    default:  // no sampler (has_light_sampler): never in the light list
-      return vec3(0.0f);
-  }
-  const vec3 n = si.geometric_normal;
-  const vec3 origin = offset_ray_origin(si.position, n);
-  const vec3 to_light = point - origin;
-  const float distance2 = glm::dot(to_light, to_light);
-  if (!(distance2 > 0.0f)) return vec3(0.0f);
-  const float distance = std::sqrt(distance2);
-  const vec3 wi = to_light / distance;
-  const float cos_surface = glm::dot(wi, n);
-  const float cos_light = std::fabs(glm::dot(wi, light_normal));  // emitters are two-sided
-  if (cos_surface <= 0.0f || cos_light <= 0.0f) return vec3(0.0f);
-  ++rays;
-  // Stop just short of the light so the shadow ray cannot hit the light itself.
-  if (tracer.occluded(Ray{origin, wi, 0.0f, distance * (1.0f - 1e-4f)})) return vec3(0.0f);
-  const float pdf_area = 1.0f / (light.area * static_cast<float>(scene.light_count));
-  return scene.materials[material].emission *
-         (kInvPi * cos_surface * cos_light / (distance2 * pdf_area));
+  BounceSamples u{};
+  u.light_pick = rng.next();
+  u.light_u1 = rng.next();
+  u.light_u2 = rng.next();
+  const Frame frame = Frame::from_normal(si.geometric_normal);
+  Bsdf lambert;
+  lambert.albedo = vec3(1.0f);
+  return estimate_direct(scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u,
+                         LightStrategy::kLight, tracer, rays);
 }
 
 template <PipelineFeatures kFeatures>
 struct PathHit {
   SceneView scene;
   std::uint32_t max_depth;
+  LightStrategy strategy = LightStrategy::kMis;
 
   template <typename T>
   TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload<kFeatures.aovs>& payload,
@@ -174,88 +181,79 @@ struct PathHit {
         payload.aov.primitive = hit.primitive;
       }
     }
-    // Emitters without an area sampler are not in the light list, so next-event estimation
-    // never reaches them: their emission is counted whenever a ray hits them instead.
-    if (material.emissive() &&
-        (payload.count_emission || !has_light_sampler(primitive_type(hit.primitive))))
-      payload.radiance += payload.throughput * material.emission;
+    if (material.emissive())
+      payload.radiance +=
+          payload.throughput * material.emission * emission_weight(ray, hit, si, payload);
     if (material.kind == BsdfKind::kEmitter) return;
     if (payload.depth + 1 >= max_depth) return;
 
-    const vec3 n = si.geometric_normal;  // faces the incoming ray
-    const vec3 wo = ray.direction;
-    vec3 direction(0.0f);
-    SampleStream& rng = payload.samples;
-    bool diffuse = true;
-    if constexpr (kFeatures.specular)
-      diffuse = scatter_specular(material, si, wo, rng, payload, direction);
+    const vec3 ng = si.geometric_normal;  // faces the incoming ray
+    const Frame frame = Frame::from_normal(si.shading_normal);
+    const vec3 wo = frame.to_local(-ray.direction);
+    Bsdf bsdf = Bsdf::of(material, si.front_face);
+    // Variants without specular materials compile the Lambertian case alone.
+    if constexpr (!kFeatures.specular) bsdf.kind = BsdfKind::kDiffuse;
+    const BounceSamples u = BounceSamples::draw(payload.samples, payload.depth);
 
-    if (diffuse) {
-      payload.throughput *= material.albedo;
-      if constexpr (kFeatures.direct_lighting)
-        payload.radiance +=
-            payload.throughput * sample_direct_light(scene, si, rng, tracer, payload.rays);
-      const Frame frame = Frame::from_normal(n);
-      direction = frame.to_world(sample_cosine_hemisphere(rng.next(), rng.next()));
-      // Next-event estimation already counted emitters seen from here; with no lights to
-      // sample, a diffuse bounce must see them itself.
-      payload.count_emission = !kFeatures.direct_lighting;
-    } else {
-      payload.count_emission = true;
-    }
-    if (direction == vec3(0.0f)) return;
+    if constexpr (kFeatures.direct_lighting)
+      if (scene.light_count > 0 && bsdf.has_non_specular())
+        payload.radiance += payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
+                                                                 strategy, tracer, payload.rays);
+
+    const BsdfSample bs = bsdf.sample(wo, u.lobe, u.bsdf_u1, u.bsdf_u2);
+    if (!bs.valid()) return;
+    const vec3 direction = frame.to_world(bs.wi);
+    // A reflection must leave on the side the path came from, a transmission on the other;
+    // interpolated normals can disagree with the surface, and then the path is absorbed.
+    const float side = glm::dot(direction, ng);
+    if ((bs.lobe & kLobeReflection) != 0 ? side <= 0.0f : side >= 0.0f) return;
+    payload.throughput *= bs.weight();
+    payload.previous_pdf = bs.pdf;
+    payload.previous_position = si.position;
+    // Camera rays and specular bounces are the only way to see an emitter directly; with
+    // no light list, so is every bounce.
+    payload.count_emission = bs.specular() || !kFeatures.direct_lighting;
 
     // Russian roulette keeps long paths unbiased without tracing every one to max depth.
     ++payload.depth;
     if (payload.depth >= 3) {
       const float survive = glm::clamp(max_component(payload.throughput), 0.05f, 1.0f);
-      if (rng.next() >= survive) return;
+      if (u.roulette >= survive) return;
       payload.throughput /= survive;
     }
-    const vec3 side = glm::dot(direction, n) >= 0.0f ? n : -n;
-    payload.next_ray = Ray{offset_ray_origin(si.position, side), direction, 0.0f, kInfinity};
+    const vec3 side_normal = side >= 0.0f ? ng : -ng;
+    payload.next_ray = Ray{offset_ray_origin(si.position, side_normal), direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
   }
 
  private:
-  // Handles the non-diffuse BSDFs; returns true when the surface should scatter diffusely.
-  TESSERA_HD static bool scatter_specular(const Material& material, const SurfaceInteraction& si,
-                                          const vec3& wo, SampleStream& rng,
-                                          PathPayload<kFeatures.aovs>& payload, vec3& direction) {
-    const vec3 n = si.geometric_normal;
-    switch (material.kind) {
-      case BsdfKind::kDiffuse:
-      case BsdfKind::kEmitter:
-        return true;
-      case BsdfKind::kCoated: {
-        const float f = schlick_reflectance(-glm::dot(wo, n), 1.0f / material.ior);
-        if (rng.next() >= f) return true;
-        direction = fuzzy_reflect(wo, n, material.roughness, rng.next(), rng.next(), rng.next());
-        return false;
+  // The share of an emitter's radiance this hit counts. Camera rays and specular bounces
+  // count it all; after a BSDF sample the light was also sampled at the previous vertex
+  // (when it is in the light list), so the two are weighted as `strategy` says.
+  TESSERA_HD float emission_weight(const Ray& ray, const HitRecord& hit,
+                                   const SurfaceInteraction& si,
+                                   const PathPayload<kFeatures.aovs>& payload) const {
+    if constexpr (!kFeatures.direct_lighting) {
+      return 1.0f;
+    } else {
+      if (payload.count_emission) return 1.0f;
+      const std::uint32_t index = find_light(scene, hit.primitive);
+      if (index == scene.light_count) return 1.0f;  // no sampler: only hits find it
+      switch (strategy) {
+        case LightStrategy::kBsdf:
+          return 1.0f;
+        case LightStrategy::kLight:
+          return 0.0f;
+        case LightStrategy::kMis:
+          break;
       }
-      case BsdfKind::kConductor:
-        direction = fuzzy_reflect(wo, n, material.roughness, rng.next(), rng.next(), rng.next());
-        payload.throughput *= material.albedo;
-        return false;
-      case BsdfKind::kDielectric: {
-        const float eta = si.front_face ? 1.0f / material.ior : material.ior;
-        const float cos_i = -glm::dot(wo, n);
-        vec3 refracted;
-        const bool can_refract = refract(wo, n, eta, refracted);
-        direction = (!can_refract || rng.next() < schlick_reflectance(cos_i, eta)) ? reflect(wo, n)
-                                                                                   : refracted;
-        payload.throughput *= material.albedo;
-        return false;
-      }
-      case BsdfKind::kThinDielectric: {
-        // Two interfaces close together: reflectance R' = 2R / (1 + R), transmission straight on.
-        const float r = schlick_reflectance(-glm::dot(wo, n), 1.0f / material.ior);
-        direction = rng.next() < 2.0f * r / (1.0f + r) ? reflect(wo, n) : wo;
-        return false;
-      }
+      const float distance = glm::length(si.position - payload.previous_position);
+      const float pdf_light = light_pick_pmf(scene, index) *
+                              light_pdf(scene, scene.lights[index], payload.previous_position,
+                                        ray.direction, distance, si.geometric_normal);
+      return power_heuristic(payload.previous_pdf, pdf_light);
     }
-    return true;
   }
 };
 

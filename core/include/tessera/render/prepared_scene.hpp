@@ -82,6 +82,7 @@ class PreparedScene {
   TrimPool trim_pool_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
+  std::vector<AliasSlot> light_alias_;  // pick_light's table over lights_
   Bvh bvh_;                       // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;  // visible triangles, named by their tagged references
   // Shared mesh geometry: object-space triangles (and attributes when stored) of every

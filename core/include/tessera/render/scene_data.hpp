@@ -16,6 +16,7 @@
 #include "tessera/geometry/triangle.hpp"
 #include "tessera/geometry/triangle_attributes.hpp"
 #include "tessera/geometry/trimmed_face.hpp"
+#include "tessera/math/alias_table.hpp"
 #include "tessera/render/camera.hpp"
 #include "tessera/render/material.hpp"
 #include "tessera/scene/scene_features.hpp"
@@ -111,6 +112,8 @@ struct MeshPlacement {
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
   float area;
+  float pmf = 0.0f;     // the probability pick_light chooses it: its share of the power
+  bool visible = true;  // false: no ray can hit it, so only light sampling finds it
 };
 
 // The flat shape arrays of a render scene, one per primitive type. Planes carry a count
@@ -207,7 +210,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
 // valid on the host or, once uploaded, on a device.
 struct SceneView : SceneShapes {
   const Material* materials = nullptr;
-  const LightSource* lights = nullptr;
+  const LightSource* lights = nullptr;     // sorted by primitive reference (find_light)
+  const AliasSlot* light_alias = nullptr;  // light_count slots, by power (pick_light)
   std::uint32_t light_count = 0;
   BvhView bvh;
   Camera camera;

@@ -1,0 +1,234 @@
+#pragma once
+// The light interface next-event estimation and multiple importance sampling use:
+// pick_light chooses an emitter (in proportion to its power), sample_light draws a direction
+// towards it with a solid-angle pdf, and light_pdf gives that pdf for a direction a BSDF
+// sample found, so both strategies can be weighted against each other.
+//
+// Every emitter with a sampler is sampled by what it subtends where that is stable: a
+// sphere by its cone, a rectangle by its spherical rectangle; parallelograms, triangles,
+// disks and rectangles too small or too grazing for the spherical map by area, converted
+// to solid angle. Emitters are two-sided, as RayON's and Cycles' mesh lights are.
+#include <cmath>
+#include <cstdint>
+
+#include "tessera/math/alias_table.hpp"
+#include "tessera/math/sampling.hpp"
+#include "tessera/math/spherical_rectangle.hpp"
+#include "tessera/render/scene_data.hpp"
+
+namespace tessera {
+
+struct LightSample {
+  vec3 wi{0.0f};        // unit, from the reference point towards the light
+  vec3 radiance{0.0f};  // emitted towards the reference point
+  float pdf = 0.0f;     // solid angle, for this light alone (selection not included)
+  float distance = 0.0f;
+};
+
+struct LightPick {
+  std::uint32_t index = 0;
+  float pmf = 0.0f;
+};
+
+// The power heuristic with exponent 2 (Veach): the weight of a sample drawn with pdf `a`
+// against another strategy with pdf `b`.
+TESSERA_HD TESSERA_INLINE float power_heuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  if (!(a2 > 0.0f)) return 0.0f;
+  if (!(b2 < 3.0e38f)) return 0.0f;  // the other strategy is (nearly) a delta
+  if (!(a2 < 3.0e38f)) return 1.0f;
+  return a2 / (a2 + b2);
+}
+
+namespace light_detail {
+
+// Solid angles below this are sampled by area: the spherical map's angle sums lose their
+// precision (pbrt-v4 uses the same bound), and the 1/r^2 variation over so small a light
+// is negligible. Above the upper bound the reference point is almost in the light's
+// plane, where the map degenerates too.
+inline constexpr float kMinSphericalSolidAngle = 3e-4f;
+inline constexpr float kMaxSphericalSolidAngle = 6.22f;
+
+TESSERA_HD TESSERA_INLINE bool rectangular(const Quad& q) {
+  return std::fabs(glm::dot(q.u, q.v)) <= 1e-4f * glm::length(q.u) * glm::length(q.v);
+}
+
+TESSERA_HD TESSERA_INLINE bool spherical_usable(float solid_angle) {
+  return solid_angle >= kMinSphericalSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
+}
+
+// Area pdf 1/A at `point` seen from `ref` along unit `wi`, in solid angle.
+TESSERA_HD TESSERA_INLINE float area_to_solid_angle(float area, float distance2, const vec3& wi,
+                                                    const vec3& light_normal) {
+  const float cos_light = std::fabs(glm::dot(wi, light_normal));
+  if (!(cos_light > 0.0f) || !(area > 0.0f)) return 0.0f;
+  return distance2 / (cos_light * area);
+}
+
+TESSERA_HD TESSERA_INLINE bool finish_area_sample(const vec3& ref, const vec3& point,
+                                                  const vec3& light_normal, float area,
+                                                  LightSample& out) {
+  const vec3 d = point - ref;
+  const float distance2 = glm::dot(d, d);
+  if (!(distance2 > 0.0f)) return false;
+  out.distance = std::sqrt(distance2);
+  out.wi = d / out.distance;
+  out.pdf = area_to_solid_angle(area, distance2, out.wi, light_normal);
+  return out.pdf > 0.0f;
+}
+
+// 1 - cos(theta_max) of the cone a sphere subtends, accurate for small cones, where the
+// direct form cancels.
+TESSERA_HD TESSERA_INLINE float one_minus_cos_cone(float sin2_max) {
+  return sin2_max / (1.0f + std::sqrt(glm::max(0.0f, 1.0f - sin2_max)));
+}
+
+}  // namespace light_detail
+
+// The pick probability of light `index` (power-proportional, the same everywhere).
+TESSERA_HD TESSERA_INLINE float light_pick_pmf(const SceneView& scene, std::uint32_t index) {
+  return scene.lights[index].pmf;
+}
+
+TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, float u) {
+  const std::uint32_t index = alias_pick(scene.light_alias, scene.light_count, u);
+  return LightPick{index, scene.lights[index].pmf};
+}
+
+// The light-list index of emitter `primitive` (a tagged reference), or light_count when it
+// is not in the list. The list is sorted by reference.
+TESSERA_HD TESSERA_INLINE std::uint32_t find_light(const SceneView& scene,
+                                                   std::uint32_t primitive) {
+  std::uint32_t lo = 0, hi = scene.light_count;
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    if (scene.lights[mid].primitive < primitive)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < scene.light_count && scene.lights[lo].primitive == primitive ? lo : scene.light_count;
+}
+
+// A direction from `ref` towards `light`. Returns false (and no sample) when the light
+// subtends nothing from there.
+TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& light,
+                                    const vec3& ref, float u1, float u2, LightSample& out) {
+  using namespace light_detail;
+  const std::uint32_t index = primitive_index(light.primitive);
+  std::uint32_t material = 0;
+  switch (primitive_type(light.primitive)) {
+    case PrimitiveType::kSphere: {
+      const Sphere& s = scene.spheres[index];
+      material = s.material;
+      const vec3 to_center = s.center - ref;
+      const float dc2 = glm::dot(to_center, to_center);
+      const float r2 = s.radius * s.radius;
+      if (dc2 <= r2 * 1.0001f) {
+        // Inside (or on) the sphere: every direction sees it; sample its area.
+        const vec3 n = sample_uniform_sphere(u1, u2);
+        if (!finish_area_sample(ref, s.center + s.radius * n, n, light.area, out)) return false;
+        break;
+      }
+      // Uniform in the cone of directions that see the sphere.
+      const float dc = std::sqrt(dc2);
+      const float sin2_max = r2 / dc2;
+      const float one_minus_cos_max = one_minus_cos_cone(sin2_max);
+      const float one_minus_cos = u1 * one_minus_cos_max;
+      const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
+      const float cos_theta = 1.0f - one_minus_cos;
+      const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
+      const float phi = 2.0f * kPi * u2;
+      const Frame frame = Frame::from_normal(to_center / dc);
+      out.wi =
+          frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+      // Distance to the near intersection along wi.
+      const float along = dc * cos_theta;
+      out.distance = along - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
+      out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
+      if (!(out.distance > 0.0f) || !(out.pdf > 0.0f) || !std::isfinite(out.pdf)) return false;
+      break;
+    }
+    case PrimitiveType::kQuad: {
+      const Quad& q = scene.quads[index];
+      material = q.material;
+      if (rectangular(q)) {
+        const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+        if (spherical_usable(rect.solid_angle)) {
+          const vec3 point = rect.sample(u1, u2);
+          const vec3 d = point - ref;
+          const float distance2 = glm::dot(d, d);
+          if (!(distance2 > 0.0f)) return false;
+          out.distance = std::sqrt(distance2);
+          out.wi = d / out.distance;
+          out.pdf = 1.0f / rect.solid_angle;
+          break;
+        }
+      }
+      if (!finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, light.area, out))
+        return false;
+      break;
+    }
+    case PrimitiveType::kTriangle: {
+      const Triangle& t = scene.triangles[index];
+      material = t.material;
+      const vec2 b = sample_uniform_triangle(u1, u2);
+      const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
+      const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
+      break;
+    }
+    case PrimitiveType::kDisk: {
+      // Uniform in area over the annulus: radius by the inverse of its area CDF.
+      const Disk& d = scene.disks[index];
+      material = d.material;
+      const float inner2 = d.inner_radius * d.inner_radius;
+      const float rho = std::sqrt(inner2 + u1 * (d.radius * d.radius - inner2));
+      const float phi = 2.0f * kPi * u2;
+      const Frame frame = Frame::from_normal(d.normal);
+      const vec3 point =
+          d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
+      if (!finish_area_sample(ref, point, d.normal, light.area, out)) return false;
+      break;
+    }
+    default:  // no sampler (has_light_sampler): never in the light list
+      return false;
+  }
+  out.radiance = scene.materials[material].emission;
+  return true;
+}
+
+// The solid-angle pdf with which sample_light(light, ref) would produce unit direction `wi`,
+// given that the ray along it first meets the light at `distance` with geometric normal
+// `light_normal`.
+TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& light, const vec3& ref,
+                                  const vec3& wi, float distance, const vec3& light_normal) {
+  using namespace light_detail;
+  const std::uint32_t index = primitive_index(light.primitive);
+  switch (primitive_type(light.primitive)) {
+    case PrimitiveType::kSphere: {
+      const Sphere& s = scene.spheres[index];
+      const vec3 to_center = s.center - ref;
+      const float dc2 = glm::dot(to_center, to_center);
+      const float r2 = s.radius * s.radius;
+      if (dc2 <= r2 * 1.0001f)
+        return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
+      return 1.0f / (2.0f * kPi * one_minus_cos_cone(r2 / dc2));
+    }
+    case PrimitiveType::kQuad: {
+      const Quad& q = scene.quads[index];
+      if (rectangular(q)) {
+        const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+        if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
+      }
+      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
+    }
+    case PrimitiveType::kTriangle:
+    case PrimitiveType::kDisk:
+      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
+    default:
+      return 0.0f;
+  }
+}
+
+}  // namespace tessera
