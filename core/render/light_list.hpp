@@ -32,4 +32,12 @@ std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
                                          const SceneView& shapes);
 
+// The light tree over a finished list (light_tree.hpp), recording each light's path in it.
+// Split where the sum of power times bounds area of the two halves is least (the
+// orientation-free form of Conty and Kulla's cost), in 12 bins per axis; depth stays under
+// 64 because deep branches fall back to median splits.
+std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
+                                            std::span<const Material> materials,
+                                            const SceneView& shapes);
+
 }  // namespace tessera

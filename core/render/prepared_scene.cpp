@@ -113,6 +113,8 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
                                             description.render.height);
   scene->background_ = vec3(description.background.color * description.background.intensity);
   scene->light_alias_ = finish_light_list(scene->lights_, scene->materials_, scene->view());
+  if (options.light_tree && scene->lights_.size() >= 2)
+    scene->light_tree_ = build_light_tree(scene->lights_, scene->materials_, scene->view());
   scene->features_.light_count = static_cast<std::uint32_t>(scene->lights_.size());
   const auto& f = scene->features_;
   scene->required_ = required_pipeline_features(f, description.render.integrator);
@@ -138,6 +140,7 @@ SceneView PreparedScene::view() const {
   v.materials = materials_.data();
   v.lights = lights_.data();
   v.light_alias = light_alias_.data();
+  v.light_tree = light_tree_.empty() ? nullptr : light_tree_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());
   v.bvh = bvh_.view();
   if (triangle_accel_.stats().triangles > 0) v.bvh.triangles = &triangle_accel_;

@@ -1,8 +1,8 @@
 #pragma once
 // The light interface next-event estimation and multiple importance sampling use:
-// pick_light chooses an emitter (in proportion to its power), sample_light draws a direction
-// towards it with a solid-angle pdf, and light_pdf gives that pdf for a direction a BSDF
-// sample found, so both strategies can be weighted against each other.
+// pick_light chooses an emitter (by a light tree, or in proportion to its power), sample_light
+// draws a direction towards it with a solid-angle pdf, and light_pdf gives that pdf for a direction
+// a BSDF sample found, so both strategies can be weighted against each other.
 //
 // Every emitter with a sampler is sampled by what it subtends where that is stable: a
 // sphere by its cone, a rectangle by its spherical rectangle; parallelograms, triangles,
@@ -85,14 +85,26 @@ TESSERA_HD TESSERA_INLINE float one_minus_cos_cone(float sin2_max) {
 
 }  // namespace light_detail
 
-// The pick probability of light `index` (power-proportional, the same everywhere).
-TESSERA_HD TESSERA_INLINE float light_pick_pmf(const SceneView& scene, std::uint32_t index) {
-  return scene.lights[index].pmf;
-}
-
-TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, float u) {
+// Chooses the light to sample from point `p` on a surface facing `n` (unit; lights behind
+// it cannot contribute): by the light tree when the scene has one, else in proportion to
+// power. pmf 0 means no light can light p.
+TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, const vec3& p, const vec3& n,
+                                               float u) {
+  if (scene.light_tree != nullptr) {
+    const TreePick t = light_tree_pick(scene.light_tree, p, n, u);
+    return LightPick{t.light, t.pmf};
+  }
   const std::uint32_t index = alias_pick(scene.light_alias, scene.light_count, u);
   return LightPick{index, scene.lights[index].pmf};
+}
+
+// The probability pick_light(p, n) chooses light `index`.
+TESSERA_HD TESSERA_INLINE float light_pick_pmf(const SceneView& scene, const vec3& p, const vec3& n,
+                                               std::uint32_t index) {
+  const LightSource& light = scene.lights[index];
+  if (scene.light_tree != nullptr)
+    return light_tree_pmf(scene.light_tree, p, n, light.tree_path, light.tree_depth);
+  return light.pmf;
 }
 
 // The light-list index of emitter `primitive` (a tagged reference), or light_count when it

@@ -33,6 +33,7 @@ struct PathPayload {
   bool count_emission = true;  // camera rays and specular bounces see emitters directly
   float previous_pdf = 0.0f;   // of the BSDF sample that led here, for MIS at emitters
   vec3 previous_position{0.0f};
+  vec3 previous_normal{0.0f};  // geometric, on the side the path arrived from
   bool has_next_ray = false;
   Ray next_ray;
   [[no_unique_address]] std::conditional_t<kAovs, FirstHitAovs, NoAovs> aov;
@@ -122,7 +123,8 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
                                 const Frame& frame, const vec3& wo, const Bsdf& bsdf,
                                 const BounceSamples& u, LightStrategy strategy, const T& tracer,
                                 std::uint32_t& rays) {
-  const LightPick pick = pick_light(scene, u.light_pick);
+  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
+  if (!(pick.pmf > 0.0f)) return vec3(0.0f);
   const LightSource& light = scene.lights[pick.index];
   // BSDF sampling finds every emitter a ray can hit; hidden ones only light sampling finds.
   if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
@@ -210,6 +212,7 @@ struct PathHit {
     payload.throughput *= bs.weight();
     payload.previous_pdf = bs.pdf;
     payload.previous_position = si.position;
+    payload.previous_normal = ng;
     // Camera rays and specular bounces are the only way to see an emitter directly; with
     // no light list, so is every bounce.
     payload.count_emission = bs.specular() || !kFeatures.direct_lighting;
@@ -249,9 +252,10 @@ struct PathHit {
           break;
       }
       const float distance = glm::length(si.position - payload.previous_position);
-      const float pdf_light = light_pick_pmf(scene, index) *
-                              light_pdf(scene, scene.lights[index], payload.previous_position,
-                                        ray.direction, distance, si.geometric_normal);
+      const float pdf_light =
+          light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
+          light_pdf(scene, scene.lights[index], payload.previous_position, ray.direction, distance,
+                    si.geometric_normal);
       return power_heuristic(payload.previous_pdf, pdf_light);
     }
   }

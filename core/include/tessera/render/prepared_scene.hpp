@@ -34,6 +34,9 @@ struct PrepareOptions {
   // Meshes placed two or more times share one object-space structure (two-level); false
   // bakes every placement into world triangles (tests and benchmarks compare the two).
   bool instancing = true;
+  // Scenes with two or more lights pick them by a light tree; false picks by power alone
+  // (tests and benchmarks compare the two).
+  bool light_tree = true;
 };
 
 // The render-ready scene of one job: float arrays per shape type, materials, lights, the
@@ -82,9 +85,10 @@ class PreparedScene {
   TrimPool trim_pool_;
   std::vector<Material> materials_;
   std::vector<LightSource> lights_;
-  std::vector<AliasSlot> light_alias_;  // pick_light's table over lights_
-  Bvh bvh_;                       // every visible bounded shape but triangles
-  TriangleAccel triangle_accel_;  // visible triangles, named by their tagged references
+  std::vector<AliasSlot> light_alias_;     // pick_light's table over lights_
+  std::vector<LightTreeNode> light_tree_;  // empty: pick_light uses the alias table
+  Bvh bvh_;                                // every visible bounded shape but triangles
+  TriangleAccel triangle_accel_;           // visible triangles, named by their tagged references
   // Shared mesh geometry: object-space triangles (and attributes when stored) of every
   // geometry back to back, one structure per geometry, the placements and their top level.
   std::vector<Triangle> instanced_triangles_;

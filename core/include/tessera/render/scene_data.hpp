@@ -18,6 +18,7 @@
 #include "tessera/geometry/trimmed_face.hpp"
 #include "tessera/math/alias_table.hpp"
 #include "tessera/render/camera.hpp"
+#include "tessera/render/light_tree.hpp"
 #include "tessera/render/material.hpp"
 #include "tessera/scene/scene_features.hpp"
 
@@ -112,8 +113,10 @@ struct MeshPlacement {
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
   float area;
-  float pmf = 0.0f;     // the probability pick_light chooses it: its share of the power
-  bool visible = true;  // false: no ray can hit it, so only light sampling finds it
+  float pmf = 0.0f;              // the probability pick_light chooses it: its share of the power
+  bool visible = true;           // false: no ray can hit it, so only light sampling finds it
+  std::uint32_t tree_depth = 0;  // its leaf's depth in the light tree (when there is one)
+  std::uint64_t tree_path = 0;   // bit i set: the right child at depth i
 };
 
 // The flat shape arrays of a render scene, one per primitive type. Planes carry a count
@@ -210,8 +213,9 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
 // valid on the host or, once uploaded, on a device.
 struct SceneView : SceneShapes {
   const Material* materials = nullptr;
-  const LightSource* lights = nullptr;     // sorted by primitive reference (find_light)
-  const AliasSlot* light_alias = nullptr;  // light_count slots, by power (pick_light)
+  const LightSource* lights = nullptr;        // sorted by primitive reference (find_light)
+  const AliasSlot* light_alias = nullptr;     // light_count slots, by power (pick_light)
+  const LightTreeNode* light_tree = nullptr;  // null: pick by power alone
   std::uint32_t light_count = 0;
   BvhView bvh;
   Camera camera;
