@@ -1,8 +1,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <span>
 #include <sstream>
+#include <string>
 #include <unordered_map>
+#include <vector>
 
 #include "convert/proto_fields.hpp"
 #include "convert/scene_proto.hpp"
@@ -287,6 +290,14 @@ bool already_reported(const std::vector<SceneIssue>& structural, const SceneIssu
   return false;
 }
 
+// "PREFIX_A, PREFIX_B or PREFIX_C": the accepted values in the request's own terms.
+std::string proto_enum_values(std::string_view prefix, std::span<const std::string_view> names) {
+  std::vector<std::string> values;
+  for (std::string_view name : names) values.push_back(proto_fields::enum_value_name(prefix, name));
+  const std::vector<std::string_view> views(values.begin(), values.end());
+  return joined(views);
+}
+
 }  // namespace
 
 RenderSettings settings_from_proto(const v1::RenderSettings& in) {
@@ -302,6 +313,18 @@ RenderSettings settings_from_proto(const v1::RenderSettings& in) {
   for (std::size_t i = 0; integrator != nullptr && i < integrator_names().size(); ++i)
     if (integrator->name() == proto_fields::enum_value_name("INTEGRATOR_", integrator_names()[i]))
       out.integrator = static_cast<IntegratorKind>(i);
+  // UNSPECIFIED (and an unknown value, which scene_from_proto reports) keeps the default.
+  const pb::EnumValueDescriptor* sampler =
+      v1::Sampler_descriptor()->FindValueByNumber(in.sampler());
+  for (std::size_t i = 0; sampler != nullptr && i < sampler_names().size(); ++i)
+    if (sampler->name() == proto_fields::enum_value_name("SAMPLER_", sampler_names()[i]))
+      out.sampler = static_cast<SamplerKind>(i);
+  const pb::EnumValueDescriptor* strategy =
+      v1::LightStrategy_descriptor()->FindValueByNumber(in.light_strategy());
+  for (std::size_t i = 0; strategy != nullptr && i < light_strategy_names().size(); ++i)
+    if (strategy->name() ==
+        proto_fields::enum_value_name("LIGHT_STRATEGY_", light_strategy_names()[i]))
+      out.light_strategy = static_cast<LightStrategy>(i);
   out.aovs = aov_mask_from_proto(in);
   return out;
 }
@@ -313,6 +336,12 @@ v1::RenderSettings settings_to_proto(const RenderSettings& in) {
   const auto* integrator = v1::Integrator_descriptor()->FindValueByName(
       proto_fields::enum_value_name("INTEGRATOR_", to_string(in.integrator)));
   out.set_integrator(static_cast<v1::Integrator>(integrator->number()));
+  const auto* sampler = v1::Sampler_descriptor()->FindValueByName(
+      proto_fields::enum_value_name("SAMPLER_", to_string(in.sampler)));
+  out.set_sampler(static_cast<v1::Sampler>(sampler->number()));
+  const auto* strategy = v1::LightStrategy_descriptor()->FindValueByName(
+      proto_fields::enum_value_name("LIGHT_STRATEGY_", to_string(in.light_strategy)));
+  out.set_light_strategy(static_cast<v1::LightStrategy>(strategy->number()));
   for (std::size_t i = 0; i < aov_names().size(); ++i)
     if ((in.aovs & (1u << i)) != 0)
       out.add_aovs(static_cast<v1::Aov>(
@@ -346,6 +375,15 @@ SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& 
   if (!v1::Integrator_IsValid(settings.integrator()))
     check.fail("settings.integrator",
                "unknown integrator value " + std::to_string(settings.integrator()));
+  if (!v1::Sampler_IsValid(settings.sampler()))
+    check.fail("settings.sampler", "unknown sampler value " + std::to_string(settings.sampler()) +
+                                       " (expected " +
+                                       proto_enum_values("SAMPLER_", sampler_names()) + ")");
+  if (!v1::LightStrategy_IsValid(settings.light_strategy()))
+    check.fail("settings.light_strategy",
+               "unknown light strategy value " + std::to_string(settings.light_strategy()) +
+                   " (expected " + proto_enum_values("LIGHT_STRATEGY_", light_strategy_names()) +
+                   ")");
   for (int i = 0; i < settings.aovs_size(); ++i)
     if (settings.aovs(i) < v1::AOV_ALBEDO || !v1::Aov_IsValid(settings.aovs(i)))
       check.fail("settings.aovs[" + std::to_string(i) + "]",

@@ -29,7 +29,8 @@ struct SceneConversion {
 // Zero fields take the declared defaults (RenderSettings' member initialisers); no range
 // checks (validate_scene has them).
 RenderSettings settings_from_proto(const v1::RenderSettings& settings);
-// Width, height, spp, depth, tile size, seed, integrator and AOVs, all written explicitly.
+// Width, height, spp, depth, tile size, seed, integrator, AOVs, sampler and light strategy,
+// all written explicitly.
 v1::RenderSettings settings_to_proto(const RenderSettings& settings);
 
 // Converts and validates a scene and its render settings: structure here (shape set,

@@ -16,6 +16,7 @@ using DeviceConfig = PathTracerConfig<kDeviceFeatures>;
 
 __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
                                         std::uint32_t samples_per_pixel, std::uint32_t max_depth,
+                                        SamplerKind sampler, LightStrategy strategy,
                                         TileRect tile, FilmPlanes film,
                                         unsigned long long* ray_count) {
   const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
@@ -23,12 +24,13 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
   if (local_x >= tile.width || local_y >= tile.height) return;
   std::uint64_t rays = 0;
   const PathRayGeneration<kDeviceFeatures.aovs> generation{
-      scene.camera, seed, tile, 1.0f / static_cast<float>(samples_per_pixel), film, &rays};
+      scene.camera, seed, tile, 1.0f / static_cast<float>(samples_per_pixel), film, &rays,
+      sampler};
   const BvhTracer<SceneIntersection<kDeviceFeatures.shapes>> tracer(
       scene.bvh,
       SceneIntersection<kDeviceFeatures.shapes>{scene});
   const Pipeline<DeviceConfig> pipeline(generation, tracer,
-                                        PathHit<kDeviceFeatures>{scene, max_depth},
+                                        PathHit<kDeviceFeatures>{scene, max_depth, strategy},
                                         BackgroundMiss{scene.background});
   for (std::uint32_t s = 0; s < samples_per_pixel; ++s)
     pipeline.launch(tile.x + local_x, tile.y + local_y, s);
@@ -41,12 +43,13 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
 // device memory; `ray_count` too. Returns the launch status.
 cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
                                     std::uint32_t samples_per_pixel, std::uint32_t max_depth,
+                                    SamplerKind sampler, LightStrategy strategy,
                                     const TileRect& tile, const FilmPlanes& film,
                                     unsigned long long* ray_count, cudaStream_t stream) {
   const dim3 block(8, 8);
   const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
   path_tracer_tile_kernel<<<grid, block, 0, stream>>>(scene, seed, samples_per_pixel, max_depth,
-                                                      tile, film, ray_count);
+                                                      sampler, strategy, tile, film, ray_count);
   return cudaGetLastError();
 }
 

@@ -25,7 +25,8 @@ std::string SceneIssue::to_string() const {
 
 namespace {
 // Indexed by the enums' values: the one list of each set of names. The protobuf enums
-// follow the same order and names (MATERIAL_TYPE_<NAME>, INTEGRATOR_<NAME>, AOV_<NAME>).
+// follow the same order and names (MATERIAL_TYPE_<NAME>, INTEGRATOR_<NAME>, AOV_<NAME>,
+// SAMPLER_<NAME>, LIGHT_STRATEGY_<NAME>).
 constexpr std::string_view kMaterialTypeNames[] = {
     "lambertian",        "light",      "metal",     "rough_mirror", "glass",
     "anisotropic_metal", "clear_coat", "thin_film",
@@ -33,9 +34,13 @@ constexpr std::string_view kMaterialTypeNames[] = {
 constexpr std::string_view kIntegratorNames[] = {"path",         "normals", "shadow",
                                                  "transparency", "albedo",  "depth"};
 constexpr std::string_view kAovNameViews[] = {"albedo", "normal", "depth", "primitive_id"};
+constexpr std::string_view kSamplerNames[] = {"independent", "sobol"};
+constexpr std::string_view kLightStrategyNames[] = {"mis", "light", "bsdf"};
 static_assert(std::size(kMaterialTypeNames) ==
               static_cast<std::size_t>(MaterialType::kThinFilm) + 1);
 static_assert(std::size(kIntegratorNames) == static_cast<std::size_t>(IntegratorKind::kDepth) + 1);
+static_assert(std::size(kSamplerNames) == static_cast<std::size_t>(SamplerKind::kSobol) + 1);
+static_assert(std::size(kLightStrategyNames) == static_cast<std::size_t>(LightStrategy::kBsdf) + 1);
 
 template <typename Enum, std::size_t N>
 std::optional<Enum> from_name(const std::string_view (&names)[N], const std::string& name) {
@@ -73,6 +78,32 @@ std::optional<IntegratorKind> integrator_from_string(const std::string& name) {
 
 std::span<const std::string_view> integrator_names() {
   return kIntegratorNames;
+}
+
+const char* to_string(SamplerKind kind) {
+  const auto i = static_cast<std::size_t>(kind);
+  return i < std::size(kSamplerNames) ? kSamplerNames[i].data() : "unknown";
+}
+
+std::optional<SamplerKind> sampler_from_string(const std::string& name) {
+  return from_name<SamplerKind>(kSamplerNames, name);
+}
+
+std::span<const std::string_view> sampler_names() {
+  return kSamplerNames;
+}
+
+const char* to_string(LightStrategy strategy) {
+  const auto i = static_cast<std::size_t>(strategy);
+  return i < std::size(kLightStrategyNames) ? kLightStrategyNames[i].data() : "unknown";
+}
+
+std::optional<LightStrategy> light_strategy_from_string(const std::string& name) {
+  return from_name<LightStrategy>(kLightStrategyNames, name);
+}
+
+std::span<const std::string_view> light_strategy_names() {
+  return kLightStrategyNames;
 }
 
 std::optional<AovBit> aov_from_string(const std::string& name) {

@@ -625,6 +625,25 @@ class SceneBuilder {
                      joined(integrator_names()) + ")");
       r.integrator = *kind;
     });
+    optional(node, "sampler", path, [&](auto& n, auto& f) {
+      const std::string name = in_.string(n, f);
+      const auto kind = sampler_from_string(name);
+      if (!kind)
+        in_.fail(n, f,
+                 "unknown sampler '" + name + "'" + schema::did_you_mean(name, sampler_names()) +
+                     " (expected " + joined(sampler_names()) + ")");
+      r.sampler = *kind;
+    });
+    optional(node, "light_strategy", path, [&](auto& n, auto& f) {
+      const std::string name = in_.string(n, f);
+      const auto strategy = light_strategy_from_string(name);
+      if (!strategy)
+        in_.fail(n, f,
+                 "unknown light strategy '" + name + "'" +
+                     schema::did_you_mean(name, light_strategy_names()) + " (expected " +
+                     joined(light_strategy_names()) + ")");
+      r.light_strategy = *strategy;
+    });
     optional(node, "aovs", path, [&](auto& n, auto& f) {
       if (!n.IsSequence())
         in_.fail(n, f, "must be a list of AOV names (" + joined(aov_names()) + ")");

@@ -42,9 +42,13 @@ TileStats render_camera_pipeline(const SceneView& scene, const RenderSettings& s
                                  const TileRect& tile, const FilmPlanes& film,
                                  typename Config::Hit hit, typename Config::Miss miss) {
   TileStats stats;
-  const typename Config::RayGeneration rays{
-      scene.camera, settings.seed, tile, 1.0f / static_cast<float>(settings.samples_per_pixel),
-      film,         &stats.rays};
+  const typename Config::RayGeneration rays{scene.camera,
+                                            settings.seed,
+                                            tile,
+                                            1.0f / static_cast<float>(settings.samples_per_pixel),
+                                            film,
+                                            &stats.rays,
+                                            settings.sampler};
   const Pipeline<Config> pipeline(rays, make_tracer<Config::Intersection::kShapeMask>(scene), hit,
                                   miss);
   run_tile(pipeline, tile, settings.samples_per_pixel);
@@ -55,7 +59,8 @@ template <PipelineFeatures kFeatures>
 TileStats render_path(const SceneView& scene, const RenderSettings& settings, const TileRect& tile,
                       const FilmPlanes& film) {
   return render_camera_pipeline<PathTracerConfig<kFeatures>>(
-      scene, settings, tile, film, PathHit<kFeatures>{scene, settings.max_depth},
+      scene, settings, tile, film,
+      PathHit<kFeatures>{scene, settings.max_depth, settings.light_strategy},
       BackgroundMiss{scene.background});
 }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "convert/proto_fields.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -173,6 +174,31 @@ TEST(SceneToProto, MaterialTypesMapOneToOne) {
 
 namespace tessera {
 namespace {
+
+TEST(SceneToProto, SamplerAndLightStrategyTravel) {
+  SceneDescription scene =
+      load_scene_yaml("render: { sampler: independent, light_strategy: light }\n", "s.yaml", ".")
+          .scene;
+  v1::RenderSettings settings = settings_to_proto(scene.render);
+  EXPECT_EQ(settings.sampler(), v1::SAMPLER_INDEPENDENT);
+  EXPECT_EQ(settings.light_strategy(), v1::LIGHT_STRATEGY_LIGHT);
+  EXPECT_EQ(settings_from_proto(settings), scene.render);
+  for (std::size_t i = 0; i < sampler_names().size(); ++i) {
+    scene.render.sampler = static_cast<SamplerKind>(i);
+    const v1::RenderSettings out = settings_to_proto(scene.render);
+    EXPECT_EQ(v1::Sampler_Name(out.sampler()),
+              proto_fields::enum_value_name("SAMPLER_", to_string(scene.render.sampler)));
+    EXPECT_EQ(settings_from_proto(out).sampler, scene.render.sampler);
+  }
+  for (std::size_t i = 0; i < light_strategy_names().size(); ++i) {
+    scene.render.light_strategy = static_cast<LightStrategy>(i);
+    const v1::RenderSettings out = settings_to_proto(scene.render);
+    EXPECT_EQ(
+        v1::LightStrategy_Name(out.light_strategy()),
+        proto_fields::enum_value_name("LIGHT_STRATEGY_", to_string(scene.render.light_strategy)));
+    EXPECT_EQ(settings_from_proto(out).light_strategy, scene.render.light_strategy);
+  }
+}
 
 TEST(SceneToProto, IntegratorAndAovsTravel) {
   SceneDescription scene =

@@ -127,6 +127,8 @@ TEST(SchemaProto, EnumsAreTheCoreNameLists) {
   expect_enum_is(v1::MaterialType_descriptor(), "MATERIAL_TYPE_", material_type_names());
   expect_enum_is(v1::Integrator_descriptor(), "INTEGRATOR_", integrator_names());
   expect_enum_is(v1::Aov_descriptor(), "AOV_", aov_names());
+  expect_enum_is(v1::Sampler_descriptor(), "SAMPLER_", sampler_names());
+  expect_enum_is(v1::LightStrategy_descriptor(), "LIGHT_STRATEGY_", light_strategy_names());
 }
 
 // One rule, two path styles: the same mistake reads in the user's own terms on each side.

@@ -295,6 +295,49 @@ TEST(YamlLoaderRender, IntegratorAndAovs) {
             IntegratorKind::kTransparency);
 }
 
+TEST(YamlLoaderRender, SamplerLightStrategyAndTheirDefaults) {
+  const SceneDescription defaults = load_scene_yaml("render: { spp: 2 }\n", "s.yaml", ".").scene;
+  EXPECT_EQ(defaults.render.sampler, SamplerKind::kSobol);
+  EXPECT_EQ(defaults.render.light_strategy, LightStrategy::kMis);
+  EXPECT_EQ(defaults.render.max_depth, 16u);
+  const SceneDescription s =
+      load_scene_yaml("render:\n  sampler: independent\n  light_strategy: bsdf\n", "s.yaml", ".")
+          .scene;
+  EXPECT_EQ(s.render.sampler, SamplerKind::kIndependent);
+  EXPECT_EQ(s.render.light_strategy, LightStrategy::kBsdf);
+  const SceneDescription t =
+      load_scene_yaml("render: { sampler: sobol, light_strategy: light }\n", "s.yaml", ".").scene;
+  EXPECT_EQ(t.render.sampler, SamplerKind::kSobol);
+  EXPECT_EQ(t.render.light_strategy, LightStrategy::kLight);
+  EXPECT_EQ(load_scene_yaml("render: { light_strategy: mis }\n", "s.yaml", ".")
+                .scene.render.light_strategy,
+            LightStrategy::kMis);
+}
+
+TEST(YamlLoaderRender, BadSamplerAndLightStrategyNameTheFieldAndSuggest) {
+  const auto error_of = [](const std::string& text) {
+    try {
+      load_scene_yaml(text, "scene.yaml", ".");
+    } catch (const SceneError& e) {
+      return e.issue();
+    }
+    return SceneIssue{};
+  };
+  SceneIssue issue = error_of("render:\n  spp: 4\n  sampler: sobel\n");
+  EXPECT_EQ(issue.field, "render.sampler");
+  EXPECT_EQ(issue.line, 3);
+  EXPECT_EQ(issue.message,
+            "unknown sampler 'sobel' (did you mean 'sobol'?) (expected independent or sobol)");
+  issue = error_of("render:\n  light_strategy: nee\n");
+  EXPECT_EQ(issue.field, "render.light_strategy");
+  EXPECT_EQ(issue.line, 2);
+  EXPECT_EQ(issue.message, "unknown light strategy 'nee' (expected mis, light or bsdf)");
+  issue = error_of("render:\n  light_strategy: bdsf\n");
+  EXPECT_NE(issue.message.find("did you mean 'bsdf'?"), std::string::npos) << issue.message;
+  issue = error_of("render:\n  sampler: [sobol]\n");
+  EXPECT_EQ(issue.field, "render.sampler");
+}
+
 TEST(YamlLoaderRender, BadIntegratorAndAovsNameTheField) {
   const auto error_of = [](const std::string& text) {
     try {

@@ -170,7 +170,7 @@ TEST_F(DaemonTest, SubmitThenStreamEveryTileOnce) {
   EXPECT_EQ(submitted.state(), v1::JOB_STATE_QUEUED);
   EXPECT_EQ(submitted.name(), "first");
   EXPECT_EQ(submitted.priority(), 3);
-  EXPECT_EQ(submitted.settings().max_depth(), 6u);
+  EXPECT_EQ(submitted.settings().max_depth(), 16u);
   EXPECT_EQ(submitted.settings().width(), 24u);
   EXPECT_EQ(submitted.progress().tiles_total(), 6u);
   EXPECT_GT(submitted.submitted_unix_ms(), 0);

@@ -104,14 +104,53 @@ TEST(SceneFromProto, ZeroRenderSettingsGetServerDefaults) {
   EXPECT_EQ(r.width, 320u);
   EXPECT_EQ(r.height, 240u);
   EXPECT_EQ(r.samples_per_pixel, 16u);
-  EXPECT_EQ(r.max_depth, 6u);
+  EXPECT_EQ(r.max_depth, 16u);
   EXPECT_EQ(r.tile_size, 32u);
   EXPECT_EQ(r.seed, 7u);
+  EXPECT_EQ(r.sampler, SamplerKind::kSobol);
+  EXPECT_EQ(r.light_strategy, LightStrategy::kMis);
 
   const v1::RenderSettings back = settings_to_proto(r);
   EXPECT_EQ(back.width(), 320u);
   EXPECT_EQ(back.tile_size(), 32u);
   EXPECT_EQ(back.seed(), 7u);
+  // Written explicitly, so the job record says what the server chose.
+  EXPECT_EQ(back.sampler(), v1::SAMPLER_SOBOL);
+  EXPECT_EQ(back.light_strategy(), v1::LIGHT_STRATEGY_MIS);
+}
+
+TEST(SceneFromProto, SamplerAndLightStrategyConvertBothWays) {
+  v1::RenderSettings in = tiny_settings();
+  in.set_sampler(v1::SAMPLER_INDEPENDENT);
+  in.set_light_strategy(v1::LIGHT_STRATEGY_BSDF);
+  RenderSettings core = settings_from_proto(in);
+  EXPECT_EQ(core.sampler, SamplerKind::kIndependent);
+  EXPECT_EQ(core.light_strategy, LightStrategy::kBsdf);
+  v1::RenderSettings back = settings_to_proto(core);
+  EXPECT_EQ(back.sampler(), v1::SAMPLER_INDEPENDENT);
+  EXPECT_EQ(back.light_strategy(), v1::LIGHT_STRATEGY_BSDF);
+
+  in.set_sampler(v1::SAMPLER_SOBOL);
+  in.set_light_strategy(v1::LIGHT_STRATEGY_LIGHT);
+  core = settings_from_proto(in);
+  EXPECT_EQ(core.sampler, SamplerKind::kSobol);
+  EXPECT_EQ(core.light_strategy, LightStrategy::kLight);
+  back = settings_to_proto(core);
+  EXPECT_EQ(back.sampler(), v1::SAMPLER_SOBOL);
+  EXPECT_EQ(back.light_strategy(), v1::LIGHT_STRATEGY_LIGHT);
+}
+
+TEST(SceneFromProto, UnknownSamplerAndLightStrategyNameTheFieldAndTheValues) {
+  v1::RenderSettings settings = tiny_settings();
+  settings.set_sampler(static_cast<v1::Sampler>(7));
+  expect_single_issue(tiny_scene(), settings, "settings.sampler",
+                      "unknown sampler value 7 (expected SAMPLER_INDEPENDENT or SAMPLER_SOBOL)");
+  settings = tiny_settings();
+  settings.set_light_strategy(static_cast<v1::LightStrategy>(-1));
+  expect_single_issue(
+      tiny_scene(), settings, "settings.light_strategy",
+      "unknown light strategy value -1 (expected LIGHT_STRATEGY_MIS, LIGHT_STRATEGY_LIGHT or "
+      "LIGHT_STRATEGY_BSDF)");
 }
 
 TEST(SceneFromProto, MissingShapeIsNamed) {

@@ -1,36 +1,30 @@
 #pragma once
 #include <cstdint>
 
+#include "tessera/math/hash.hpp"
 #include "tessera/math/host_device.hpp"
+#include "tessera/math/sampler_kind.hpp"
+#include "tessera/math/sobol.hpp"
 
 namespace tessera {
 
 // Counter-based random numbers: every value is a pure function of (job seed, pixel,
 // sample index, dimension), so an image does not depend on thread count, tile size or
-// the order tiles are rendered in.
-TESSERA_HD TESSERA_INLINE std::uint32_t mix32(std::uint32_t x) {
-  // lowbias32 by Chris Wellons: good avalanche at two multiplies.
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
-TESSERA_HD TESSERA_INLINE std::uint32_t hash_combine(std::uint32_t seed, std::uint32_t value) {
-  return mix32(seed ^ (value + 0x9e3779b9U + (seed << 6) + (seed >> 2)));
-}
-
-TESSERA_HD TESSERA_INLINE float uint_to_unit_float(std::uint32_t x) {
-  // 24 high bits -> [0, 1), never exactly 1.
-  return static_cast<float>(x >> 8) * (1.0f / 16777216.0f);
-}
-
+// the order tiles are rendered in. The kind is a runtime value so one compiled pipeline
+// serves both samplers; the branch is uniform across a tile.
 class SampleStream {
  public:
+  // Four arguments: the independent sampler, whose values are those this class gave before
+  // it had kinds.
   TESSERA_HD SampleStream(std::uint64_t seed, std::uint32_t pixel_x, std::uint32_t pixel_y,
-                          std::uint32_t sample_index) {
+                          std::uint32_t sample_index,
+                          SamplerKind kind = SamplerKind::kIndependent) {
+    kind_ = kind;
+    index_ = sample_index;
+    if (kind == SamplerKind::kSobol) {
+      key_ = sobol_pixel_key(seed, pixel_x, pixel_y);
+      return;
+    }
     std::uint32_t h = mix32(static_cast<std::uint32_t>(seed) ^ 0x2545f491U);
     h = hash_combine(h, static_cast<std::uint32_t>(seed >> 32));
     h = hash_combine(h, pixel_x);
@@ -38,15 +32,50 @@ class SampleStream {
     h = hash_combine(h, sample_index);
     key_ = h;
   }
-  // The next dimension's value in [0, 1).
-  TESSERA_HD float next() { return uint_to_unit_float(hash_combine(key_, dimension_++)); }
-  TESSERA_HD std::uint32_t dimension() const { return dimension_; }
-  // Jumps to `dimension`, so each bounce of a path draws from its own fixed block.
+
+  // The next dimension's value in [0, 1). For Sobol, two consecutive calls starting at an
+  // even dimension read the same 2D set; next_2d does that with one shuffle instead of two.
+  TESSERA_HD float next() {
+    const std::uint32_t d = dimension_++;
+    if (kind_ == SamplerKind::kSobol) {
+      std::uint32_t x = 0;
+      std::uint32_t y = 0;
+      sobol_pair(key_, index_, d >> 1, x, y);
+      return uint_to_unit_float((d & 1U) != 0 ? y : x);
+    }
+    return uint_to_unit_float(hash_combine(key_, d));
+  }
+
+  // Two values from one 2D set (a pixel position, a direction, a point on a light), so
+  // they are stratified jointly, not just each on its own. Starts at the next even
+  // dimension, skipping one if the count is odd, for either kind so that both give a
+  // bounce the same dimension numbers.
+  TESSERA_HD void next_2d(float& a, float& b) {
+    dimension_ += dimension_ & 1U;
+    if (kind_ == SamplerKind::kSobol) {
+      std::uint32_t x = 0;
+      std::uint32_t y = 0;
+      sobol_pair(key_, index_, dimension_ >> 1, x, y);
+      dimension_ += 2;
+      a = uint_to_unit_float(x);
+      b = uint_to_unit_float(y);
+      return;
+    }
+    a = next();
+    b = next();
+  }
+
+  // Jumps to a fixed dimension, so each bounce can own a block of dimensions whatever the
+  // previous bounces consumed (a rejected or skipped sample then shifts nothing after it).
   TESSERA_HD void set_dimension(std::uint32_t dimension) { dimension_ = dimension; }
+  TESSERA_HD std::uint32_t dimension() const { return dimension_; }
+  TESSERA_HD SamplerKind kind() const { return kind_; }
 
  private:
-  std::uint32_t key_ = 0;
+  std::uint32_t key_ = 0;    // independent: hash of seed, pixel, sample; Sobol: of seed, pixel
+  std::uint32_t index_ = 0;  // the sample index (Sobol only)
   std::uint32_t dimension_ = 0;
+  SamplerKind kind_ = SamplerKind::kIndependent;
 };
 
 }  // namespace tessera

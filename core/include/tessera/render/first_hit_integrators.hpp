@@ -24,12 +24,13 @@ struct FirstHitRayGeneration {
   float sample_weight;
   FilmPlanes film;
   std::uint64_t* ray_count;
+  SamplerKind sampler = SamplerKind::kIndependent;
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                           Payload& payload) const {
-    payload.samples = SampleStream(seed, x, y, sample);
-    const float jx = payload.samples.next();
-    const float jy = payload.samples.next();
+    payload.samples = SampleStream(seed, x, y, sample, sampler);
+    float jx, jy;
+    payload.samples.next_2d(jx, jy);
     return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
   }
   TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t,

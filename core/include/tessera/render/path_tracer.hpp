@@ -9,9 +9,9 @@
 #include "tessera/render/bsdf.hpp"
 #include "tessera/render/film.hpp"
 #include "tessera/render/light_sampling.hpp"
-#include "tessera/render/light_strategy.hpp"
 #include "tessera/render/pipeline_features.hpp"
 #include "tessera/render/scene_data.hpp"
+#include "tessera/scene/scene_description.hpp"
 
 namespace tessera {
 
@@ -49,15 +49,16 @@ struct PathRayGeneration {
   float sample_weight;  // 1 / samples per pixel
   FilmPlanes film;
   std::uint64_t* ray_count;  // per tile, so one writer
+  SamplerKind sampler = SamplerKind::kIndependent;
 
   TESSERA_HD void init_payload(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                                Payload& payload) const {
-    payload.samples = SampleStream(seed, x, y, sample);
+    payload.samples = SampleStream(seed, x, y, sample, sampler);
   }
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t, Payload& payload) const {
-    const float jx = payload.samples.next();
-    const float jy = payload.samples.next();
+    float jx, jy;
+    payload.samples.next_2d(jx, jy);
     payload.rays = 1;
     return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
   }
@@ -104,12 +105,9 @@ struct BounceSamples {
   TESSERA_HD static BounceSamples draw(SampleStream& rng, std::uint32_t depth) {
     rng.set_dimension(kCameraDimensions + depth * kBounceDimensions);
     BounceSamples b;
-    b.light_pick = rng.next();
-    b.lobe = rng.next();
-    b.light_u1 = rng.next();
-    b.light_u2 = rng.next();
-    b.bsdf_u1 = rng.next();
-    b.bsdf_u2 = rng.next();
+    rng.next_2d(b.light_pick, b.lobe);
+    rng.next_2d(b.light_u1, b.light_u2);
+    rng.next_2d(b.bsdf_u1, b.bsdf_u2);
     b.roulette = rng.next();
     return b;
   }

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "tessera/math/sampler_kind.hpp"
 #include "tessera/scene/schema/path_style.hpp"
 
 namespace tessera {
@@ -304,6 +305,25 @@ const char* to_string(IntegratorKind kind);
 std::optional<IntegratorKind> integrator_from_string(const std::string& name);
 std::span<const std::string_view> integrator_names();  // in IntegratorKind order
 
+// The random sequence the renderer draws from (SamplerKind is declared in
+// math/sampler_kind.hpp, which the CUDA-side rng.hpp includes without scene headers).
+const char* to_string(SamplerKind kind);
+std::optional<SamplerKind> sampler_from_string(const std::string& name);
+std::span<const std::string_view> sampler_names();  // in SamplerKind order
+
+// Which estimators of direct light the path tracer combines. A plain enum beside the
+// settings (this header already reaches the path tracer), so TESSERA_HD code can take it.
+enum class LightStrategy : std::uint32_t {
+  kMis,    // light samples and BSDF samples, weighted by multiple importance sampling
+  kLight,  // next-event estimation only: emitters hit by scattered rays count only after
+           // camera rays and specular bounces
+  kBsdf,   // no light sampling: emitters count when a scattered ray hits them (hidden
+           // emitters, which no ray can hit, are still light-sampled)
+};
+const char* to_string(LightStrategy strategy);
+std::optional<LightStrategy> light_strategy_from_string(const std::string& name);
+std::span<const std::string_view> light_strategy_names();  // in LightStrategy order
+
 // Arbitrary output variables a job may ask for besides the beauty pass.
 enum AovBit : std::uint32_t {
   kAovAlbedo = 1u << 0,
@@ -322,11 +342,13 @@ struct RenderSettings {
   std::uint32_t width = 320;
   std::uint32_t height = 240;
   std::uint32_t samples_per_pixel = 16;
-  std::uint32_t max_depth = 6;
+  std::uint32_t max_depth = 16;  // RayON's depth, so its scenes render alike
   std::uint32_t tile_size = 32;
   std::uint64_t seed = 0;
   IntegratorKind integrator = IntegratorKind::kPath;
   std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
+  SamplerKind sampler = SamplerKind::kSobol;
+  LightStrategy light_strategy = LightStrategy::kMis;
 
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };

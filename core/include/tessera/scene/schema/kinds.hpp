@@ -111,6 +111,8 @@ struct RenderKind {
       {.name = "seed", .doc = "random seed (the image is a function of it)"},
       {.name = "integrator", .doc = "path, normals, shadow, transparency, albedo or depth"},
       {.name = "aovs", .doc = "extra outputs: albedo, normal, depth, primitive_id"},
+      {.name = "sampler", .doc = "sobol (default) or independent"},
+      {.name = "light_strategy", .doc = "direct light: mis (default), light or bsdf"},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
 };

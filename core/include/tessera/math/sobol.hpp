@@ -1,0 +1,119 @@
+#pragma once
+#include <cstdint>
+
+#include "tessera/math/hash.hpp"
+#include "tessera/math/host_device.hpp"
+
+namespace tessera {
+
+// Owen-scrambled Sobol points as Burley describes them ("Practical Hash-based Owen
+// Scrambling", JCGT 9(4), 2020), written from the paper's description:
+//
+// - Dimensions come in pairs (0, 1), (2, 3), ...; each pair is the 2D Sobol sequence, which
+//   is a (0, 2)-sequence in base 2: every aligned block of 2^m points is a (0, m, 2)-net.
+//   Higher Sobol dimensions have weaker 2D projections, so rather than use them, every pair
+//   gets its own index shuffle and scramble (the paper's padding), which also decorrelates
+//   the pairs from each other.
+// - The sample index is shuffled per pixel and pair by a nested uniform scramble of its
+//   bits. Bit k of the result depends only on the index's bits k and above, so the first
+//   2^m indices map onto one aligned block of 2^m Sobol indices: every power-of-two prefix
+//   of a pixel's samples is still a (0, m, 2)-net, in an order that differs per pixel.
+// - Each coordinate is then Owen-scrambled by a hash (nested_uniform_scramble), which keeps
+//   the net property and turns the error of smooth integrands into the fast-falling
+//   variance of scrambled nets.
+//
+// Everything is a pure function of (seed, pixel, sample index, dimension): no tables, no
+// state, the same on the CPU and the GPU.
+
+TESSERA_HD TESSERA_INLINE std::uint32_t reverse_bits(std::uint32_t x) {
+#if defined(__CUDA_ARCH__)
+  return __brev(x);
+#else
+  x = (x << 16) | (x >> 16);
+  x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
+  x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
+  x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
+  x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
+  return x;
+#endif
+}
+
+// Column `bit` of the generator matrix of Sobol dimension 0 or 1, as a 32-bit binary
+// fraction (the most significant bit is 1/2): a point is the XOR of the columns of the
+// index's set bits. Dimension 0 is the identity (van der Corput: the index's bits
+// mirrored). Dimension 1 comes from the primitive polynomial x + 1 with m_1 = 1; its
+// recurrence m_k = 2 m_{k-1} xor m_{k-1} makes each column the previous one xor itself
+// shifted right by one (Pascal's triangle mod 2).
+TESSERA_HD constexpr std::uint32_t sobol_matrix_column(std::uint32_t dimension, std::uint32_t bit) {
+  if (dimension == 0) return 0x80000000U >> bit;
+  std::uint32_t column = 0x80000000U;
+  for (std::uint32_t k = 0; k < bit; ++k) column ^= column >> 1;
+  return column;
+}
+
+// Sobol dimensions 0 and 1 of `index`, unscrambled, as 32-bit binary fractions. Dimension
+// 1's columns are generated on the fly instead of read from a table, so the device needs
+// no constant memory for them.
+TESSERA_HD TESSERA_INLINE void sobol_2d(std::uint32_t index, std::uint32_t& x, std::uint32_t& y) {
+  x = reverse_bits(index);
+  y = 0;
+  for (std::uint32_t column = 0x80000000U; index != 0; index >>= 1, column ^= column >> 1)
+    y ^= column & (0U - (index & 1U));
+}
+
+// A permutation of 32-bit values in which every bit changes only as a function of itself,
+// the bits below it and the seed: each step adds, multiplies by an odd number, or XORs in
+// a product with an even number (whose bit k depends on bits below k only), and each step
+// is invertible. The constants are Burley's improved ones (better avalanche than Laine and
+// Karras's original).
+TESSERA_HD TESSERA_INLINE std::uint32_t laine_karras_permutation(std::uint32_t x,
+                                                                 std::uint32_t seed) {
+  x ^= x * 0x3d20adeaU;
+  x += seed;
+  x *= (seed >> 16) | 1U;
+  x ^= x * 0x05526c56U;
+  x ^= x * 0x53a22864U;
+  return x;
+}
+
+// Owen's nested uniform scramble of a 32-bit binary fraction, with the hash standing in
+// for the random tree of flips: on the mirrored bits the permutation above makes each
+// binary digit of the result depend only on that digit and the more significant ones, so
+// values sharing their first k digits still share them afterwards (elementary intervals
+// map onto elementary intervals of the same size, keeping nets nets).
+TESSERA_HD TESSERA_INLINE std::uint32_t nested_uniform_scramble(std::uint32_t x,
+                                                                std::uint32_t seed) {
+  return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
+}
+
+// The seed of one pixel's sample sets; the pair seeds derive from it.
+TESSERA_HD TESSERA_INLINE std::uint32_t sobol_pixel_key(std::uint64_t seed, std::uint32_t pixel_x,
+                                                        std::uint32_t pixel_y) {
+  std::uint32_t h = mix32(static_cast<std::uint32_t>(seed) ^ 0x68e31da4U);
+  h = hash_combine(h, static_cast<std::uint32_t>(seed >> 32));
+  h = hash_combine(h, pixel_x);
+  return hash_combine(h, pixel_y);
+}
+
+// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions.
+// The shuffle and the two coordinate scrambles take different seeds: scrambling the index
+// and a coordinate with the same one would tie them together.
+TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
+                                          std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {
+  const std::uint32_t pair_seed = hash_combine(pixel_key, pair);
+  sobol_2d(nested_uniform_scramble(sample_index, pair_seed), x, y);
+  x = nested_uniform_scramble(x, hash_combine(pair_seed, 1U));
+  y = nested_uniform_scramble(y, hash_combine(pair_seed, 2U));
+}
+
+// One value in [0, 1): dimension `dimension` of sample `sample_index` of the pixel.
+TESSERA_HD TESSERA_INLINE float sobol_sample(std::uint64_t seed, std::uint32_t pixel_x,
+                                             std::uint32_t pixel_y, std::uint32_t sample_index,
+                                             std::uint32_t dimension) {
+  std::uint32_t x = 0;
+  std::uint32_t y = 0;
+  sobol_pair(sobol_pixel_key(seed, pixel_x, pixel_y), sample_index, dimension >> 1, x, y);
+  return uint_to_unit_float((dimension & 1U) != 0 ? y : x);
+}
+
+}  // namespace tessera
