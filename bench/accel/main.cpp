@@ -8,6 +8,7 @@
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 //   tessera-bench converge SCENE.yaml [--reference REF.exr | --reference-spp N]
 //                          [--spp 1,2,4,...] [--csv OUT.csv] [--plot OUT.png]
+//                          [--peer cycles [--blender B] [--peer-dir DIR]] [--export-json F]
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -282,6 +283,18 @@ int main(int argc, char** argv) {
   converge->add_option("--plot", converge_options.plot, "write a log-log plot (PNG)");
   converge->add_option("--save-reference", converge_options.save_reference,
                        "write the rendered reference (EXR)");
+  converge
+      ->add_option("--peer", converge_options.peer,
+                   "also measure this renderer against its own reference (cycles)")
+      ->check(CLI::IsMember({"cycles"}));
+  converge->add_option("--blender", converge_options.blender, "Blender executable (--peer cycles)");
+  converge->add_option("--peer-script", converge_options.peer_script,
+                       "the peer's render script (default: bench/peers/cycles_render.py)");
+  converge->add_option("--peer-dir", converge_options.peer_dir,
+                       "folder for the exported scene, the peer's EXRs and its log "
+                       "(default: beside --csv)");
+  converge->add_option("--export-json", converge_options.export_json,
+                       "write the scene as the peer reads it (JSON) and stop");
 
   CLI11_PARSE(app, argc, argv);
   try {
