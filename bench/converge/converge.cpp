@@ -31,7 +31,8 @@ namespace {
 
 struct Render {
   RgbaImage image;
-  double seconds = 0.0;
+  double seconds = 0.0;  // the render alone: what the curves use
+  double wall = 0.0;     // with the peer's per-render scene synchronisation
 };
 
 // Every tile on `threads` threads: the same image as any other tiling or thread count.
@@ -62,12 +63,14 @@ Render render(const SceneDescription& description, std::uint32_t spp, unsigned t
   work();
   for (auto& thread : pool) thread.join();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall = out.seconds;
   return out;
 }
 
 struct Sample {
   std::uint32_t spp = 0;
   double seconds = 0.0;
+  double wall = 0.0;
   ImageError error;
 };
 
@@ -108,8 +111,15 @@ void write_plot(const std::string& path, const std::vector<Series>& all, double 
   constexpr std::uint32_t kWidth = 640, kHeight = 420, kMargin = 40;
   RgbaImage image{kWidth, kHeight, std::vector<float>(std::size_t{kWidth} * kHeight * 4, 1.0f)};
   double t0 = 1e300, t1 = 0, e0 = target, e1 = target;
-  for (const Series& series : all)
-    for (const Sample& p : series.samples) {
+  // Log axes: a render identical to its reference (relMSE 0) has no place on them.
+  std::vector<std::vector<Sample>> drawn;
+  for (const Series& series : all) {
+    auto& kept = drawn.emplace_back();
+    for (const Sample& p : series.samples)
+      if (p.seconds > 0.0 && p.error.rel_mse > 0.0) kept.push_back(p);
+  }
+  for (const auto& kept : drawn)
+    for (const Sample& p : kept) {
       t0 = std::min(t0, p.seconds);
       t1 = std::max(t1, p.seconds);
       e0 = std::min(e0, p.error.rel_mse);
@@ -156,8 +166,9 @@ void write_plot(const std::string& path, const std::vector<Series>& all, double 
     line(kMargin, py(std::pow(10.0, d)), kWidth - kMargin, py(std::pow(10.0, d)), grey);
   line(kMargin, py(target), kWidth - kMargin, py(target), green);
   double legend_y = kMargin + 6;
-  for (const Series& series : all) {
-    const auto& s = series.samples;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const Series& series = all[k];
+    const auto& s = drawn[k];
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double x = px(s[i].seconds), y = py(s[i].error.rel_mse);
       if (i > 0) line(px(s[i - 1].seconds), py(s[i - 1].error.rel_mse), x, y, series.colour);
@@ -177,11 +188,11 @@ void write_plot(const std::string& path, const std::vector<Series>& all, double 
 }
 
 void print_series(const Series& series, double target) {
-  std::printf("%s:\n%8s %10s %12s %12s %10s %10s\n", series.name.c_str(), "spp", "seconds", "rmse",
-              "relmse", "mean", "ref mean");
+  std::printf("%s:\n%8s %10s %10s %12s %12s %10s %10s\n", series.name.c_str(), "spp", "seconds",
+              "wall", "rmse", "relmse", "mean", "ref mean");
   for (const Sample& s : series.samples)
-    std::printf("%8u %10.3f %12.5g %12.5g %10.5f %10.5f\n", s.spp, s.seconds, s.error.rmse,
-                s.error.rel_mse, s.error.mean, s.error.reference_mean);
+    std::printf("%8u %10.3f %10.3f %12.5g %12.5g %10.5f %10.5f\n", s.spp, s.seconds, s.wall,
+                s.error.rmse, s.error.rel_mse, s.error.mean, s.error.reference_mean);
   if (const auto& at = series.at_target)
     std::printf("%s time to relMSE %g: %.3g s (%s; relMSE ~ time^%.2f)\n", series.name.c_str(),
                 target, at->seconds, at->extrapolated ? "extrapolated" : "measured", at->slope);
@@ -201,13 +212,16 @@ std::string quoted(const std::string& s) {
   return out;
 }
 
-// Runs Blender once for every sample count (start-up paid once) and reads back each
-// render's time and image. Blender's own output goes to DIR/blender.log; the script's
-// warnings are echoed.
-std::map<std::uint32_t, Render> run_cycles(const ConvergeOptions& options,
-                                           const SceneDescription& scene,
-                                           const std::vector<std::uint32_t>& spp, unsigned threads,
-                                           const std::filesystem::path& dir) {
+struct PeerRenders {
+  std::map<std::uint32_t, Render> series;  // by spp
+  Render reference;
+};
+
+// Runs Blender once for every sample count and the reference (start-up paid once) and
+// reads back each render's time and image. Blender's own output goes to DIR/blender.log;
+// the script's warnings are echoed.
+PeerRenders run_cycles(const ConvergeOptions& options, const SceneDescription& scene,
+                       unsigned threads, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   const std::filesystem::path json = dir / "scene.json";
   write_scene_json(scene, json);
@@ -215,43 +229,58 @@ std::map<std::uint32_t, Render> run_cycles(const ConvergeOptions& options,
                                  ? std::string(TESSERA_SOURCE_DIR) + "/bench/peers/cycles_render.py"
                                  : options.peer_script;
   std::string list;
-  for (std::uint32_t n : spp) {
+  for (std::uint32_t n : options.spp) {
     if (!list.empty()) list += ',';
     list += std::to_string(n);
   }
   const std::filesystem::path log = dir / "blender.log";
   const std::string command = quoted(options.blender) + " -b --factory-startup --python " +
                               quoted(script) + " -- --scene " + quoted(json.string()) + " --out " +
-                              quoted(dir.string()) + " --spp " + list + " --threads " +
+                              quoted(dir.string()) + " --spp " + list + " --reference-spp " +
+                              std::to_string(options.reference_spp) + " --threads " +
                               std::to_string(threads) + " > " + quoted(log.string()) + " 2>&1";
   std::printf("cycles: %s\n", command.c_str());
   std::fflush(stdout);
   const int status = std::system(command.c_str());
 
-  std::map<std::uint32_t, Render> renders;
+  PeerRenders out;
+  bool have_reference = false;
   std::ifstream in(log);
   for (std::string text; std::getline(in, text);) {
     if (text.rfind("cycles_render.py:", 0) == 0) std::printf("%s\n", text.c_str());
     if (text.rfind("TESSERA_PEER ", 0) != 0) continue;
     std::istringstream fields(text.substr(13));
     std::uint32_t n = 0;
-    double seconds = 0.0;
+    double wall = 0.0, sync = 0.0;
+    bool reference = false;
     std::string exr;
     for (std::string field; fields >> field;) {
       const auto eq = field.find('=');
       const std::string key = field.substr(0, eq), value = field.substr(eq + 1);
       if (key == "spp") n = static_cast<std::uint32_t>(std::stoul(value));
-      if (key == "seconds") seconds = std::stod(value);
+      if (key == "wall") wall = std::stod(value);
+      if (key == "sync") sync = std::stod(value);
+      if (key == "reference") reference = value == "1";
       if (key == "exr") exr = value;
     }
-    renders[n] = Render{read_image(exr), seconds};
+    // Cycles reports synchronisation in 10 ms steps, so a tiny render can come out at or
+    // below zero; 1 ms keeps it on the log axes without pretending to more precision.
+    Render r{read_image(exr), std::max(wall - sync, 1e-3), wall};
+    if (reference) {
+      out.reference = std::move(r);
+      have_reference = true;
+    } else {
+      out.series[n] = std::move(r);
+    }
   }
-  for (std::uint32_t n : spp)
-    if (!renders.contains(n))
-      throw std::runtime_error("Blender did not render " + std::to_string(n) +
-                               " spp (exit status " + std::to_string(status) + "); see " +
-                               log.string());
-  return renders;
+  const auto failed = [&](const std::string& what) {
+    return std::runtime_error("Blender did not render " + what + " (exit status " +
+                              std::to_string(status) + "); see " + log.string());
+  };
+  for (std::uint32_t n : options.spp)
+    if (!out.series.contains(n)) throw failed(std::to_string(n) + " spp");
+  if (!have_reference) throw failed("the reference");
+  return out;
 }
 
 }  // namespace
@@ -276,7 +305,11 @@ int run_converge(const ConvergeOptions& options) {
     reference = read_image(options.reference);
     std::printf("reference: %s\n", options.reference.c_str());
   } else {
-    const Render r = render(scene, options.reference_spp, threads);
+    // Another seed: with the series' seed, an n-spp render would be the first n samples of
+    // the reference, and its error would look smaller than it is.
+    SceneDescription reference_scene = scene;
+    ++reference_scene.render.seed;
+    const Render r = render(reference_scene, options.reference_spp, threads);
     reference = r.image;
     std::printf("reference: rendered at %u spp in %.2f s\n", options.reference_spp, r.seconds);
     if (!options.save_reference.empty()) write_image(options.save_reference, reference);
@@ -294,7 +327,7 @@ int run_converge(const ConvergeOptions& options) {
   Series& tessera = all.emplace_back(Series{"tessera", {}, {}, {0.1f, 0.2f, 0.8f}});
   for (std::uint32_t spp : options.spp) {
     const Render r = render(scene, spp, threads);
-    tessera.samples.push_back({spp, r.seconds, image_error(r.image, reference)});
+    tessera.samples.push_back({spp, r.seconds, r.wall, image_error(r.image, reference)});
   }
   tessera.at_target = time_to_error(tessera.points(), options.target);
   print_series(tessera, options.target);
@@ -308,19 +341,17 @@ int run_converge(const ConvergeOptions& options) {
       dir = options.csv.empty()
                 ? std::filesystem::temp_directory_path() / "tessera-converge-cycles"
                 : std::filesystem::path(options.csv).replace_extension("") += "_cycles";
-    std::vector<std::uint32_t> spp = options.spp;
-    const bool render_reference =
-        std::find(spp.begin(), spp.end(), options.reference_spp) == spp.end();
-    if (render_reference) spp.push_back(options.reference_spp);
-    const auto renders = run_cycles(options, scene, spp, threads, dir);
-    const Render& cycles_reference = renders.at(options.reference_spp);
-    std::printf("cycles reference: %u spp in %.2f s (%s)\n", options.reference_spp,
-                cycles_reference.seconds,
-                (dir / ("cycles_" + std::to_string(options.reference_spp) + ".exr")).c_str());
+    const PeerRenders renders = run_cycles(options, scene, threads, dir);
+    const Render& cycles_reference = renders.reference;
+    std::printf(
+        "cycles reference: %u spp in %.2f s (%s)\n", options.reference_spp,
+        cycles_reference.seconds,
+        (dir / ("cycles_reference_" + std::to_string(options.reference_spp) + ".exr")).c_str());
     Series& cycles = all.emplace_back(Series{"cycles", {}, {}, {0.9f, 0.45f, 0.05f}});
     for (std::uint32_t n : options.spp) {
-      const Render& r = renders.at(n);
-      cycles.samples.push_back({n, r.seconds, image_error(r.image, cycles_reference.image)});
+      const Render& r = renders.series.at(n);
+      cycles.samples.push_back(
+          {n, r.seconds, r.wall, image_error(r.image, cycles_reference.image)});
     }
     cycles.at_target = time_to_error(cycles.points(), options.target);
     print_series(cycles, options.target);
@@ -350,11 +381,12 @@ int run_converge(const ConvergeOptions& options) {
 
   if (!options.csv.empty()) {
     std::ofstream csv(options.csv);
-    csv << "renderer,spp,seconds,rmse,relmse,mean,reference_mean\n";
+    csv << "renderer,spp,seconds,wall_seconds,rmse,relmse,mean,reference_mean\n";
     for (const Series& series : all)
       for (const Sample& s : series.samples)
-        csv << series.name << ',' << s.spp << ',' << s.seconds << ',' << s.error.rmse << ','
-            << s.error.rel_mse << ',' << s.error.mean << ',' << s.error.reference_mean << '\n';
+        csv << series.name << ',' << s.spp << ',' << s.seconds << ',' << s.wall << ','
+            << s.error.rmse << ',' << s.error.rel_mse << ',' << s.error.mean << ','
+            << s.error.reference_mean << '\n';
   }
   if (!options.plot.empty()) write_plot(options.plot, all, options.target);
   return 0;

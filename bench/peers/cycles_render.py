@@ -2,20 +2,28 @@
 # Blender Cycles, once per sample count, in one Blender process so start-up is paid once.
 #
 #   blender -b --factory-startup --python bench/peers/cycles_render.py -- \
-#       --scene SCENE.json --out DIR --spp 1,2,4,...,4096 --threads 2
+#       --scene SCENE.json --out DIR --spp 1,2,4,...,256 --reference-spp 4096 --threads 2
 #
 # Writes DIR/cycles_<spp>.exr (linear RGBA, 32-bit float) and prints, per render,
-#   TESSERA_PEER spp=<n> seconds=<render wall time> exr=<path>
-# which tessera-bench parses. Only bpy.ops.render.render is timed: Blender's start, the
-# scene build and the EXR write are not, as Tessera does not time scene preparation.
-# Persistent data keeps Cycles' BVH between renders and a 1-spp warm-up render goes first,
-# so each timed render pays the sync of changed settings, not the geometry build.
+#   TESSERA_PEER spp=<n> wall=<s> sync=<s> exr=<path>
+# and, with --reference-spp, one line more with reference=1 for DIR/cycles_reference_<n>.exr,
+# rendered with another seed: with the same seed, the n-spp render would be the first n
+# samples of the reference and its error would look smaller than it is.
+# which tessera-bench parses. wall is the time around bpy.ops.render.render (Blender's
+# start, the scene build in Python and the EXR write are outside it); sync is the part of
+# it Cycles reports as synchronisation (scene export to Cycles, BVH build, shader and kernel
+# setup; "cycles.<layer>.synchronization_time" in the EXR header, 10 ms resolution).
+# tessera-bench times Cycles as wall - sync, since Tessera does not time scene preparation.
+# Persistent data would keep the BVH between renders, but Blender 3.4 in background mode
+# then ignores the new sample count (every render comes out at the first one's), so each
+# render syncs afresh.
 #
 # How Tessera's model maps onto Cycles (and where it only approximately does) is in
 # bench/peers/README.md.
 import argparse
 import json
 import math
+import re
 import sys
 import time
 
@@ -30,6 +38,8 @@ def parse_args():
     p.add_argument("--scene", required=True)
     p.add_argument("--out", required=True)
     p.add_argument("--spp", required=True, help="comma-separated sample counts")
+    p.add_argument("--reference-spp", type=int, default=0,
+                   help="also render the reference at this spp, with another seed")
     p.add_argument("--threads", type=int, default=0, help="0: all")
     p.add_argument("--sphere-segments", type=int, default=128)
     p.add_argument("--disk-segments", type=int, default=128)
@@ -61,7 +71,7 @@ def configure(scene, data, args):
     scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
     scene.render.use_motion_blur = False
     scene.render.film_transparent = False
-    scene.render.use_persistent_data = True
+    scene.render.use_persistent_data = False  # see the top of this file
     scene.render.dither_intensity = 0.0
 
     c.use_adaptive_sampling = False
@@ -337,6 +347,22 @@ def add_shapes(scene, data, materials, args):
     return counts
 
 
+def synchronization_seconds(exr_path):
+    # The EXR header holds Cycles' stamp fields as OpenEXR string attributes:
+    # name NUL "string" NUL, a 32-bit little-endian length, the text ("MM:SS.hh").
+    with open(exr_path, "rb") as f:
+        header = f.read(1 << 16)
+    match = re.search(rb"cycles\.[^\x00]*\.synchronization_time\x00string\x00", header)
+    if not match:
+        return 0.0
+    length = int.from_bytes(header[match.end():match.end() + 4], "little")
+    text = header[match.end() + 4:match.end() + 4 + length].decode()
+    seconds = 0.0
+    for part in text.split(":"):
+        seconds = seconds * 60.0 + float(part)
+    return seconds
+
+
 def main():
     args = parse_args()
     with open(args.scene) as f:
@@ -358,15 +384,27 @@ def main():
 
     spp_list = [int(x) for x in args.spp.split(",") if x]
     scene.cycles.samples = 1
-    bpy.ops.render.render()  # warm-up: kernels, BVH, shaders (kept: persistent data)
+    bpy.ops.render.render()  # warm-up: the first render also loads kernels
     for spp in spp_list:
         scene.cycles.samples = spp
         start = time.perf_counter()
         bpy.ops.render.render()
-        seconds = time.perf_counter() - start
+        wall = time.perf_counter() - start
         path = f"{args.out}/cycles_{spp}.exr"
         bpy.data.images["Render Result"].save_render(path, scene=scene)
-        print(f"TESSERA_PEER spp={spp} seconds={seconds:.6f} exr={path}", flush=True)
+        sync = synchronization_seconds(path)
+        print(f"TESSERA_PEER spp={spp} wall={wall:.6f} sync={sync:.3f} exr={path}", flush=True)
+    if args.reference_spp > 0:
+        scene.cycles.samples = args.reference_spp
+        scene.cycles.seed = 1
+        start = time.perf_counter()
+        bpy.ops.render.render()
+        wall = time.perf_counter() - start
+        path = f"{args.out}/cycles_reference_{args.reference_spp}.exr"
+        bpy.data.images["Render Result"].save_render(path, scene=scene)
+        sync = synchronization_seconds(path)
+        print(f"TESSERA_PEER reference=1 spp={args.reference_spp} wall={wall:.6f} sync={sync:.3f} "
+              f"exr={path}", flush=True)
 
 
 main()
