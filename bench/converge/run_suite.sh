@@ -56,7 +56,7 @@ summary="$out/summary.md"
   echo "# Converge suite"
   echo
   echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -n), $threads threads, reference $reference_spp spp, spp $spp${peer:+, peer ${peer[1]}}."
-  echo "Times are seconds to relMSE 1e-3 against each renderer's own reference (\"~\": extrapolated or interpolated; see the logs)."
+  echo "Times are seconds to relMSE 1e-3 against each renderer's own reference, measured or extrapolated (see each scene's .log); \"–\": not reached and not falling."
   echo
   echo "| scene | Tessera time to 1e-3 | Cycles time to 1e-3 | Cycles / Tessera | Tessera reference mean | Cycles reference mean | relMSE between references |"
   echo "|---|---|---|---|---|---|---|"
