@@ -6,8 +6,9 @@
 //   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
-//   tessera-bench converge SCENE.yaml [--reference REF.exr | --reference-spp N]
+//   tessera-bench converge SCENE.yaml [--reference REF.exr] [--reference-spp N]
 //                          [--spp 1,2,4,...] [--csv OUT.csv] [--plot OUT.png]
+//                          [--peer cycles [--blender B] [--peer-dir DIR]] [--export-json F]
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
@@ -259,13 +260,12 @@ int main(int argc, char** argv) {
   auto* converge = app.add_subcommand(
       "converge", "render at doubling spp and measure the error against a reference");
   converge->add_option("scene", converge_options.scene, "scene YAML file")->required();
-  auto* reference_file =
-      converge->add_option("--reference", converge_options.reference, "reference EXR");
+  converge->add_option("--reference", converge_options.reference, "Tessera's reference EXR");
+  // With --reference it still sets the peer's reference, which is always rendered.
   converge
       ->add_option("--reference-spp", converge_options.reference_spp,
-                   "spp of the reference rendered when no --reference is given")
-      ->check(CLI::Range(1u, 1u << 20))
-      ->excludes(reference_file);
+                   "spp of the references rendered (Tessera's when no --reference is given)")
+      ->check(CLI::Range(1u, 1u << 20));
   converge->add_option("--spp", converge_options.spp, "sample counts, e.g. 1,2,4,8")
       ->delimiter(',')
       ->check(CLI::Range(1u, 1u << 20));
@@ -282,6 +282,18 @@ int main(int argc, char** argv) {
   converge->add_option("--plot", converge_options.plot, "write a log-log plot (PNG)");
   converge->add_option("--save-reference", converge_options.save_reference,
                        "write the rendered reference (EXR)");
+  converge
+      ->add_option("--peer", converge_options.peer,
+                   "also measure this renderer against its own reference (cycles)")
+      ->check(CLI::IsMember({"cycles"}));
+  converge->add_option("--blender", converge_options.blender, "Blender executable (--peer cycles)");
+  converge->add_option("--peer-script", converge_options.peer_script,
+                       "the peer's render script (default: bench/peers/cycles_render.py)");
+  converge->add_option("--peer-dir", converge_options.peer_dir,
+                       "folder for the exported scene, the peer's EXRs and its log "
+                       "(default: beside --csv)");
+  converge->add_option("--export-json", converge_options.export_json,
+                       "write the scene as the peer reads it (JSON) and stop");
 
   CLI11_PARSE(app, argc, argv);
   try {

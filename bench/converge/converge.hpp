@@ -18,6 +18,12 @@ struct ConvergeOptions {
   std::string csv;              // write the series here
   std::string plot;             // write a log-log plot (PNG) here
   std::string save_reference;   // write the rendered reference here (EXR)
+  // A second renderer measured the same way against its own reference ("cycles" or empty).
+  std::string peer;
+  std::string blender = "blender";  // the Blender executable the Cycles peer runs
+  std::string peer_script;          // empty: bench/peers/cycles_render.py of this source tree
+  std::string peer_dir;             // scene JSON, peer EXRs, Blender's log; empty: beside --csv
+  std::string export_json;          // write the scene as the peer reads it, then stop
 };
 
 // Renders the scene at each spp (wall time of the render alone, scene preparation

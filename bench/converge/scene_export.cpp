@@ -1,0 +1,168 @@
+#include "scene_export.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "tessera/render/material_mapping.hpp"
+
+namespace tessera::bench {
+namespace {
+
+using nlohmann::json;
+
+json vec(const glm::dvec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+json vec(const glm::vec3& v) {
+  return json::array({v.x, v.y, v.z});
+}
+
+const char* bsdf_name(BsdfKind kind) {
+  switch (kind) {
+    case BsdfKind::kDiffuse:
+      return "diffuse";
+    case BsdfKind::kConductor:
+      return "conductor";
+    case BsdfKind::kDielectric:
+      return "dielectric";
+    case BsdfKind::kThinDielectric:
+      return "thin_dielectric";
+    case BsdfKind::kCoated:
+      return "coated";
+    case BsdfKind::kEmitter:
+      return "emitter";
+  }
+  return "unknown";
+}
+
+json material_json(const MaterialDesc& m) {
+  // The renderer's reading of the material, so the peer copies what Tessera draws (a
+  // preset's colour, a thin film's ior) instead of re-deriving it from the raw fields.
+  const Material mapped = make_material(m);
+  return {{"name", m.name},
+          {"type", to_string(m.type)},
+          {"bsdf", bsdf_name(mapped.kind)},
+          {"albedo", vec(mapped.albedo)},
+          {"emission", vec(mapped.emission)},
+          {"roughness", mapped.roughness},
+          {"ior", mapped.ior},
+          {"metallic", m.metallic},
+          {"transmission", m.transmission},
+          {"anisotropy", m.anisotropy},
+          {"film_thickness", m.film_thickness}};
+}
+
+// Row-major, as Blender's Matrix() takes rows; glm stores columns.
+json matrix_json(const std::optional<TransformDesc>& transform) {
+  if (!transform) return nullptr;
+  const glm::dmat4 m = transform->matrix();
+  json rows = json::array();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) rows.push_back(m[c][r]);
+  return rows;
+}
+
+template <typename Shape>
+json common(const char* type, const Shape& s) {
+  return {{"type", type},
+          {"material", s.material},
+          {"visible", s.visible},
+          {"source_index", s.source_index},
+          {"matrix", matrix_json(s.transform)}};
+}
+
+template <typename Shape>
+json unsupported(const char* kind, const Shape& s) {
+  json j = common("unsupported", s);
+  j["kind"] = kind;
+  return j;
+}
+
+json mesh_json(const TriangleMeshDesc& mesh) {
+  json j = common("mesh", mesh);
+  std::vector<double> positions, normals;
+  positions.reserve(mesh.positions.size() * 3);
+  for (const auto& p : mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
+  normals.reserve(mesh.normals.size() * 3);
+  for (const auto& n : mesh.normals) normals.insert(normals.end(), {n.x, n.y, n.z});
+  j["positions"] = std::move(positions);
+  j["indices"] = mesh.indices;
+  j["normals"] = std::move(normals);
+  j["source_file"] = mesh.source_file;
+  return j;
+}
+
+}  // namespace
+
+std::string scene_to_json(const SceneDescription& scene) {
+  json shapes = json::array();
+  for (const auto& s : scene.spheres) {
+    json j = common("sphere", s);
+    j["center"] = vec(s.center);
+    j["radius"] = s.radius;
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& q : scene.quads) {
+    json j = common("quad", q);
+    j["corner"] = vec(q.corner);
+    j["u"] = vec(q.u);
+    j["v"] = vec(q.v);
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& d : scene.disks) {
+    json j = common("disk", d);
+    j["center"] = vec(d.center);
+    j["normal"] = vec(d.normal);
+    j["radius"] = d.radius;
+    j["inner_radius"] = d.inner_radius;
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& p : scene.planes) {
+    json j = common("plane", p);
+    j["point"] = vec(p.point);
+    j["normal"] = vec(p.normal);
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& m : scene.meshes) shapes.push_back(mesh_json(m));
+  for (const auto& s : scene.cylinders) shapes.push_back(unsupported("cylinder", s));
+  for (const auto& s : scene.cones) shapes.push_back(unsupported("cone", s));
+  for (const auto& s : scene.tori) shapes.push_back(unsupported("torus", s));
+  for (const auto& s : scene.sdf_boxes) shapes.push_back(unsupported("sdf_box", s));
+  for (const auto& s : scene.sdf_tori) shapes.push_back(unsupported("sdf_torus", s));
+  for (const auto& s : scene.sdf_capsules) shapes.push_back(unsupported("sdf_capsule", s));
+  for (const auto& s : scene.patches) shapes.push_back(unsupported("patch", s));
+  for (const auto& s : scene.trimmed_faces) shapes.push_back(unsupported("trimmed_face", s));
+
+  json materials = json::array();
+  for (const auto& m : scene.materials) materials.push_back(material_json(m));
+
+  const json out = {
+      {"format", "tessera-scene-export"},
+      {"version", 1},
+      {"camera",
+       {{"position", vec(scene.camera.position)},
+        {"look_at", vec(scene.camera.look_at)},
+        {"up", vec(scene.camera.up)},
+        {"fov_degrees", scene.camera.fov_degrees}}},
+      {"background",
+       {{"color", vec(scene.background.color)}, {"intensity", scene.background.intensity}}},
+      {"render",
+       {{"width", scene.render.width},
+        {"height", scene.render.height},
+        {"max_depth", scene.render.max_depth},
+        {"seed", scene.render.seed},
+        {"integrator", to_string(scene.render.integrator)}}},
+      {"materials", std::move(materials)},
+      {"shapes", std::move(shapes)}};
+  return out.dump();
+}
+
+void write_scene_json(const SceneDescription& scene, const std::filesystem::path& path) {
+  std::ofstream out(path, std::ios::binary);
+  out << scene_to_json(scene);
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+}  // namespace tessera::bench

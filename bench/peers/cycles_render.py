@@ -1,0 +1,410 @@
+# Renders a scene exported by tessera-bench (bench/converge/scene_export.cpp, JSON) with
+# Blender Cycles, once per sample count, in one Blender process so start-up is paid once.
+#
+#   blender -b --factory-startup --python bench/peers/cycles_render.py -- \
+#       --scene SCENE.json --out DIR --spp 1,2,4,...,256 --reference-spp 4096 --threads 2
+#
+# Writes DIR/cycles_<spp>.exr (linear RGBA, 32-bit float) and prints, per render,
+#   TESSERA_PEER spp=<n> wall=<s> sync=<s> exr=<path>
+# and, with --reference-spp, one line more with reference=1 for DIR/cycles_reference_<n>.exr,
+# rendered with another seed: with the same seed, the n-spp render would be the first n
+# samples of the reference and its error would look smaller than it is.
+# which tessera-bench parses. wall is the time around bpy.ops.render.render (Blender's
+# start, the scene build in Python and the EXR write are outside it); sync is the part of
+# it Cycles reports as synchronisation (scene export to Cycles, BVH build, shader and kernel
+# setup; "cycles.<layer>.synchronization_time" in the EXR header, 10 ms resolution).
+# tessera-bench times Cycles as wall - sync, since Tessera does not time scene preparation.
+# Persistent data would keep the BVH between renders, but Blender 3.4 in background mode
+# then ignores the new sample count (every render comes out at the first one's), so each
+# render syncs afresh.
+#
+# How Tessera's model maps onto Cycles (and where it only approximately does) is in
+# bench/peers/README.md.
+import argparse
+import json
+import math
+import re
+import sys
+import time
+
+import bmesh
+import bpy
+from mathutils import Matrix, Vector
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    p = argparse.ArgumentParser(prog="cycles_render.py")
+    p.add_argument("--scene", required=True)
+    p.add_argument("--out", required=True)
+    p.add_argument("--spp", required=True, help="comma-separated sample counts")
+    p.add_argument("--reference-spp", type=int, default=0,
+                   help="also render the reference at this spp, with another seed")
+    p.add_argument("--threads", type=int, default=0, help="0: all")
+    p.add_argument("--sphere-segments", type=int, default=128)
+    p.add_argument("--disk-segments", type=int, default=128)
+    return p.parse_args(argv)
+
+
+def warn(message):
+    print("cycles_render.py: warning: " + message, flush=True)
+
+
+def clear_scene():
+    for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.materials,
+                       bpy.data.cameras, bpy.data.lights, bpy.data.worlds):
+        for block in list(collection):
+            collection.remove(block)
+
+
+def configure(scene, data, args):
+    r = data["render"]
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    scene.render.threads_mode = "FIXED" if args.threads > 0 else "AUTO"
+    if args.threads > 0:
+        scene.render.threads = args.threads
+    scene.render.resolution_x = r["width"]
+    scene.render.resolution_y = r["height"]
+    scene.render.resolution_percentage = 100
+    scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
+    scene.render.use_motion_blur = False
+    scene.render.film_transparent = False
+    scene.render.use_persistent_data = False  # see the top of this file
+    scene.render.dither_intensity = 0.0
+
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.use_preview_denoising = False
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    # Cycles skips lights whose estimated contribution is below this; Tessera never does.
+    c.light_sampling_threshold = 0.0
+    c.seed = 0
+    c.use_animated_seed = False
+    # Tessera's max_depth counts path segments and its last vertex takes no light sample:
+    # max_depth M gives at most M - 1 scattering vertices. Cycles' bounces count the
+    # vertices after the first (0 bounces = direct light only), so bounces = M - 2.
+    bounces = max(r["max_depth"] - 2, 0)
+    c.max_bounces = bounces
+    c.diffuse_bounces = bounces
+    c.glossy_bounces = bounces
+    c.transmission_bounces = bounces
+    c.transparent_max_bounces = bounces
+    c.volume_bounces = 0
+    c.min_light_bounces = 0
+    c.min_transparent_bounces = 0
+    # Caustics stay: Tessera neither blurs glossy bounces nor drops caustic paths.
+    c.blur_glossy = 0.0
+    c.caustics_reflective = True
+    c.caustics_refractive = True
+    c.use_fast_gi = False
+    # Tessera jitters each sample uniformly inside its pixel: a 1-pixel box filter.
+    c.pixel_filter_type = "BOX"
+    c.filter_width = 1.0
+    c.use_auto_tile = True
+    c.tile_size = 2048
+
+    vs = scene.view_settings
+    vs.view_transform = "Standard"
+    vs.look = "None"
+    vs.exposure = 0.0
+    vs.gamma = 1.0
+    scene.display_settings.display_device = "sRGB"
+    settings = scene.render.image_settings
+    settings.file_format = "OPEN_EXR"
+    settings.color_mode = "RGBA"
+    settings.color_depth = "32"
+    settings.exr_codec = "ZIP"
+    return bounces
+
+
+def add_camera(scene, cam):
+    position = Vector(cam["position"])
+    forward = (Vector(cam["look_at"]) - position).normalized()
+    right = forward.cross(Vector(cam["up"])).normalized()
+    up = right.cross(forward)
+    data = bpy.data.cameras.new("camera")
+    # Tessera's fov is vertical whatever the aspect ratio.
+    data.sensor_fit = "VERTICAL"
+    data.sensor_height = 24.0
+    data.lens = 0.5 * data.sensor_height / math.tan(math.radians(cam["fov_degrees"]) * 0.5)
+    data.clip_start = 1e-4
+    data.clip_end = 1e7
+    data.dof.use_dof = False
+    obj = bpy.data.objects.new("camera", data)
+    # Blender cameras look down -Z with +Y up.
+    m = Matrix.Identity(4)
+    for i in range(3):
+        m[i][0], m[i][1], m[i][2], m[i][3] = right[i], up[i], -forward[i], position[i]
+    obj.matrix_world = m
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+
+
+def add_world(scene, background):
+    world = bpy.data.worlds.new("world")
+    world.use_nodes = True
+    node = world.node_tree.nodes["Background"]
+    node.inputs["Color"].default_value = (*background["color"], 1.0)
+    node.inputs["Strength"].default_value = background["intensity"]
+    scene.world = world
+
+
+def emission_node(nodes, emission):
+    # Cycles' Emission shader at strength s and colour c gives radiance s * c, which is
+    # what a camera ray returns from it: the pixel value Tessera writes for an emitter seen
+    # directly (its emission). Colour in [0, 1], the scale in the strength.
+    strength = max(emission)
+    node = nodes.new("ShaderNodeEmission")
+    node.inputs["Color"].default_value = (*[e / strength for e in emission], 1.0)
+    node.inputs["Strength"].default_value = strength
+    return node
+
+
+def glossy_roughness(fuzz):
+    # Tessera's conductor perturbs the mirror direction by fuzz * (a point in the unit
+    # ball): a lobe about fuzz / 2 wide in slope, which GGX gives at alpha ~ fuzz / 2,
+    # i.e. Blender roughness sqrt(fuzz / 2). Approximate; the two lobes differ in shape.
+    return math.sqrt(max(fuzz, 0.0) * 0.5)
+
+
+def make_material(m):
+    mat = bpy.data.materials.new(m["name"] or "material")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    output = nodes.new("ShaderNodeOutputMaterial")
+    albedo = (*m["albedo"], 1.0)
+    bsdf = m["bsdf"]
+    emitting = max(m["emission"]) > 0.0
+    surface = None
+    if bsdf == "emitter":
+        surface = emission_node(nodes, m["emission"]) if emitting else None
+        emitting = False
+    elif bsdf == "diffuse":
+        surface = nodes.new("ShaderNodeBsdfDiffuse")
+        surface.inputs["Color"].default_value = albedo
+        surface.inputs["Roughness"].default_value = 0.0
+    elif bsdf == "conductor":
+        surface = nodes.new("ShaderNodeBsdfGlossy")
+        surface.distribution = "GGX" if m["roughness"] > 0.0 else "SHARP"
+        surface.inputs["Color"].default_value = albedo
+        surface.inputs["Roughness"].default_value = glossy_roughness(m["roughness"])
+    elif bsdf == "dielectric":
+        surface = nodes.new("ShaderNodeBsdfGlass")
+        surface.distribution = "SHARP"
+        surface.inputs["Color"].default_value = albedo
+        surface.inputs["IOR"].default_value = m["ior"]
+    elif bsdf == "coated":
+        # Tessera: a Fresnel (Schlick) choice between a fuzzy white mirror and the diffuse
+        # base. Cycles: the same mix by its exact Fresnel term.
+        warn(f"material {m['name']}: clear coat approximated (Fresnel mix of glossy and diffuse)")
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Color"].default_value = albedo
+        glossy = nodes.new("ShaderNodeBsdfGlossy")
+        glossy.distribution = "GGX" if m["roughness"] > 0.0 else "SHARP"
+        glossy.inputs["Roughness"].default_value = glossy_roughness(m["roughness"])
+        fresnel = nodes.new("ShaderNodeFresnel")
+        fresnel.inputs["IOR"].default_value = m["ior"]
+        surface = nodes.new("ShaderNodeMixShader")
+        links.new(fresnel.outputs["Fac"], surface.inputs["Fac"])
+        links.new(diffuse.outputs["BSDF"], surface.inputs[1])
+        links.new(glossy.outputs["BSDF"], surface.inputs[2])
+    elif bsdf == "thin_dielectric":
+        warn(f"material {m['name']}: thin film approximated (Fresnel mix of mirror and transparent)")
+        glossy = nodes.new("ShaderNodeBsdfGlossy")
+        glossy.distribution = "SHARP"
+        transparent = nodes.new("ShaderNodeBsdfTransparent")
+        fresnel = nodes.new("ShaderNodeFresnel")
+        fresnel.inputs["IOR"].default_value = m["ior"]
+        surface = nodes.new("ShaderNodeMixShader")
+        links.new(fresnel.outputs["Fac"], surface.inputs["Fac"])
+        links.new(transparent.outputs["BSDF"], surface.inputs[1])
+        links.new(glossy.outputs["BSDF"], surface.inputs[2])
+    else:
+        warn(f"material {m['name']}: unknown bsdf {bsdf!r}, drawn diffuse")
+        surface = nodes.new("ShaderNodeBsdfDiffuse")
+        surface.inputs["Color"].default_value = albedo
+    if emitting:
+        # Tessera adds a non-emitter material's emission to its scattering.
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(emission_node(nodes, m["emission"]).outputs[0], add.inputs[0])
+        links.new(surface.outputs[0], add.inputs[1])
+        surface = add
+    if surface is not None:
+        links.new(surface.outputs[0], output.inputs["Surface"])
+    return mat
+
+
+def frame_of(normal):
+    n = Vector(normal).normalized()
+    helper = Vector((1.0, 0.0, 0.0)) if abs(n.x) < 0.9 else Vector((0.0, 1.0, 0.0))
+    t = helper.cross(n).normalized()
+    return t, n.cross(t), n
+
+
+def mesh_from_lists(name, vertices, faces):
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    mesh.update()
+    return mesh
+
+
+def build_sphere(s, args):
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=args.sphere_segments,
+                              v_segments=args.sphere_segments // 2, radius=s["radius"])
+    bmesh.ops.translate(bm, vec=Vector(s["center"]), verts=bm.verts)
+    mesh = bpy.data.meshes.new("sphere")
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+    return mesh
+
+
+def build_quad(q):
+    c, u, v = Vector(q["corner"]), Vector(q["u"]), Vector(q["v"])
+    return mesh_from_lists("quad", [c, c + u, c + u + v, c + v], [(0, 1, 2, 3)])
+
+
+def build_disk(d, args):
+    t, b, n = frame_of(d["normal"])
+    center, r, ri = Vector(d["center"]), d["radius"], d["inner_radius"]
+    k = args.disk_segments
+    ring = [center + r * (math.cos(2 * math.pi * i / k) * t + math.sin(2 * math.pi * i / k) * b)
+            for i in range(k)]
+    if ri > 0.0:
+        inner = [center + ri * (math.cos(2 * math.pi * i / k) * t +
+                                math.sin(2 * math.pi * i / k) * b) for i in range(k)]
+        faces = [(i, (i + 1) % k, k + (i + 1) % k, k + i) for i in range(k)]
+        return mesh_from_lists("annulus", ring + inner, faces)
+    faces = [(k, i, (i + 1) % k) for i in range(k)]
+    return mesh_from_lists("disk", ring + [center], faces)
+
+
+def build_plane(p):
+    # An infinite plane has no mesh; a square far larger than any suite scene stands in.
+    warn("plane drawn as a 2000 x 2000 square")
+    t, b, _ = frame_of(p["normal"])
+    c, h = Vector(p["point"]), 1000.0
+    return mesh_from_lists("plane", [c - h * t - h * b, c + h * t - h * b, c + h * t + h * b,
+                                     c - h * t + h * b], [(0, 1, 2, 3)])
+
+
+def build_mesh(m):
+    positions, indices, normals = m["positions"], m["indices"], m["normals"]
+    nv, nt = len(positions) // 3, len(indices) // 3
+    mesh = bpy.data.meshes.new("mesh")
+    mesh.vertices.add(nv)
+    mesh.vertices.foreach_set("co", positions)
+    mesh.loops.add(3 * nt)
+    mesh.loops.foreach_set("vertex_index", indices)
+    mesh.polygons.add(nt)
+    mesh.polygons.foreach_set("loop_start", list(range(0, 3 * nt, 3)))
+    mesh.polygons.foreach_set("loop_total", [3] * nt)
+    mesh.update(calc_edges=True)
+    if normals:
+        # Tessera interpolates the file's vertex normals; custom split normals do the same.
+        mesh.polygons.foreach_set("use_smooth", [True] * nt)
+        mesh.use_auto_smooth = True
+        mesh.normals_split_custom_set_from_vertices(
+            [tuple(normals[3 * i:3 * i + 3]) for i in range(nv)])
+    return mesh
+
+
+def add_shapes(scene, data, materials, args):
+    counts = {}
+    for s in data["shapes"]:
+        kind = s["type"]
+        if kind == "sphere":
+            mesh = build_sphere(s, args)
+        elif kind == "quad":
+            mesh = build_quad(s)
+        elif kind == "disk":
+            mesh = build_disk(s, args)
+        elif kind == "plane":
+            mesh = build_plane(s)
+        elif kind == "mesh":
+            mesh = build_mesh(s)
+        else:
+            warn(f"geometry[{s['source_index']}]: {s.get('kind', kind)} not drawn by the Cycles peer")
+            continue
+        counts[kind] = counts.get(kind, 0) + 1
+        mesh.materials.append(materials[s["material"]])
+        obj = bpy.data.objects.new(kind, mesh)
+        if s["matrix"] is not None:
+            rows = s["matrix"]
+            obj.matrix_world = Matrix([rows[0:4], rows[4:8], rows[8:12], rows[12:16]])
+        if not s["visible"]:
+            # Tessera leaves hidden shapes out of the ray structure: camera rays and shadow
+            # rays pass through them and only light sampling finds them. Cycles drops an
+            # emitter from light sampling when BSDF rays cannot see it, so those stay on.
+            obj.visible_camera = False
+            obj.visible_shadow = False
+        scene.collection.objects.link(obj)
+    return counts
+
+
+def synchronization_seconds(exr_path):
+    # The EXR header holds Cycles' stamp fields as OpenEXR string attributes:
+    # name NUL "string" NUL, a 32-bit little-endian length, the text ("MM:SS.hh").
+    with open(exr_path, "rb") as f:
+        header = f.read(1 << 16)
+    match = re.search(rb"cycles\.[^\x00]*\.synchronization_time\x00string\x00", header)
+    if not match:
+        return 0.0
+    length = int.from_bytes(header[match.end():match.end() + 4], "little")
+    text = header[match.end() + 4:match.end() + 4 + length].decode()
+    seconds = 0.0
+    for part in text.split(":"):
+        seconds = seconds * 60.0 + float(part)
+    return seconds
+
+
+def main():
+    args = parse_args()
+    with open(args.scene) as f:
+        data = json.load(f)
+    if data.get("format") != "tessera-scene-export" or data.get("version") != 1:
+        sys.exit("cycles_render.py: not a tessera-scene-export version 1 file")
+    if data["render"]["integrator"] != "path":
+        warn(f"integrator {data['render']['integrator']}: Cycles renders the path tracer's image")
+    clear_scene()
+    scene = bpy.context.scene
+    bounces = configure(scene, data, args)
+    add_camera(scene, data["camera"])
+    add_world(scene, data["background"])
+    materials = [make_material(m) for m in data["materials"]]
+    counts = add_shapes(scene, data, materials, args)
+    print(f"cycles_render.py: Blender {bpy.app.version_string}, {scene.render.resolution_x}x"
+          f"{scene.render.resolution_y}, bounces {bounces}, threads "
+          f"{args.threads or 'all'}, shapes {counts}", flush=True)
+
+    spp_list = [int(x) for x in args.spp.split(",") if x]
+    scene.cycles.samples = 1
+    bpy.ops.render.render()  # warm-up: the first render also loads kernels
+    for spp in spp_list:
+        scene.cycles.samples = spp
+        start = time.perf_counter()
+        bpy.ops.render.render()
+        wall = time.perf_counter() - start
+        path = f"{args.out}/cycles_{spp}.exr"
+        bpy.data.images["Render Result"].save_render(path, scene=scene)
+        sync = synchronization_seconds(path)
+        print(f"TESSERA_PEER spp={spp} wall={wall:.6f} sync={sync:.3f} exr={path}", flush=True)
+    if args.reference_spp > 0:
+        scene.cycles.samples = args.reference_spp
+        scene.cycles.seed = 1
+        start = time.perf_counter()
+        bpy.ops.render.render()
+        wall = time.perf_counter() - start
+        path = f"{args.out}/cycles_reference_{args.reference_spp}.exr"
+        bpy.data.images["Render Result"].save_render(path, scene=scene)
+        sync = synchronization_seconds(path)
+        print(f"TESSERA_PEER reference=1 spp={args.reference_spp} wall={wall:.6f} sync={sync:.3f} "
+              f"exr={path}", flush=True)
+
+
+main()
