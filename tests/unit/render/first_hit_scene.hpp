@@ -33,9 +33,9 @@ inline Ray first_sample_camera_ray(const SceneDescription& scene, std::uint32_t 
                                    std::uint32_t y) {
   const Camera camera =
       Camera::from_description(scene.camera, scene.render.width, scene.render.height);
-  SampleStream samples(scene.render.seed, x, y, 0);
-  const float jx = samples.next();
-  const float jy = samples.next();
+  SampleStream samples(scene.render.seed, x, y, 0, scene.render.sampler);
+  float jx, jy;
+  samples.next_2d(jx, jy);
   return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
 }
 
