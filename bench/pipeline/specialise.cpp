@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <stdexcept>
 
 #include "bench_scenes.hpp"
 #include "tessera/render/prepared_scene.hpp"
@@ -56,10 +57,19 @@ double max_difference(const std::vector<float>& a, const std::vector<float>& b) 
 
 }  // namespace
 
+// The benchmark scenes with the options' sampler.
+static std::vector<NamedScene> scenes_for(const SpecialiseOptions& options) {
+  std::vector<NamedScene> scenes = specialisation_scenes(options.width, options.height, options.spp);
+  const auto sampler = sampler_from_string(options.sampler);
+  if (!sampler) throw std::invalid_argument("unknown sampler " + options.sampler);
+  for (NamedScene& named : scenes) named.scene.render.sampler = *sampler;
+  return scenes;
+}
+
 int run_specialise(const SpecialiseOptions& options) {
   if (!options.only_renderer.empty()) {
     for (const NamedScene& named :
-         specialisation_scenes(options.width, options.height, options.spp)) {
+         scenes_for(options)) {
       if (named.name != options.only_scene) continue;
       if (options.only_renderer == "virtual") {
         const VirtualPathTracer conventional(named.scene);
@@ -69,7 +79,8 @@ int run_specialise(const SpecialiseOptions& options) {
         return 0;
       }
       const auto scene = PreparedScene::build(
-          named.scene, PrepareOptions{.all_features = options.only_renderer == "all"});
+          named.scene, PrepareOptions{.all_features = options.only_renderer == "all",
+                                      .light_tree = options.light_tree});
       render_all(named.scene.render,
                  [&](const TileRect& t, std::span<float> out) { scene->render_tile(t, out); });
       return 0;
@@ -81,9 +92,11 @@ int run_specialise(const SpecialiseOptions& options) {
   int count = 0;
   bool images_agree = true;
   for (const NamedScene& named :
-       specialisation_scenes(options.width, options.height, options.spp)) {
-    const auto specialised = PreparedScene::build(named.scene);
-    const auto general = PreparedScene::build(named.scene, PrepareOptions{.all_features = true});
+       scenes_for(options)) {
+    const auto specialised =
+        PreparedScene::build(named.scene, PrepareOptions{.light_tree = options.light_tree});
+    const auto general = PreparedScene::build(
+        named.scene, PrepareOptions{.all_features = true, .light_tree = options.light_tree});
     const VirtualPathTracer conventional(named.scene);
     const TileRenderer run_specialised = [&](const TileRect& t, std::span<float> out) {
       specialised->render_tile(t, out);

@@ -9,6 +9,8 @@ struct SpecialiseOptions {
   std::uint32_t height = 72;
   std::uint32_t spp = 4;
   int repeats = 3;
+  std::string sampler = "sobol";  // render.sampler of every scene
+  bool light_tree = true;         // PrepareOptions::light_tree
   // When set: render only this scene with only this renderer (specialised, all or
   // virtual), once and untimed, so a profiler such as callgrind counts just that work.
   std::string only_scene;

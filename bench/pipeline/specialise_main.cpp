@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"specialised", "all", "virtual"}));
   app.add_option("--scene", options.only_scene,
                  "with --only: the scene (triangles, analytic, mixed, triangles_sky)");
+  app.add_option("--sampler", options.sampler, "render.sampler of every scene")
+      ->check(CLI::IsMember({"sobol", "independent"}));
+  app.add_flag("!--no-light-tree", options.light_tree,
+               "pick lights by power alone instead of by the light tree");
   CLI11_PARSE(app, argc, argv);
   return tessera::bench::run_specialise(options);
 }

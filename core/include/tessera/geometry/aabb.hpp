@@ -40,7 +40,7 @@ struct Aabb {
 // not limit the interval and the ray counts as inside the slab, boundary included (it can
 // still hit a triangle lying in that plane's edge). Every other product is finite or a
 // correctly signed infinity.
-TESSERA_HD TESSERA_INLINE bool intersect_aabb(const vec3& lower, const vec3& upper,
+TESSERA_HD TESSERA_FORCE_INLINE bool intersect_aabb(const vec3& lower, const vec3& upper,
                                               const TraversalRay& ray, float t_min, float t_max,
                                               float& t_entry) {
   for (int axis = 0; axis < 3; ++axis) {

@@ -29,7 +29,7 @@ namespace detail {
 // Evaluated in double from the float inputs: in float the distance to the line of an
 // origin 1e6 radii away is itself uncertain by ~1e6 * 6e-8 radii, which flips hit or miss
 // for rays within 6% of the silhouette; in double that band is below 1e-9.
-TESSERA_HD TESSERA_INLINE HitCandidates<2> sphere_candidates(const Sphere& s,
+TESSERA_HD TESSERA_FORCE_INLINE HitCandidates<2> sphere_candidates(const Sphere& s,
                                                              const PreciseRay& ray) {
   HitCandidates<2> out;
   const LocalRay local{ray.origin - dvec3(s.center), ray.direction};

@@ -65,6 +65,12 @@ class SampleStream {
     b = next();
   }
 
+  // White noise for dimension `dimension`, whatever the kind: for decisions stratification
+  // does not help (Russian roulette), at the cost of one hash.
+  TESSERA_HD float white(std::uint32_t dimension) const {
+    return uint_to_unit_float(hash_combine(hash_combine(key_, index_), dimension ^ 0x5bd1e995U));
+  }
+
   // Jumps to a fixed dimension, so each bounce can own a block of dimensions whatever the
   // previous bounces consumed (a rejected or skipped sample then shifts nothing after it).
   TESSERA_HD void set_dimension(std::uint32_t dimension) { dimension_ = dimension; }

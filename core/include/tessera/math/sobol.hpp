@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <type_traits>
 
 #include "tessera/math/hash.hpp"
 #include "tessera/math/host_device.hpp"
@@ -25,12 +26,16 @@ namespace tessera {
 // Everything is a pure function of (seed, pixel, sample index, dimension): no tables, no
 // state, the same on the CPU and the GPU.
 
-TESSERA_HD TESSERA_INLINE std::uint32_t reverse_bits(std::uint32_t x) {
+TESSERA_HD constexpr std::uint32_t reverse_bits(std::uint32_t x) {
 #if defined(__CUDA_ARCH__)
   return __brev(x);
 #else
-  x = (x << 16) | (x >> 16);
-  x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
+  if (std::is_constant_evaluated()) {
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
+  } else {
+    x = __builtin_bswap32(x);  // one instruction for the two byte-level steps
+  }
   x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
   x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
   x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
@@ -95,15 +100,60 @@ TESSERA_HD TESSERA_INLINE std::uint32_t sobol_pixel_key(std::uint64_t seed, std:
   return hash_combine(h, pixel_y);
 }
 
+inline constexpr std::uint32_t kSobolIndexBits = 16;
+inline constexpr std::uint32_t kSobolIndexMask = (1u << kSobolIndexBits) - 1u;
+
+// Dimension 1 of a 16-bit index with its bits mirrored (bit k is the 2^-(32-k) digit), by
+// two byte tables of mirrored columns: the per-pair path below scrambles in the mirrored
+// domain, so it never needs the value the right way round. The device, which would need
+// the tables in constant memory, runs the column loop instead.
+struct SobolMirroredColumns {
+  std::uint32_t low[256];
+  std::uint32_t high[256];
+};
+constexpr SobolMirroredColumns make_sobol_mirrored_columns() {
+  SobolMirroredColumns t{};
+  for (std::uint32_t byte = 0; byte < 256; ++byte) {
+    std::uint32_t low = 0, high = 0;
+    for (std::uint32_t bit = 0; bit < 8; ++bit)
+      if ((byte >> bit) & 1U) {
+        low ^= sobol_matrix_column(1, bit);
+        high ^= sobol_matrix_column(1, bit + 8);
+      }
+    t.low[byte] = reverse_bits(low);
+    t.high[byte] = reverse_bits(high);
+  }
+  return t;
+}
+inline constexpr SobolMirroredColumns kSobolMirroredColumns = make_sobol_mirrored_columns();
+
+TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t index16) {
+#if defined(__CUDA_ARCH__)
+  std::uint32_t x = 0, y = 0;
+  sobol_2d(index16, x, y);
+  return reverse_bits(y);
+#else
+  return kSobolMirroredColumns.low[index16 & 0xffU] ^ kSobolMirroredColumns.high[index16 >> 8];
+#endif
+}
+
 // Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions.
 // The shuffle and the two coordinate scrambles take different seeds: scrambling the index
 // and a coordinate with the same one would tie them together.
 TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
                                           std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {
   const std::uint32_t pair_seed = hash_combine(pixel_key, pair);
-  sobol_2d(nested_uniform_scramble(sample_index, pair_seed), x, y);
-  x = nested_uniform_scramble(x, hash_combine(pair_seed, 1U));
-  y = nested_uniform_scramble(y, hash_combine(pair_seed, 2U));
+  // Sample indices stay below 2^16 (SceneLimits::max_samples_per_pixel). The scramble's
+  // low 16 bits depend only on the index's low 16 bits, so they are a nested uniform
+  // shuffle of [0, 2^16) on their own; keeping only them lets 16-bit tables give the point.
+  const std::uint32_t index =
+      nested_uniform_scramble(sample_index, pair_seed) & kSobolIndexMask;
+  // nested_uniform_scramble(v) is reverse(permutation(reverse(v))): dimension 0 is the
+  // mirrored index, so its scramble is reverse(permutation(index)), and dimension 1 is
+  // produced mirrored, so neither needs the mirror taken twice.
+  x = reverse_bits(laine_karras_permutation(index, hash_combine(pair_seed, 1U)));
+  y = reverse_bits(
+      laine_karras_permutation(sobol_dimension1_mirrored(index), hash_combine(pair_seed, 2U)));
 }
 
 // One value in [0, 1): dimension `dimension` of sample `sample_index` of the pixel.

@@ -93,23 +93,26 @@ struct BackgroundMiss {
 
 // Random dimensions: the camera takes the first kCameraDimensions, each bounce a block
 // of kBounceDimensions, so a dimension means the same decision in every sample of a pixel
-// and the low-discrepancy sampler stratifies it. Pairs start at even dimensions.
+// and the low-discrepancy sampler stratifies it. A block is three 2D pairs: the BSDF
+// direction, the point on the light, and (lobe, light pick). Each pair is drawn only when
+// the vertex uses it (a Sobol pair costs two scrambles and a shuffle); Russian roulette
+// takes white noise, which stratifying would not improve.
 inline constexpr std::uint32_t kCameraDimensions = 2;
-inline constexpr std::uint32_t kBounceDimensions = 8;
+inline constexpr std::uint32_t kBounceDimensions = 6;
+enum class BouncePair : std::uint32_t { kBsdfDirection = 0, kLightPoint = 1, kLobeAndPick = 2 };
 struct BounceSamples {
-  float light_pick, lobe;  // one pair
-  float light_u1, light_u2;
-  float bsdf_u1, bsdf_u2;
-  float roulette;
+  float light_pick = 0.0f, lobe = 0.0f;
+  float light_u1 = 0.0f, light_u2 = 0.0f;
+  float bsdf_u1 = 0.0f, bsdf_u2 = 0.0f;
 
-  TESSERA_HD static BounceSamples draw(SampleStream& rng, std::uint32_t depth) {
-    rng.set_dimension(kCameraDimensions + depth * kBounceDimensions);
-    BounceSamples b;
-    rng.next_2d(b.light_pick, b.lobe);
-    rng.next_2d(b.light_u1, b.light_u2);
-    rng.next_2d(b.bsdf_u1, b.bsdf_u2);
-    b.roulette = rng.next();
-    return b;
+  TESSERA_HD static void draw(SampleStream& rng, std::uint32_t depth, BouncePair pair, float& a,
+                              float& b) {
+    rng.set_dimension(kCameraDimensions + depth * kBounceDimensions +
+                      2 * static_cast<std::uint32_t>(pair));
+    rng.next_2d(a, b);
+  }
+  TESSERA_HD static float roulette(const SampleStream& rng, std::uint32_t depth) {
+    return rng.white(kCameraDimensions + depth * kBounceDimensions + 6);
   }
 };
 
@@ -151,10 +154,9 @@ template <typename T>
 TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInteraction& si,
                                     SampleStream& rng, const T& tracer, std::uint32_t& rays) {
   if (scene.light_count == 0) return vec3(0.0f);
-  BounceSamples u{};
-  u.light_pick = rng.next();
-  u.light_u1 = rng.next();
-  u.light_u2 = rng.next();
+  BounceSamples u;
+  BounceSamples::draw(rng, 0, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+  BounceSamples::draw(rng, 0, BouncePair::kLightPoint, u.light_u1, u.light_u2);
   const Frame frame = Frame::from_normal(si.geometric_normal);
   Bsdf lambert;
   lambert.albedo = vec3(1.0f);
@@ -193,12 +195,19 @@ struct PathHit {
     Bsdf bsdf = Bsdf::of(material, si.front_face);
     // Variants without specular materials compile the Lambertian case alone.
     if constexpr (!kFeatures.specular) bsdf.kind = BsdfKind::kDiffuse;
-    const BounceSamples u = BounceSamples::draw(payload.samples, payload.depth);
-
+    BounceSamples u;
+    bool sample_lights = false;
     if constexpr (kFeatures.direct_lighting)
-      if (scene.light_count > 0 && bsdf.has_non_specular())
-        payload.radiance += payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
+      sample_lights = scene.light_count > 0 && bsdf.has_non_specular();
+    SampleStream& rng = payload.samples;
+    if (sample_lights || bsdf.kind != BsdfKind::kDiffuse)
+      BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+    if (sample_lights) {
+      BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
+      payload.radiance += payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
                                                                  strategy, tracer, payload.rays);
+    }
+    BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
 
     const BsdfSample bs = bsdf.sample(wo, u.lobe, u.bsdf_u1, u.bsdf_u2);
     if (!bs.valid()) return;
@@ -219,7 +228,7 @@ struct PathHit {
     ++payload.depth;
     if (payload.depth >= 3) {
       const float survive = glm::clamp(max_component(payload.throughput), 0.05f, 1.0f);
-      if (u.roulette >= survive) return;
+      if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
     }
     const vec3 side_normal = side >= 0.0f ? ng : -ng;
