@@ -415,8 +415,8 @@ void check_light_sampler(const LightCase& c, bool chi2_test) {
 
   test::UniformFloats u(0x11947u + std::hash<std::string>{}(c.name));
   std::vector<double> observed(bins.cells(), 0.0);
-  int failed = 0, off_surface = 0, pdf_mismatch = 0, radiance_mismatch = 0;
-  std::string first_off, first_pdf;
+  int failed = 0, off_surface = 0, pdf_mismatch = 0, radiance_mismatch = 0, overreach = 0;
+  std::string first_off, first_pdf, first_overreach;
   for (int i = 0; i < kSamples; ++i) {
     LightSample s;
     if (!sample_light(scene.view, scene.light, ref, u(), u(), s)) {
@@ -434,6 +434,20 @@ void check_light_sampler(const LightCase& c, bool chi2_test) {
       first_off = "wi (" + std::to_string(s.wi.x) + ", " + std::to_string(s.wi.y) + ", " +
                   std::to_string(s.wi.z) + ") distance " + std::to_string(s.distance) + ": " +
                   std::to_string(off / s.distance) + " of it off the surface";
+    // The shadow ray, which stops at distance * (1 - 1e-4), must not reach the light: where
+    // the double-precision ray along the float wi meets it is no closer, up to the float
+    // resolution of the positions themselves (1e-6 of their magnitude: 1.001 radii from a
+    // unit sphere the distance 0.001 is only known to ~1e-7 from float coordinates). Rays
+    // meeting the light within 0.6 degrees of tangency (|cos| < 1e-2 there; ~1e-4 of a
+    // sphere's cone) are left out: there the two roots merge and the hit distance along
+    // a float direction is ill-conditioned for any sampler.
+    if (const auto hit = cast(c, ref_d, glm::normalize(dvec3(s.wi)));
+        hit && std::fabs(glm::dot(glm::normalize(dvec3(s.wi)), hit->normal)) > 1e-2 &&
+        !(s.distance * (1.0 - 1e-4) < hit->t + 1e-6 * glm::length(ref_d))) {
+      if (overreach++ == 0)
+        first_overreach =
+            "distance " + std::to_string(s.distance) + ", light at " + std::to_string(hit->t);
+    }
     // light_pdf given what a ray along wi finds there (the double-precision cast's normal
     // at that distance) is the sample's pdf.
     dvec3 normal;
@@ -459,6 +473,8 @@ void check_light_sampler(const LightCase& c, bool chi2_test) {
   EXPECT_EQ(radiance_mismatch, 0);
   EXPECT_EQ(off_surface, 0) << "first: " << first_off;
   EXPECT_EQ(pdf_mismatch, 0) << "first: " << first_pdf;
+  EXPECT_EQ(overreach, 0) << "shadow rays that would reach (and be blocked by) the light; first: "
+                          << first_overreach;
 
   std::vector<double> expected =
       bins.expected_shares([&](const dvec3& w, double distance, const dvec3& normal) {
