@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <numbers>
 #include <optional>
-#include <ostream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -36,10 +36,6 @@ struct LightCase {
   dvec3 a, b, c;
   double radius = 0.0, inner = 0.0;
 };
-
-// Every chi-square test in this file (the disabled grazing one included), for the
-// Bonferroni correction.
-constexpr int kChi2Tests = 15;
 
 // A unit square seen from 3 units away, 2 cm above its plane (1/1300 sr, spherical map).
 const LightCase kGrazingRectangle{"RectangleGrazing", Shape::kQuad, {3.0, 0.2, 0.02},
@@ -68,6 +64,10 @@ std::vector<LightCase> light_cases() {
   };
   return cases;
 }
+
+// Every chi-square test in this file (the disabled grazing one included), for the
+// Bonferroni correction.
+const int kChi2Tests = static_cast<int>(light_cases().size()) + 1;
 
 struct Hit {
   double t;
@@ -396,17 +396,10 @@ struct OneLightScene {
   }
 };
 
-void PrintTo(const LightCase& c, std::ostream* os) {
-  *os << c.name;
-}
-
 class LightSampling : public testing::TestWithParam<LightCase> {};
 
-TEST(LightSamplingCases, CountMatchesTheBonferroniConstant) {
-  EXPECT_EQ(static_cast<int>(light_cases().size()) + 1, kChi2Tests);
-}
-
 void check_light_sampler(const LightCase& c, bool chi2_test) {
+  SCOPED_TRACE(c.name);
   const OneLightScene scene(c);
   const vec3 ref(c.ref);
   const dvec3 ref_d(ref);  // the float reference point the renderer sees, in double
@@ -490,7 +483,7 @@ void check_light_sampler(const LightCase& c, bool chi2_test) {
   // see it; 1e-3 bounds the numerical integration (the integrand is smooth over each cell).
   EXPECT_NEAR(integral, 1.0, 1e-3);
 
-  if (std::getenv("TESSERA_CHI2_DUMP")) {
+  if (std::getenv("TESSERA_CHI2_DUMP")) {  // to investigate: cells more than 4 sigma off
     for (std::size_t i = 0; i + 1 < expected.size(); ++i) {
       const double dev = (observed[i] - expected[i]) / std::sqrt(std::max(expected[i], 1.0));
       if (std::fabs(dev) > 4.0)
@@ -504,8 +497,20 @@ void check_light_sampler(const LightCase& c, bool chi2_test) {
   EXPECT_GT(chi2.p_value, test::bonferroni_alpha(kChi2Tests)) << chi2.summary;
 }
 
-TEST_P(LightSampling, DirectionsFollowLightPdfAndReachTheLight) {
-  check_light_sampler(GetParam(), true);
+// One test per shape family (each case is traced by name on failure): fewer processes.
+TEST(LightSampling, SpheresFollowLightPdfAndReachTheLight) {
+  for (const LightCase& c : light_cases())
+    if (c.shape == Shape::kSphere) check_light_sampler(c, true);
+}
+
+TEST(LightSampling, QuadsFollowLightPdfAndReachTheLight) {
+  for (const LightCase& c : light_cases())
+    if (c.shape == Shape::kQuad) check_light_sampler(c, true);
+}
+
+TEST(LightSampling, TrianglesAndDisksFollowLightPdfAndReachTheLight) {
+  for (const LightCase& c : light_cases())
+    if (c.shape == Shape::kTriangle || c.shape == Shape::kDisk) check_light_sampler(c, true);
 }
 
 // A rectangle seen edge-on from afar: its pdf integrates to 1 (it did not before the atan2
@@ -523,11 +528,6 @@ TEST(LightSampling, GrazingRectanglePdfDistanceAndNormalisation) {
 TEST(LightSampling, DISABLED_GrazingRectangleDirectionsFollowLightPdf) {
   check_light_sampler(kGrazingRectangle, true);
 }
-
-INSTANTIATE_TEST_SUITE_P(AllShapes, LightSampling, testing::ValuesIn(light_cases()),
-                         [](const testing::TestParamInfo<LightCase>& info) {
-                           return info.param.name;
-                         });
 
 TEST(LightSampling, PowerHeuristic) {
   EXPECT_FLOAT_EQ(power_heuristic(1.0f, 1.0f), 0.5f);

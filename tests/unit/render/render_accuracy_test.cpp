@@ -95,15 +95,14 @@ double disk_irradiance(const dvec3& p) {
   return kRadiance * sum * (kDiskRadius / kRings) * (2.0 * kPi / kSectors);
 }
 
-TEST(RenderAccuracy, DiskQuadratureMatchesTheOnAxisClosedForm) {
+// The references against independent forms: the disk quadrature against the on-axis closed
+// form, the signed four-corner rectangle form factor against quadrature off-centre.
+TEST(RenderAccuracy, IrradianceReferencesAgreeWithIndependentForms) {
   const dvec3 below(kDiskCentre.x, 0.0, kDiskCentre.z);
   const double h = kDiskCentre.y, r = kDiskRadius;
   const double exact = kPi * kRadiance * r * r / (h * h + r * r);
   EXPECT_NEAR(disk_irradiance(below), exact, 2e-5 * exact);
-}
 
-TEST(RenderAccuracy, RectangleFormFactorMatchesQuadrature) {
-  // An independent check of the signed four-corner sum at an off-centre point.
   const dvec3 p(0.7, 0.0, 0.3);
   constexpr int kN = 400;
   double sum = 0.0;
@@ -229,10 +228,8 @@ struct IrradianceCase {
   double (*irradiance)(const dvec3&);
 };
 
-class DirectIrradiance : public testing::TestWithParam<IrradianceCase> {};
-
-TEST_P(DirectIrradiance, PlaneRadianceIsAlbedoOverPiTimesIrradiance) {
-  const IrradianceCase& c = GetParam();
+void check_irradiance(const IrradianceCase& c) {
+  SCOPED_TRACE(c.name);
   const SceneDescription description = lit_plane_scene(c.emitter);
   const auto prepared = PreparedScene::build(description);
   ASSERT_EQ(prepared->required_features().shapes & ~test::kStatisticsFeatures.shapes, 0u);
@@ -243,15 +240,17 @@ TEST_P(DirectIrradiance, PlaneRadianceIsAlbedoOverPiTimesIrradiance) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Emitters, DirectIrradiance,
-    testing::Values(IrradianceCase{"Sphere", Emitter::kSphere, &sphere_irradiance},
-                    // A hidden emitter (visible: false) lights the plane exactly as a visible
-                    // one: it once counted twice.
-                    IrradianceCase{"HiddenSphere", Emitter::kHiddenSphere, &sphere_irradiance},
-                    IrradianceCase{"Disk", Emitter::kDisk, &disk_irradiance},
-                    IrradianceCase{"Rectangle", Emitter::kRectangle, &rectangle_irradiance}),
-    [](const testing::TestParamInfo<IrradianceCase>& info) { return info.param.name; });
+// The plane's radiance is a / pi * E under each emitter and each strategy.
+TEST(RenderAccuracy, DirectIrradianceFromEachEmitterOnALambertianPlane) {
+  const IrradianceCase cases[] = {
+      IrradianceCase{"Sphere", Emitter::kSphere, &sphere_irradiance},
+      // A hidden emitter (visible: false) lights the plane exactly as a visible
+      // one: it once counted twice.
+      IrradianceCase{"HiddenSphere", Emitter::kHiddenSphere, &sphere_irradiance},
+      IrradianceCase{"Disk", Emitter::kDisk, &disk_irradiance},
+      IrradianceCase{"Rectangle", Emitter::kRectangle, &rectangle_irradiance}};
+  for (const IrradianceCase& c : cases) check_irradiance(c);
+}
 
 // White furnace: a white (albedo 1) Lambertian sphere inside an emitting sphere of radiance
 // 1 that encloses it and the camera. The object is convex and loses nothing, so every
