@@ -155,7 +155,7 @@ struct Bsdf {
         const float inv_eta = 1.0f / eta;
         const vec3 d = -wo;
         const vec3 n(0.0f, 0.0f, 1.0f);
-        vec3 refracted;
+        vec3 refracted(0.0f);  // unused on total internal reflection
         const bool can_refract = refract(d, n, inv_eta, refracted);
         const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
         if (u_lobe < r) {
