@@ -28,19 +28,14 @@ namespace tessera {
 
 TESSERA_HD constexpr std::uint32_t reverse_bits(std::uint32_t x) {
 #if defined(__CUDA_ARCH__)
-  return __brev(x);
-#else
-  if (std::is_constant_evaluated()) {
-    x = (x << 16) | (x >> 16);
-    x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
-  } else {
-    x = __builtin_bswap32(x);  // one instruction for the two byte-level steps
-  }
+  if (!std::is_constant_evaluated()) return __brev(x);
+#endif
+  x = (x << 16) | (x >> 16);
+  x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
   x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
   x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
   x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
   return x;
-#endif
 }
 
 // Column `bit` of the generator matrix of Sobol dimension 0 or 1, as a 32-bit binary
@@ -107,6 +102,7 @@ inline constexpr std::uint32_t kSobolIndexMask = (1u << kSobolIndexBits) - 1u;
 // two byte tables of mirrored columns: the per-pair path below scrambles in the mirrored
 // domain, so it never needs the value the right way round. The device, which would need
 // the tables in constant memory, runs the column loop instead.
+#if !defined(__CUDA_ARCH__)
 struct SobolMirroredColumns {
   std::uint32_t low[256];
   std::uint32_t high[256];
@@ -126,6 +122,7 @@ constexpr SobolMirroredColumns make_sobol_mirrored_columns() {
   return t;
 }
 inline constexpr SobolMirroredColumns kSobolMirroredColumns = make_sobol_mirrored_columns();
+#endif
 
 TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t index16) {
 #if defined(__CUDA_ARCH__)
