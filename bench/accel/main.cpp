@@ -292,6 +292,14 @@ int main(int argc, char** argv) {
   converge->add_option("--peer-dir", converge_options.peer_dir,
                        "folder for the exported scene, the peer's EXRs and its log "
                        "(default: beside --csv)");
+  converge->add_option("--sampler", converge_options.sampler, "Tessera's sampler (ablation)")
+      ->check(CLI::IsMember({"sobol", "independent"}));
+  converge
+      ->add_option("--light-strategy", converge_options.light_strategy,
+                   "Tessera's direct-light estimator (ablation)")
+      ->check(CLI::IsMember({"mis", "light", "bsdf"}));
+  converge->add_flag("!--no-light-tree", converge_options.light_tree,
+                     "Tessera picks lights by power alone (ablation)");
   converge->add_option("--export-json", converge_options.export_json,
                        "write the scene as the peer reads it (JSON) and stop");
 

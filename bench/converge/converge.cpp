@@ -36,10 +36,11 @@ struct Render {
 };
 
 // Every tile on `threads` threads: the same image as any other tiling or thread count.
-Render render(const SceneDescription& description, std::uint32_t spp, unsigned threads) {
+Render render(const SceneDescription& description, std::uint32_t spp, unsigned threads,
+              bool light_tree) {
   SceneDescription scene = description;
   scene.render.samples_per_pixel = spp;
-  const auto prepared = PreparedScene::build(scene);
+  const auto prepared = PreparedScene::build(scene, PrepareOptions{.light_tree = light_tree});
   const RenderSettings& s = prepared->settings();
   Render out;
   out.image = RgbaImage{s.width, s.height, std::vector<float>(std::size_t{s.width} * s.height * 4)};
@@ -290,6 +291,18 @@ int run_converge(const ConvergeOptions& options) {
   if (options.width != 0) scene.render.width = options.width;
   if (options.height != 0) scene.render.height = options.height;
   if (options.max_depth != 0) scene.render.max_depth = options.max_depth;
+  // Estimator switches for ablations: they change Tessera's renders, not the peer's.
+  if (!options.sampler.empty()) {
+    const auto kind = sampler_from_string(options.sampler);
+    if (!kind) throw std::runtime_error("unknown sampler '" + options.sampler + "'");
+    scene.render.sampler = *kind;
+  }
+  if (!options.light_strategy.empty()) {
+    const auto strategy = light_strategy_from_string(options.light_strategy);
+    if (!strategy)
+      throw std::runtime_error("unknown light strategy '" + options.light_strategy + "'");
+    scene.render.light_strategy = *strategy;
+  }
   if (!options.export_json.empty()) {
     write_scene_json(scene, options.export_json);
     std::printf("scene written to %s\n", options.export_json.c_str());
@@ -309,7 +322,7 @@ int run_converge(const ConvergeOptions& options) {
     // the reference, and its error would look smaller than it is.
     SceneDescription reference_scene = scene;
     ++reference_scene.render.seed;
-    const Render r = render(reference_scene, options.reference_spp, threads);
+    const Render r = render(reference_scene, options.reference_spp, threads, options.light_tree);
     reference = r.image;
     std::printf("reference: rendered at %u spp in %.2f s\n", options.reference_spp, r.seconds);
     if (!options.save_reference.empty()) write_image(options.save_reference, reference);
@@ -326,7 +339,7 @@ int run_converge(const ConvergeOptions& options) {
   all.reserve(2);  // `tessera` and `cycles` below are references into it
   Series& tessera = all.emplace_back(Series{"tessera", {}, {}, {0.1f, 0.2f, 0.8f}});
   for (std::uint32_t spp : options.spp) {
-    const Render r = render(scene, spp, threads);
+    const Render r = render(scene, spp, threads, options.light_tree);
     tessera.samples.push_back({spp, r.seconds, r.wall, image_error(r.image, reference)});
   }
   tessera.at_target = time_to_error(tessera.points(), options.target);

@@ -6,8 +6,11 @@
 namespace tessera::bench {
 
 struct ConvergeOptions {
-  std::string scene;      // YAML scene file
-  std::string reference;  // EXR to compare with; empty: render one
+  std::string sampler;         // empty: the scene's render.sampler
+  std::string light_strategy;  // empty: the scene's render.light_strategy
+  bool light_tree = true;      // false: pick lights by power alone
+  std::string scene;           // YAML scene file
+  std::string reference;       // EXR to compare with; empty: render one
   std::uint32_t reference_spp = 4096;
   std::vector<std::uint32_t> spp{1, 2, 4, 8, 16, 32, 64, 128, 256};
   std::uint32_t width = 0;      // 0: the scene's

@@ -5,15 +5,17 @@
 // a BSDF sample found, so both strategies can be weighted against each other.
 //
 // Every emitter with a sampler is sampled by what it subtends where that is stable: a
-// sphere by its cone, a rectangle by its spherical rectangle; parallelograms, triangles,
-// disks and rectangles too small or too grazing for the spherical map by area, converted
-// to solid angle. Emitters are two-sided, as RayON's and Cycles' mesh lights are.
+// sphere by its cone, a rectangle by its spherical rectangle, a triangle by its spherical
+// triangle; parallelograms, disks, and rectangles and triangles too small or too grazing
+// for the spherical maps by area, converted to solid angle. Emitters are two-sided, as RayON's and
+// Cycles' mesh lights are.
 #include <cmath>
 #include <cstdint>
 
 #include "tessera/math/alias_table.hpp"
 #include "tessera/math/sampling.hpp"
 #include "tessera/math/spherical_rectangle.hpp"
+#include "tessera/math/spherical_triangle.hpp"
 #include "tessera/render/scene_data.hpp"
 
 namespace tessera {
@@ -51,6 +53,14 @@ inline constexpr float kMaxSphericalSolidAngle = 6.22f;
 
 TESSERA_HD TESSERA_INLINE bool rectangular(const Quad& q) {
   return std::fabs(glm::dot(q.u, q.v)) <= 1e-4f * glm::length(q.u) * glm::length(q.v);
+}
+
+// Triangles take the spherical map from a larger solid angle: its area is the angle sum
+// minus pi, whose float rounding (~1e-7 of pi per angle) is 3e-5 of 1e-2 sr but 1e-3 of
+// 3e-4 sr; below 1e-2 sr a triangle is far enough for area sampling to be nearly as good.
+inline constexpr float kMinSphericalTriangleSolidAngle = 1e-2f;
+TESSERA_HD TESSERA_INLINE bool triangle_spherical_usable(float solid_angle) {
+  return solid_angle >= kMinSphericalTriangleSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
 }
 
 TESSERA_HD TESSERA_INLINE bool spherical_usable(float solid_angle) {
@@ -192,6 +202,18 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
     case PrimitiveType::kTriangle: {
       const Triangle& t = scene.triangles[index];
       material = t.material;
+      const SphericalTriangle sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
+      if (triangle_spherical_usable(sph.solid_angle)) {
+        out.wi = sph.sample(u1, u2);
+        // Where the direction meets the triangle's plane.
+        const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+        const float along = glm::dot(out.wi, n);
+        if (along == 0.0f) return false;
+        out.distance = glm::dot(t.p0 - ref, n) / along;
+        out.pdf = 1.0f / sph.solid_angle;
+        if (!(out.distance > 0.0f)) return false;
+        break;
+      }
       const vec2 b = sample_uniform_triangle(u1, u2);
       const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
       const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
@@ -243,7 +265,12 @@ TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& lig
       }
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     }
-    case PrimitiveType::kTriangle:
+    case PrimitiveType::kTriangle: {
+      const Triangle& t = scene.triangles[index];
+      const SphericalTriangle sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
+      if (triangle_spherical_usable(sph.solid_angle)) return 1.0f / sph.solid_angle;
+      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
+    }
     case PrimitiveType::kDisk:
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     default:
