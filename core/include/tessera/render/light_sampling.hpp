@@ -63,6 +63,18 @@ TESSERA_HD TESSERA_INLINE bool triangle_spherical_usable(float solid_angle) {
   return solid_angle >= kMinSphericalTriangleSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
 }
 
+// Whether `t` is sampled by its spherical triangle from `ref` (then `sph` holds it). Most
+// emitting triangles of a mesh light are far from most points: area / distance^2 to the
+// centroid (about the solid angle) rules those out before the angles are computed.
+TESSERA_HD TESSERA_INLINE bool triangle_spherical(const Triangle& t, float area, const vec3& ref,
+                                                  SphericalTriangle& sph) {
+  const vec3 to_centroid = (t.p0 + t.p1 + t.p2) * (1.0f / 3.0f) - ref;
+  if (area < 0.5f * kMinSphericalTriangleSolidAngle * glm::dot(to_centroid, to_centroid))
+    return false;
+  sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
+  return triangle_spherical_usable(sph.solid_angle);
+}
+
 TESSERA_HD TESSERA_INLINE bool spherical_usable(float solid_angle) {
   return solid_angle >= kMinSphericalSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
 }
@@ -202,8 +214,8 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
     case PrimitiveType::kTriangle: {
       const Triangle& t = scene.triangles[index];
       material = t.material;
-      const SphericalTriangle sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
-      if (triangle_spherical_usable(sph.solid_angle)) {
+      SphericalTriangle sph;
+      if (triangle_spherical(t, light.area, ref, sph)) {
         out.wi = sph.sample(u1, u2);
         // Where the direction meets the triangle's plane.
         const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
@@ -267,8 +279,8 @@ TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& lig
     }
     case PrimitiveType::kTriangle: {
       const Triangle& t = scene.triangles[index];
-      const SphericalTriangle sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
-      if (triangle_spherical_usable(sph.solid_angle)) return 1.0f / sph.solid_angle;
+      SphericalTriangle sph;
+      if (triangle_spherical(t, light.area, ref, sph)) return 1.0f / sph.solid_angle;
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     }
     case PrimitiveType::kDisk:
