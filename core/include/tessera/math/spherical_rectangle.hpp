@@ -35,24 +35,29 @@ struct SphericalRectangle {
     r.y0 = glm::dot(d, r.y);
     r.x1 = r.x0 + eu;
     r.y1 = r.y0 + ev;
-    const vec3 v00(r.x0, r.y0, r.z0), v01(r.x0, r.y1, r.z0), v10(r.x1, r.y0, r.z0),
-        v11(r.x1, r.y1, r.z0);
-    // Normals of the planes through the origin and each edge; the interior angles between
-    // them by atan2, not acos: a rectangle seen edge-on has angles near 0 and pi, where
-    // acos of a float cosine is off by ~sqrt(1e-7) and the solid angle by 1% (chi-square
-    // test RectangleGrazing in tests/unit/render/light_sampling_test.cpp).
-    const vec3 n0 = safe_normalize(glm::cross(v00, v10));
-    const vec3 n1 = safe_normalize(glm::cross(v10, v11));
-    const vec3 n2 = safe_normalize(glm::cross(v11, v01));
-    const vec3 n3 = safe_normalize(glm::cross(v01, v00));
-    const float g0 = angle_between(n0, -n1);
-    const float g1 = angle_between(n1, -n2);
-    const float g2 = angle_between(n2, -n3);
-    const float g3 = angle_between(n3, -n0);
-    r.b0 = n0.z;
-    r.b1 = n2.z;
-    r.k = 2.0f * kPi - g2 - g3;
-    r.solid_angle = g0 + g1 - r.k;
+    // The planes through the origin and each edge have normals n0 ~ (0, z0, -y0),
+    // n1 ~ (-z0, 0, x1), n2 ~ (0, -z0, y1), n3 ~ (z0, 0, -x0) in this frame, so the
+    // interior angle at corner (x, y) is atan2(|z0| |(x, y, z0)|, +-x y) in closed form:
+    // no normalisation, and precise near 0 and pi, where acos of a float cosine is off by
+    // ~sqrt(1e-7) and a rectangle seen edge-on lost 1% of its solid angle (chi-square test
+    // RectangleGrazing in tests/unit/render/light_sampling_test.cpp).
+    // Only the sums g0 + g1 and g2 + g3 matter (k and the solid angle), so each pair is
+    // one atan2 of the product of the two corners' (cos, sin) pairs: a sum lies in
+    // (0, 2 pi), so a negative atan2 means the sum is past pi.
+    const float az0 = std::fabs(r.z0), z02 = r.z0 * r.z0;
+    const auto corner_pair = [&](float x, float y, float cosine_sign) {
+      return vec2(cosine_sign * x * y, az0 * std::sqrt(x * x + y * y + z02));
+    };
+    const auto angle_sum = [](const vec2& a, const vec2& b) {
+      const float t = std::atan2(a.x * b.y + a.y * b.x, a.x * b.x - a.y * b.y);
+      return t < 0.0f ? t + 2.0f * kPi : t;
+    };
+    const float g01 = angle_sum(corner_pair(r.x1, r.y0, 1.0f), corner_pair(r.x1, r.y1, -1.0f));
+    const float g23 = angle_sum(corner_pair(r.x0, r.y1, 1.0f), corner_pair(r.x0, r.y0, -1.0f));
+    r.b0 = -r.y0 / std::sqrt(z02 + r.y0 * r.y0);
+    r.b1 = r.y1 / std::sqrt(z02 + r.y1 * r.y1);
+    r.k = 2.0f * kPi - g23;
+    r.solid_angle = g01 - r.k;
     return r;
   }
 
@@ -72,15 +77,6 @@ struct SphericalRectangle {
     const float hv2 = hv * hv;
     const float yv = hv2 < 1.0f - 1e-6f ? (hv * d) / std::sqrt(1.0f - hv2) : y1;
     return origin + xu * x + glm::clamp(yv, y0, y1) * y + z0 * z;
-  }
-
- private:
-  TESSERA_HD static vec3 safe_normalize(const vec3& v) {
-    const float len2 = glm::dot(v, v);
-    return len2 > 0.0f ? v / std::sqrt(len2) : vec3(0.0f);
-  }
-  TESSERA_HD static float angle_between(const vec3& a, const vec3& b) {
-    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
   }
 };
 
