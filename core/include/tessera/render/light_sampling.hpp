@@ -63,14 +63,17 @@ TESSERA_HD TESSERA_INLINE bool triangle_spherical_usable(float solid_angle) {
   return solid_angle >= kMinSphericalTriangleSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
 }
 
-// Whether `t` is sampled by its spherical triangle from `ref` (then `sph` holds it). Most
-// emitting triangles of a mesh light are far from most points: area / distance^2 to the
-// centroid (about the solid angle) rules those out before the angles are computed.
-TESSERA_HD TESSERA_INLINE bool triangle_spherical(const Triangle& t, float area, const vec3& ref,
+// Whether `t` is sampled by its spherical triangle from `ref` (then `sph` holds it): only
+// when the triangle is large for its distance (its longest edge longer than the distance
+// to its plane, the test Cycles uses), where area sampling's 1/r^2 and cosine vary over
+// the triangle; farther away area sampling is as good and costs no angles.
+TESSERA_HD TESSERA_INLINE bool triangle_spherical(const Triangle& t, const vec3& ref,
                                                   SphericalTriangle& sph) {
-  const vec3 to_centroid = (t.p0 + t.p1 + t.p2) * (1.0f / 3.0f) - ref;
-  if (area < 0.5f * kMinSphericalTriangleSolidAngle * glm::dot(to_centroid, to_centroid))
-    return false;
+  const vec3 e0 = t.p1 - t.p0, e1 = t.p2 - t.p1, e2 = t.p0 - t.p2;
+  const float longest2 = glm::max(glm::dot(e0, e0), glm::max(glm::dot(e1, e1), glm::dot(e2, e2)));
+  const vec3 n = glm::cross(e0, e1);
+  const float height = glm::dot(t.p0 - ref, n);
+  if (longest2 * glm::dot(n, n) <= height * height) return false;
   sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
   return triangle_spherical_usable(sph.solid_angle);
 }
@@ -215,7 +218,7 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
       const Triangle& t = scene.triangles[index];
       material = t.material;
       SphericalTriangle sph;
-      if (triangle_spherical(t, light.area, ref, sph)) {
+      if (triangle_spherical(t, ref, sph)) {
         out.wi = sph.sample(u1, u2);
         // Where the direction meets the triangle's plane.
         const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
@@ -280,7 +283,7 @@ TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& lig
     case PrimitiveType::kTriangle: {
       const Triangle& t = scene.triangles[index];
       SphericalTriangle sph;
-      if (triangle_spherical(t, light.area, ref, sph)) return 1.0f / sph.solid_angle;
+      if (triangle_spherical(t, ref, sph)) return 1.0f / sph.solid_angle;
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     }
     case PrimitiveType::kDisk:
