@@ -7,6 +7,11 @@ namespace tessera {
 
 void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
                             std::uint32_t primitive, float sampled_area, bool visible) {
+  // Cylinders and cones are sampled by area over both sides of their wall: hidden, no ray
+  // stops at the near side, so the far side would light through it. A hidden one stays
+  // out of the list (and unseen), as before they had samplers.
+  const PrimitiveType type = primitive_type(primitive);
+  if (!visible && (type == PrimitiveType::kCylinder || type == PrimitiveType::kCone)) return;
   if (material.emissive() && sampled_area > 0.0f)
     lights.push_back(LightSource{primitive, sampled_area, 0.0f, visible});
 }
@@ -24,6 +29,10 @@ Aabb light_bounds(const SceneView& shapes, std::uint32_t primitive) {
       return bounds(shapes.triangles[index]);
     case PrimitiveType::kDisk:
       return bounds(shapes.disks[index]);
+    case PrimitiveType::kCylinder:
+      return bounds(shapes.cylinders[index]);
+    case PrimitiveType::kCone:
+      return bounds(shapes.cones[index]);
     default:
       return Aabb{};
   }
@@ -40,6 +49,10 @@ std::uint32_t light_material(const SceneView& shapes, std::uint32_t primitive) {
       return shapes.triangles[index].material;
     case PrimitiveType::kDisk:
       return shapes.disks[index].material;
+    case PrimitiveType::kCylinder:
+      return shapes.cylinders[index].material;
+    case PrimitiveType::kCone:
+      return shapes.cones[index].material;
     default:
       return 0;
   }

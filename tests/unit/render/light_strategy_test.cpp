@@ -70,10 +70,10 @@ const char* name(LightStrategy s) {
 // Every pair of strategies agrees on the image mean and on each 8 x 8 block's mean within
 // 4.5 combined standard errors (sqrt(var_a + var_b), from per-pixel sample variances;
 // independent seeds). 17 regions x 3 pairs: a false failure has probability ~4e-4.
-TEST(LightStrategies, AgreeOnEveryRegionOfALitBox) {
-  const auto prepared = PreparedScene::build(lit_box());
+void expect_strategies_agree(const SceneDescription& scene, std::uint32_t lights) {
+  const auto prepared = PreparedScene::build(scene);
   ASSERT_EQ(prepared->required_features().shapes & ~test::kStatisticsFeatures.shapes, 0u);
-  ASSERT_EQ(prepared->view().light_count, 3u);
+  ASSERT_EQ(prepared->view().light_count, lights);
   constexpr std::uint32_t kSpp = 384;
   const LightStrategy strategies[] = {LightStrategy::kMis, LightStrategy::kLight,
                                       LightStrategy::kBsdf};
@@ -122,6 +122,43 @@ TEST(LightStrategies, AgreeOnEveryRegionOfALitBox) {
       }
     }
   std::printf("[strategies] largest difference %.2f sigma\n", worst);
+}
+
+TEST(LightStrategies, AgreeOnEveryRegionOfALitBox) {
+  expect_strategies_agree(lit_box(), 3);
+}
+
+// The same box lit only by an emitting capped cylinder and an open cone frustum (area
+// samplers over the wall and the caps): light sampling alone must find what BSDF sampling
+// alone finds by hitting them.
+TEST(LightStrategies, AgreeWithCylinderAndConeLights) {
+  SceneDescription scene = lit_box();
+  scene.quads.resize(5);                       // the box without its two rectangle lights
+  scene.spheres.erase(scene.spheres.begin());  // nor the sphere light
+  const auto tube = static_cast<std::uint32_t>(scene.materials.size());
+  MaterialDesc glow;
+  glow.name = "tube";
+  glow.type = MaterialType::kLight;
+  glow.emission = dvec3(3.0, 2.5, 2.0);
+  scene.materials.push_back(glow);
+  CylinderDesc cylinder;
+  cylinder.base = {-0.7, 0.6, -0.6};
+  cylinder.axis = {1.0, 0.2, 0.3};
+  cylinder.radius = 0.06;
+  cylinder.height = 0.8;
+  cylinder.caps = true;
+  cylinder.material = tube;
+  scene.cylinders.push_back(cylinder);
+  ConeDesc cone;
+  cone.base = {0.5, -0.2, -0.7};
+  cone.axis = {0.0, 1.0, 0.2};
+  cone.base_radius = 0.2;
+  cone.top_radius = 0.05;
+  cone.height = 0.4;
+  cone.caps = false;
+  cone.material = tube;
+  scene.cones.push_back(cone);
+  expect_strategies_agree(scene, 2);
 }
 
 // Determinism with every light type and the glossy materials: tile sizes 8 and 13 give the

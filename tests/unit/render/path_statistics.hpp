@@ -17,8 +17,8 @@
 namespace tessera::test {
 
 // Spheres, quads and disks, with lights and specular materials: what the accuracy scenes use.
-inline constexpr PipelineFeatures kStatisticsFeatures{kShapeSphere | kShapeQuad | kShapeDisk, true,
-                                                      true, false};
+inline constexpr PipelineFeatures kStatisticsFeatures{
+    kShapeSphere | kShapeQuad | kShapeDisk | kShapeCylinder | kShapeCone, true, true, false};
 
 struct PixelStatistics {
   std::uint32_t width = 0, height = 0;

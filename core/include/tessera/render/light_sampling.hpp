@@ -147,6 +147,41 @@ TESSERA_HD TESSERA_INLINE std::uint32_t find_light(const SceneView& scene,
   return lo < scene.light_count && scene.lights[lo].primitive == primitive ? lo : scene.light_count;
 }
 
+namespace light_detail {
+
+// A point uniform in area on a cylinder or cone (radii r0 at the base, r1 at the top) and
+// its caps when capped, with the outward normal there. u1 picks the part by area and is
+// stretched back to [0, 1) for the height (or cap radius), u2 is the angle.
+TESSERA_HD inline void sample_revolved(const vec3& base, const vec3& axis, const AxisFrame& frame,
+                                       float r0, float r1, float height, bool capped, float u1,
+                                       float u2, vec3& point, vec3& normal) {
+  const float slant = std::sqrt((r1 - r0) * (r1 - r0) + height * height);
+  const float side = kPi * (r0 + r1) * slant;
+  const float bottom = capped ? kPi * r0 * r0 : 0.0f;
+  const float top = capped ? kPi * r1 * r1 : 0.0f;
+  float pick = u1 * (side + bottom + top);
+  const vec3 u(frame.u), v(frame.v);
+  const float phi = 2.0f * kPi * u2;
+  const vec3 radial = std::cos(phi) * u + std::sin(phi) * v;
+  if (pick < side || !capped) {
+    // Area grows with the radius r(t) = r0 + (r1 - r0) t: t inverts that CDF, in the form
+    // that stays exact when r0 = r1 (a cylinder) and when r0 = 0 (a pointed base).
+    const float xi = glm::min(pick / side, 1.0f);
+    const float t = xi * (r0 + r1) / (r0 + std::sqrt(r0 * r0 + xi * (r1 * r1 - r0 * r0)));
+    point = base + (t * height) * axis + (r0 + (r1 - r0) * t) * radial;
+    normal = glm::normalize(height * radial + (r0 - r1) * axis);
+    return;
+  }
+  pick -= side;
+  const bool on_bottom = pick < bottom;
+  const float r = on_bottom ? r0 : r1;
+  const float xi = glm::min(on_bottom ? pick / bottom : (pick - bottom) / top, 1.0f);
+  point = base + (on_bottom ? 0.0f : height) * axis + (r * std::sqrt(xi)) * radial;
+  normal = on_bottom ? -axis : axis;
+}
+
+}  // namespace light_detail
+
 // A direction from `ref` towards `light`. Returns false (and no sample) when the light
 // subtends nothing from there.
 TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& light,
@@ -248,6 +283,24 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
       if (!finish_area_sample(ref, point, d.normal, light.area, out)) return false;
       break;
     }
+    case PrimitiveType::kCylinder: {
+      const Cylinder& c = scene.cylinders[index];
+      material = c.material;
+      vec3 point, normal;
+      sample_revolved(c.base, c.axis, c.frame, c.radius, c.radius, c.height, c.capped != 0, u1, u2,
+                      point, normal);
+      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
+      break;
+    }
+    case PrimitiveType::kCone: {
+      const Cone& c = scene.cones[index];
+      material = c.material;
+      vec3 point, normal;
+      sample_revolved(c.base, c.axis, c.frame, c.base_radius, c.top_radius, c.height, c.capped != 0,
+                      u1, u2, point, normal);
+      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
+      break;
+    }
     default:  // no sampler (has_light_sampler): never in the light list
       return false;
   }
@@ -287,6 +340,8 @@ TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& lig
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     }
     case PrimitiveType::kDisk:
+    case PrimitiveType::kCylinder:
+    case PrimitiveType::kCone:
       return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
     default:
       return 0.0f;

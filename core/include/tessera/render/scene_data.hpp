@@ -96,7 +96,8 @@ TESSERA_HD TESSERA_INLINE std::uint32_t primitive_index(std::uint32_t ref) {
 // them, so every emitter is counted by exactly one strategy.
 TESSERA_HD TESSERA_INLINE bool has_light_sampler(PrimitiveType type) {
   return type == PrimitiveType::kSphere || type == PrimitiveType::kQuad ||
-         type == PrimitiveType::kTriangle || type == PrimitiveType::kDisk;
+         type == PrimitiveType::kTriangle || type == PrimitiveType::kDisk ||
+         type == PrimitiveType::kCylinder || type == PrimitiveType::kCone;
 }
 
 // One placement of a shared mesh geometry: its virtual triangle ids start at first_id,
