@@ -59,7 +59,8 @@ double max_difference(const std::vector<float>& a, const std::vector<float>& b) 
 
 // The benchmark scenes with the options' sampler.
 static std::vector<NamedScene> scenes_for(const SpecialiseOptions& options) {
-  std::vector<NamedScene> scenes = specialisation_scenes(options.width, options.height, options.spp);
+  std::vector<NamedScene> scenes =
+      specialisation_scenes(options.width, options.height, options.spp);
   const auto sampler = sampler_from_string(options.sampler);
   if (!sampler) throw std::invalid_argument("unknown sampler " + options.sampler);
   for (NamedScene& named : scenes) named.scene.render.sampler = *sampler;
@@ -68,11 +69,10 @@ static std::vector<NamedScene> scenes_for(const SpecialiseOptions& options) {
 
 int run_specialise(const SpecialiseOptions& options) {
   if (!options.only_renderer.empty()) {
-    for (const NamedScene& named :
-         scenes_for(options)) {
+    for (const NamedScene& named : scenes_for(options)) {
       if (named.name != options.only_scene) continue;
       if (options.only_renderer == "virtual") {
-        const VirtualPathTracer conventional(named.scene);
+        const VirtualPathTracer conventional(named.scene, options.light_tree);
         render_all(named.scene.render, [&](const TileRect& t, std::span<float> out) {
           conventional.render_tile(t, out);
         });
@@ -91,13 +91,12 @@ int run_specialise(const SpecialiseOptions& options) {
   double log_all = 0.0, log_virtual = 0.0;
   int count = 0;
   bool images_agree = true;
-  for (const NamedScene& named :
-       scenes_for(options)) {
+  for (const NamedScene& named : scenes_for(options)) {
     const auto specialised =
         PreparedScene::build(named.scene, PrepareOptions{.light_tree = options.light_tree});
     const auto general = PreparedScene::build(
         named.scene, PrepareOptions{.all_features = true, .light_tree = options.light_tree});
-    const VirtualPathTracer conventional(named.scene);
+    const VirtualPathTracer conventional(named.scene, options.light_tree);
     const TileRenderer run_specialised = [&](const TileRect& t, std::span<float> out) {
       specialised->render_tile(t, out);
     };
