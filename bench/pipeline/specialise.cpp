@@ -72,7 +72,7 @@ int run_specialise(const SpecialiseOptions& options) {
     for (const NamedScene& named : scenes_for(options)) {
       if (named.name != options.only_scene) continue;
       if (options.only_renderer == "virtual") {
-        const VirtualPathTracer conventional(named.scene);
+        const VirtualPathTracer conventional(named.scene, options.light_tree);
         render_all(named.scene.render, [&](const TileRect& t, std::span<float> out) {
           conventional.render_tile(t, out);
         });
@@ -96,7 +96,7 @@ int run_specialise(const SpecialiseOptions& options) {
         PreparedScene::build(named.scene, PrepareOptions{.light_tree = options.light_tree});
     const auto general = PreparedScene::build(
         named.scene, PrepareOptions{.all_features = true, .light_tree = options.light_tree});
-    const VirtualPathTracer conventional(named.scene);
+    const VirtualPathTracer conventional(named.scene, options.light_tree);
     const TileRenderer run_specialised = [&](const TileRect& t, std::span<float> out) {
       specialised->render_tile(t, out);
     };

@@ -2,18 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <unordered_map>
 
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/math/offset_ray.hpp"
 #include "tessera/math/rng.hpp"
 #include "tessera/math/sampling.hpp"
+#include "tessera/math/spherical_rectangle.hpp"
 #include "tessera/render/bsdf.hpp"
 #include "tessera/render/camera.hpp"
+#include "tessera/render/light_sampling.hpp"
+#include "tessera/render/light_tree.hpp"
 #include "tessera/render/material_mapping.hpp"
+#include "tessera/render/path_tracer.hpp"
 
 namespace tessera::bench {
 
 namespace {
+
+// ---------------------------------------------------------------------------------------
+// Shapes: intersection, surface and, for emitters, the light interface, all virtual.
 
 class Shape {
  public:
@@ -21,13 +31,19 @@ class Shape {
   virtual bool intersect(const Ray& ray, float t_max, HitRecord& hit, std::uint32_t id) const = 0;
   virtual SurfaceInteraction surface(const Ray& ray, const HitRecord& hit) const = 0;
   virtual Aabb bounds() const = 0;
-  virtual float area() const = 0;
-  virtual void sample(float u1, float u2, vec3& point, vec3& normal) const = 0;
   virtual std::uint32_t material() const = 0;
+  // As an emitter whose sampled area is `area`: a direction from `ref` towards it with its
+  // solid-angle pdf and distance (not the radiance). False when it subtends nothing from ref.
+  virtual bool sample_light(const vec3& ref, float area, float u1, float u2,
+                            LightSample& out) const = 0;
+  // The solid-angle pdf with which sample_light(ref) gives unit direction `wi`, whose ray
+  // meets this shape at `distance` with geometric normal `light_normal`.
+  virtual float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
+                          const vec3& light_normal) const = 0;
 };
 
 template <typename T>
-class ShapeOf final : public Shape {
+class ShapeOf : public Shape {
  public:
   explicit ShapeOf(const T& shape) : shape_(shape) {}
   bool intersect(const Ray& ray, float t_max, HitRecord& hit, std::uint32_t id) const override {
@@ -37,84 +53,389 @@ class ShapeOf final : public Shape {
     return surface_at(shape_, ray, hit);
   }
   Aabb bounds() const override { return tessera::bounds(shape_); }
-  float area() const override { return surface_area(shape_); }
-  void sample(float u1, float u2, vec3& point, vec3& normal) const override {
-    if constexpr (std::is_same_v<T, Sphere>) {
-      normal = sample_uniform_sphere(u1, u2);
-      point = shape_.center + shape_.radius * normal;
-    } else if constexpr (std::is_same_v<T, Quad>) {
-      point = shape_.corner + u1 * shape_.u + u2 * shape_.v;
-      normal = shape_.normal;
-    } else {
-      const vec2 b = sample_uniform_triangle(u1, u2);
-      point = b.x * shape_.p0 + b.y * shape_.p1 + (1.0f - b.x - b.y) * shape_.p2;
-      normal = glm::normalize(glm::cross(shape_.p1 - shape_.p0, shape_.p2 - shape_.p0));
-    }
-  }
   std::uint32_t material() const override { return shape_.material; }
 
- private:
+ protected:
   T shape_;
 };
 
-struct ScatterResult {
-  vec3 direction{0.0f};
-  bool diffuse = false;
+// The light samplers are light_sampling.hpp's, one class each.
+class SphereShape final : public ShapeOf<Sphere> {
+ public:
+  using ShapeOf::ShapeOf;
+
+  bool sample_light(const vec3& ref, float area, float u1, float u2,
+                    LightSample& out) const override {
+    using namespace light_detail;
+    const Sphere& s = shape_;
+    const vec3 to_center = s.center - ref;
+    const float dc2 = glm::dot(to_center, to_center);
+    const float r2 = s.radius * s.radius;
+    if (dc2 <= r2 * 1.0001f) {
+      // Inside (or on) the sphere: every direction sees it; sample its area.
+      const vec3 n = sample_uniform_sphere(u1, u2);
+      return finish_area_sample(ref, s.center + s.radius * n, n, area, out);
+    }
+    // Uniform in the cone of directions that see the sphere.
+    const float dc = std::sqrt(dc2);
+    const float sin2_max = r2 / dc2;
+    const float one_minus_cos_max = one_minus_cos_cone(sin2_max);
+    const float one_minus_cos = u1 * one_minus_cos_max;
+    const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
+    const float cos_theta = 1.0f - one_minus_cos;
+    const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
+    const float phi = 2.0f * kPi * u2;
+    const Frame frame = Frame::from_normal(to_center / dc);
+    out.wi = frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+    // The near intersection along wi by the sphere's own intersector, as sample_light.
+    HitRecord hit;
+    if (tessera::intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, 0))
+      out.distance = hit.t;
+    else
+      out.distance = dc * cos_theta - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
+    out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
+    return out.distance > 0.0f && out.pdf > 0.0f && std::isfinite(out.pdf);
+  }
+
+  float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
+                  const vec3& light_normal) const override {
+    using namespace light_detail;
+    const vec3 to_center = shape_.center - ref;
+    const float dc2 = glm::dot(to_center, to_center);
+    const float r2 = shape_.radius * shape_.radius;
+    if (dc2 <= r2 * 1.0001f)
+      return area_to_solid_angle(area, distance * distance, wi, light_normal);
+    return 1.0f / (2.0f * kPi * one_minus_cos_cone(r2 / dc2));
+  }
 };
 
-class BsdfBase {
+class QuadShape final : public ShapeOf<Quad> {
  public:
-  virtual ~BsdfBase() = default;
-  // Chooses the continuation; may scale the throughput.
-  virtual ScatterResult scatter(const SurfaceInteraction& si, const vec3& wo, SampleStream& rng,
-                                vec3& throughput) const = 0;
-};
+  using ShapeOf::ShapeOf;
 
-class MaterialBsdf final : public BsdfBase {
- public:
-  explicit MaterialBsdf(const Material& m) : m_(m) {}
-  ScatterResult scatter(const SurfaceInteraction& si, const vec3& wo, SampleStream& rng,
-                        vec3& throughput) const override {
-    const vec3 n = si.geometric_normal;
-    ScatterResult r;
-    switch (m_.kind) {
-      case BsdfKind::kDiffuse:
-      case BsdfKind::kEmitter:
-        r.diffuse = true;
-        break;
-      case BsdfKind::kCoated:
-        if (rng.next() >= schlick_reflectance(-glm::dot(wo, n), 1.0f / m_.ior)) {
-          r.diffuse = true;
-        } else {
-          r.direction = fuzzy_reflect(wo, n, m_.roughness, rng.next(), rng.next(), rng.next());
-        }
-        break;
-      case BsdfKind::kConductor:
-        r.direction = fuzzy_reflect(wo, n, m_.roughness, rng.next(), rng.next(), rng.next());
-        throughput *= m_.albedo;
-        break;
-      case BsdfKind::kDielectric: {
-        const float eta = si.front_face ? 1.0f / m_.ior : m_.ior;
-        vec3 refracted;
-        const bool can = refract(wo, n, eta, refracted);
-        r.direction = (!can || rng.next() < schlick_reflectance(-glm::dot(wo, n), eta))
-                          ? reflect(wo, n)
-                          : refracted;
-        throughput *= m_.albedo;
-        break;
-      }
-      case BsdfKind::kThinDielectric: {
-        const float f = schlick_reflectance(-glm::dot(wo, n), 1.0f / m_.ior);
-        r.direction = rng.next() < 2.0f * f / (1.0f + f) ? reflect(wo, n) : wo;
-        break;
+  bool sample_light(const vec3& ref, float area, float u1, float u2,
+                    LightSample& out) const override {
+    using namespace light_detail;
+    const Quad& q = shape_;
+    if (rectangular(q)) {  // by its spherical rectangle where that is stable
+      const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+      if (spherical_usable(rect.solid_angle)) {
+        const vec3 d = rect.sample(u1, u2) - ref;
+        const float distance2 = glm::dot(d, d);
+        if (!(distance2 > 0.0f)) return false;
+        out.distance = std::sqrt(distance2);
+        out.wi = d / out.distance;
+        out.pdf = 1.0f / rect.solid_angle;
+        return true;
       }
     }
-    return r;
+    return finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, area, out);
   }
-  const Material& material() const { return m_; }
+
+  float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
+                  const vec3& light_normal) const override {
+    using namespace light_detail;
+    const Quad& q = shape_;
+    if (rectangular(q)) {
+      const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+      if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
+    }
+    return area_to_solid_angle(area, distance * distance, wi, light_normal);
+  }
+};
+
+class TriangleShape final : public ShapeOf<Triangle> {
+ public:
+  using ShapeOf::ShapeOf;
+
+  bool sample_light(const vec3& ref, float area, float u1, float u2,
+                    LightSample& out) const override {
+    const Triangle& t = shape_;
+    const vec2 b = sample_uniform_triangle(u1, u2);
+    const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
+    const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+    return light_detail::finish_area_sample(ref, point, normal, area, out);
+  }
+
+  float light_pdf(const vec3&, float area, const vec3& wi, float distance,
+                  const vec3& light_normal) const override {
+    return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
+  }
+};
+
+// ---------------------------------------------------------------------------------------
+// BSDFs: one class per kind, sample/eval/pdf virtual, in the shading frame of bsdf.hpp
+// (+z the shading normal on the arriving side). `front_face` says which side was hit,
+// which decides the relative index of refraction as Bsdf::of does.
+
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+float relative_eta(float ior, bool front_face) {
+  return front_face ? ior : 1.0f / ior;
+}
+// The coat and thin shells face air on both sides.
+float eta_outside(float eta) {
+  return eta >= 1.0f ? eta : 1.0f / eta;
+}
+
+float fuzzy_pdf(const vec3& wo, const vec3& wi, float roughness) {
+  return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
+}
+
+// The white fuzzy reflection lobe (RayON's metal); below-surface directions are absorbed.
+BsdfSample sample_fuzzy(const vec3& wo, float roughness, float u3, float u1, float u2) {
+  BsdfSample s;
+  const vec3 mirror(-wo.x, -wo.y, wo.z);
+  if (roughness <= 0.0f) {
+    s.wi = mirror;
+    s.pdf = 1.0f;
+    s.f = vec3(1.0f / mirror.z);
+    s.lobe = kLobeReflection | kLobeSpecular;
+    return s;
+  }
+  const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
+  const vec3 r = mirror + roughness * ball;
+  const float len2 = glm::dot(r, r);
+  if (!(len2 > 0.0f)) return s;
+  s.wi = r / std::sqrt(len2);
+  if (s.wi.z <= 0.0f) return BsdfSample{};
+  s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
+  if (!(s.pdf > 0.0f)) return BsdfSample{};
+  s.f = vec3(s.pdf / s.wi.z);
+  s.lobe = kLobeReflection | kLobeGlossy;
+  return s;
+}
+
+class BsdfModel {
+ public:
+  virtual ~BsdfModel() = default;
+  virtual BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float u1,
+                            float u2) const = 0;
+  virtual vec3 eval(const vec3& wo, const vec3& wi, bool front_face) const = 0;
+  virtual float pdf(const vec3& wo, const vec3& wi, bool front_face) const = 0;
+  // True when eval and pdf can be non-zero somewhere, so light sampling can help.
+  virtual bool has_non_specular() const = 0;
+  // False when sample() ignores u_lobe, so the (lobe, light pick) pair is drawn only for
+  // light sampling.
+  virtual bool uses_lobe_sample() const = 0;
+};
+
+class LambertianBsdf final : public BsdfModel {
+ public:
+  explicit LambertianBsdf(const vec3& albedo) : albedo_(albedo) {}
+  BsdfSample sample(const vec3& wo, bool, float, float u1, float u2) const override {
+    BsdfSample s;
+    if (wo.z <= 0.0f) return s;
+    s.wi = sample_cosine_hemisphere(u1, u2);
+    if (s.wi.z <= 0.0f) return s;
+    s.pdf = s.wi.z * kInvPi;
+    s.f = albedo_ * kInvPi;
+    s.lobe = kLobeReflection | kLobeDiffuse;
+    return s;
+  }
+  vec3 eval(const vec3& wo, const vec3& wi, bool) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
+    return albedo_ * kInvPi;
+  }
+  float pdf(const vec3& wo, const vec3& wi, bool) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    return wi.z * kInvPi;
+  }
+  bool has_non_specular() const override { return true; }
+  bool uses_lobe_sample() const override { return false; }
 
  private:
-  Material m_;
+  vec3 albedo_;
+};
+
+class ConductorBsdf final : public BsdfModel {
+ public:
+  ConductorBsdf(const vec3& albedo, float roughness) : albedo_(albedo), roughness_(roughness) {}
+  BsdfSample sample(const vec3& wo, bool, float u_lobe, float u1, float u2) const override {
+    if (wo.z <= 0.0f) return BsdfSample{};
+    BsdfSample s = sample_fuzzy(wo, roughness_, u_lobe, u1, u2);
+    s.f *= albedo_;
+    return s;
+  }
+  vec3 eval(const vec3& wo, const vec3& wi, bool) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f || roughness_ <= 0.0f) return vec3(0.0f);
+    return albedo_ * (fuzzy_pdf(wo, wi, roughness_) / wi.z);
+  }
+  float pdf(const vec3& wo, const vec3& wi, bool) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    return roughness_ > 0.0f ? fuzzy_pdf(wo, wi, roughness_) : 0.0f;
+  }
+  bool has_non_specular() const override { return roughness_ > 0.0f; }
+  bool uses_lobe_sample() const override { return true; }
+
+ private:
+  vec3 albedo_;
+  float roughness_;
+};
+
+// A clear fuzzy coat over a Lambertian base; Schlick's reflectance picks the lobe.
+class CoatedBsdf final : public BsdfModel {
+ public:
+  CoatedBsdf(const vec3& albedo, float roughness, float ior)
+      : albedo_(albedo), roughness_(roughness), ior_(ior) {}
+  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float u1,
+                    float u2) const override {
+    BsdfSample s;
+    if (wo.z <= 0.0f) return s;
+    const float coat = coat_weight(wo, front_face);
+    if (u_lobe < coat) {
+      s = sample_fuzzy(wo, roughness_, glm::min(u_lobe / coat, kOneMinusEpsilon), u1, u2);
+      if (!s.valid()) return s;
+      if (s.specular()) {
+        s.pdf *= coat;
+        s.f *= coat;
+        return s;
+      }
+    } else {
+      s.wi = sample_cosine_hemisphere(u1, u2);
+      if (s.wi.z <= 0.0f) return BsdfSample{};
+      s.lobe = kLobeReflection | kLobeDiffuse;
+    }
+    // A rough coat and the base are both continuous: f and pdf are the mixtures.
+    s.f = eval(wo, s.wi, front_face);
+    s.pdf = pdf(wo, s.wi, front_face);
+    if (!(s.pdf > 0.0f)) return BsdfSample{};
+    return s;
+  }
+  vec3 eval(const vec3& wo, const vec3& wi, bool front_face) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
+    const float coat = coat_weight(wo, front_face);
+    vec3 f = (1.0f - coat) * kInvPi * albedo_;
+    if (roughness_ > 0.0f) f += vec3(coat * fuzzy_pdf(wo, wi, roughness_) / wi.z);
+    return f;
+  }
+  float pdf(const vec3& wo, const vec3& wi, bool front_face) const override {
+    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    const float coat = coat_weight(wo, front_face);
+    float p = (1.0f - coat) * wi.z * kInvPi;
+    if (roughness_ > 0.0f) p += coat * fuzzy_pdf(wo, wi, roughness_);
+    return p;
+  }
+  bool has_non_specular() const override { return true; }
+  bool uses_lobe_sample() const override { return true; }
+
+ private:
+  float coat_weight(const vec3& wo, bool front_face) const {
+    return schlick_reflectance(wo.z, 1.0f / eta_outside(relative_eta(ior_, front_face)));
+  }
+
+  vec3 albedo_;
+  float roughness_;
+  float ior_;
+};
+
+// Smooth glass: Fresnel chooses reflection or refraction, the albedo tints both.
+class DielectricBsdf final : public BsdfModel {
+ public:
+  DielectricBsdf(const vec3& albedo, float ior) : albedo_(albedo), ior_(ior) {}
+  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float, float) const override {
+    BsdfSample s;
+    if (wo.z <= 0.0f) return s;
+    const float inv_eta = 1.0f / relative_eta(ior_, front_face);
+    vec3 refracted(0.0f);
+    const bool can_refract = refract(-wo, vec3(0.0f, 0.0f, 1.0f), inv_eta, refracted);
+    const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
+    if (u_lobe < r) {
+      s.wi = vec3(-wo.x, -wo.y, wo.z);
+      s.pdf = r;
+      s.lobe = kLobeReflection | kLobeSpecular;
+    } else {
+      s.wi = refracted;
+      s.pdf = 1.0f - r;
+      s.lobe = kLobeTransmission | kLobeSpecular;
+    }
+    s.f = albedo_ * (s.pdf / std::fabs(s.wi.z));
+    return s;
+  }
+  vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
+  float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }
+  bool has_non_specular() const override { return false; }
+  bool uses_lobe_sample() const override { return true; }
+
+ private:
+  vec3 albedo_;
+  float ior_;
+};
+
+// A thin shell: reflection R' = 2R / (1 + R), else straight through.
+class ThinDielectricBsdf final : public BsdfModel {
+ public:
+  explicit ThinDielectricBsdf(float ior) : ior_(ior) {}
+  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float, float) const override {
+    BsdfSample s;
+    if (wo.z <= 0.0f) return s;
+    const float r1 = schlick_reflectance(wo.z, 1.0f / eta_outside(relative_eta(ior_, front_face)));
+    const float r = 2.0f * r1 / (1.0f + r1);
+    if (u_lobe < r) {
+      s.wi = vec3(-wo.x, -wo.y, wo.z);
+      s.pdf = r;
+      s.lobe = kLobeReflection | kLobeSpecular;
+    } else {
+      s.wi = -wo;
+      s.pdf = 1.0f - r;
+      s.lobe = kLobeTransmission | kLobeSpecular;
+    }
+    s.f = vec3(s.pdf / std::fabs(s.wi.z));
+    return s;
+  }
+  vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
+  float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }
+  bool has_non_specular() const override { return false; }
+  bool uses_lobe_sample() const override { return true; }
+
+ private:
+  float ior_;
+};
+
+// Null for emitters, which do not scatter.
+std::unique_ptr<BsdfModel> make_bsdf(const Material& m) {
+  switch (m.kind) {
+    case BsdfKind::kDiffuse:
+      return std::make_unique<LambertianBsdf>(m.albedo);
+    case BsdfKind::kConductor:
+      return std::make_unique<ConductorBsdf>(m.albedo, m.roughness);
+    case BsdfKind::kCoated:
+      return std::make_unique<CoatedBsdf>(m.albedo, m.roughness, m.ior);
+    case BsdfKind::kDielectric:
+      return std::make_unique<DielectricBsdf>(m.albedo, m.ior);
+    case BsdfKind::kThinDielectric:
+      return std::make_unique<ThinDielectricBsdf>(m.ior);
+    case BsdfKind::kEmitter:
+      break;
+  }
+  return nullptr;
+}
+
+struct VirtualMaterial {
+  vec3 emission{0.0f};
+  bool emissive = false;
+  std::unique_ptr<BsdfModel> bsdf;  // null: an emitter
+};
+
+struct Light {
+  const Shape* shape = nullptr;
+  float area = 0.0f;
+  float pmf = 0.0f;  // picked by power
+  bool visible = true;
+  std::uint32_t tree_depth = 0;  // its leaf in the light tree
+  std::uint64_t tree_path = 0;
+};
+
+// The state PathPayload carries between vertices.
+struct PathState {
+  vec3 radiance{0.0f};
+  vec3 throughput{1.0f};
+  std::uint32_t depth = 0;
+  std::uint32_t rays = 1;
+  bool count_emission = true;
+  float previous_pdf = 0.0f;
+  vec3 previous_position{0.0f};
+  vec3 previous_normal{0.0f};
 };
 
 }  // namespace
@@ -122,57 +443,224 @@ class MaterialBsdf final : public BsdfBase {
 class VirtualScene {
  public:
   std::vector<std::unique_ptr<Shape>> shapes;
-  std::vector<std::unique_ptr<MaterialBsdf>> materials;
-  std::vector<const Shape*> lights;
+  std::vector<std::int32_t> light_of_shape;  // index into lights, -1 when not sampled
+  std::vector<VirtualMaterial> materials;
+  std::vector<Light> lights;
+  std::vector<AliasSlot> light_alias;
+  std::vector<LightTreeNode> light_tree;  // empty: lights are picked by power
   Bvh bvh;
   Camera camera{};
   vec3 background{0.0f};
+  std::uint32_t max_depth = 1;
+  LightStrategy strategy = LightStrategy::kMis;
 
+  // Two traversals: the conventional code decides per ray, at run time, which query it runs.
   bool trace(const Ray& ray, HitRecord& hit, bool any_hit) const {
     hit.t = ray.t_max;
     const auto test = [this](std::uint32_t id, const Ray& r, float t_max, HitRecord& h) {
       return shapes[id]->intersect(r, t_max, h, id);
     };
-    // The conventional code decides per ray, at run time, which query it runs.
     return any_hit ? traverse_bvh<true>(bvh.view(), ray, hit, test)
                    : traverse_bvh<false>(bvh.view(), ray, hit, test);
   }
+  bool closest(const Ray& ray, HitRecord& hit) const { return trace(ray, hit, false); }
+  bool occluded(const Ray& ray) const {
+    HitRecord hit;
+    return trace(ray, hit, true);
+  }
+
+  LightPick pick_light(const vec3& p, const vec3& n, float u) const {
+    if (!light_tree.empty()) {  // tested per pick at run time
+      const TreePick t = light_tree_pick(light_tree.data(), p, n, u);
+      return LightPick{t.light, t.pmf};
+    }
+    const std::uint32_t index =
+        alias_pick(light_alias.data(), static_cast<std::uint32_t>(lights.size()), u);
+    return LightPick{index, lights[index].pmf};
+  }
+  float pick_pmf(const vec3& p, const vec3& n, const Light& light) const {
+    if (!light_tree.empty())
+      return light_tree_pmf(light_tree.data(), p, n, light.tree_path, light.tree_depth);
+    return light.pmf;
+  }
+
+  // Next-event estimation at `si` (estimate_direct): f cos Li / pdf for one light sample,
+  // weighted against BSDF sampling as `strategy` says.
+  vec3 estimate_direct(const SurfaceInteraction& si, const Frame& frame, const vec3& wo,
+                       const BsdfModel& bsdf, const BounceSamples& u, std::uint32_t& rays) const {
+    const LightPick pick = pick_light(si.position, si.geometric_normal, u.light_pick);
+    if (!(pick.pmf > 0.0f)) return vec3(0.0f);
+    const Light& light = lights[pick.index];
+    if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
+    LightSample ls;
+    if (!light.shape->sample_light(si.position, light.area, u.light_u1, u.light_u2, ls))
+      return vec3(0.0f);
+    ls.radiance = materials[light.shape->material()].emission;
+    if (glm::dot(ls.wi, si.geometric_normal) <= 0.0f) return vec3(0.0f);
+    const vec3 wi = frame.to_local(ls.wi);
+    const vec3 f = bsdf.eval(wo, wi, si.front_face) * std::fabs(wi.z);
+    if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
+    const float pdf = pick.pmf * ls.pdf;
+    if (!(pdf > 0.0f)) return vec3(0.0f);
+    ++rays;
+    const vec3 origin = offset_ray_origin(si.position, si.geometric_normal);
+    const vec3 to_light = si.position + ls.distance * ls.wi - origin;
+    const float length = glm::length(to_light);
+    if (occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)})) return vec3(0.0f);
+    const float weight = strategy == LightStrategy::kMis && light.visible
+                             ? power_heuristic(pdf, bsdf.pdf(wo, wi, si.front_face))
+                             : 1.0f;
+    return f * ls.radiance * (weight / pdf);
+  }
+
+  // The share of an emitter's radiance a hit counts (PathHit::emission_weight).
+  float emission_weight(const Ray& ray, const HitRecord& hit, const SurfaceInteraction& si,
+                        const PathState& path) const {
+    if (path.count_emission) return 1.0f;
+    const std::int32_t index = light_of_shape[hit.primitive];
+    if (index < 0) return 1.0f;  // no sampler: only hits find it
+    switch (strategy) {
+      case LightStrategy::kBsdf:
+        return 1.0f;
+      case LightStrategy::kLight:
+        return 0.0f;
+      case LightStrategy::kMis:
+        break;
+    }
+    const Light& light = lights[static_cast<std::size_t>(index)];
+    const float distance = glm::length(si.position - path.previous_position);
+    const float pdf_light = pick_pmf(path.previous_position, path.previous_normal, light) *
+                            light.shape->light_pdf(path.previous_position, light.area,
+                                                   ray.direction, distance, si.geometric_normal);
+    return power_heuristic(path.previous_pdf, pdf_light);
+  }
+
+  // One path vertex (PathHit::on_hit): emission, light sampling, the BSDF sample and
+  // Russian roulette. Returns false when the path ends here, else sets `next`.
+  bool shade(const Ray& ray, const HitRecord& hit, SampleStream& rng, PathState& path,
+             Ray& next) const {
+    const SurfaceInteraction si = shapes[hit.primitive]->surface(ray, hit);
+    const VirtualMaterial& material = materials[si.material];
+    if (material.emissive)
+      path.radiance += path.throughput * material.emission * emission_weight(ray, hit, si, path);
+    if (material.bsdf == nullptr) return false;  // an emitter
+    if (path.depth + 1 >= max_depth) return false;
+    const BsdfModel& bsdf = *material.bsdf;
+
+    const vec3 ng = si.geometric_normal;
+    const Frame frame = Frame::from_normal(si.shading_normal);
+    const vec3 wo = frame.to_local(-ray.direction);
+    BounceSamples u;
+    const bool sample_lights = !lights.empty() && bsdf.has_non_specular();
+    if (sample_lights || bsdf.uses_lobe_sample())
+      BounceSamples::draw(rng, path.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+    if (sample_lights) {
+      BounceSamples::draw(rng, path.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
+      path.radiance += path.throughput * estimate_direct(si, frame, wo, bsdf, u, path.rays);
+    }
+    BounceSamples::draw(rng, path.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
+
+    const BsdfSample bs = bsdf.sample(wo, si.front_face, u.lobe, u.bsdf_u1, u.bsdf_u2);
+    if (!bs.valid()) return false;
+    const vec3 direction = frame.to_world(bs.wi);
+    const float side = glm::dot(direction, ng);
+    if ((bs.lobe & kLobeReflection) != 0 ? side <= 0.0f : side >= 0.0f) return false;
+    path.throughput *= bs.weight();
+    path.previous_pdf = bs.pdf;
+    path.previous_position = si.position;
+    path.previous_normal = ng;
+    path.count_emission = bs.specular() || lights.empty();
+
+    ++path.depth;
+    if (path.depth >= 3) {
+      const float survive = glm::clamp(max_component(path.throughput), 0.05f, 1.0f);
+      if (BounceSamples::roulette(rng, path.depth - 1) >= survive) return false;
+      path.throughput /= survive;
+    }
+    const vec3 side_normal = side >= 0.0f ? ng : -ng;
+    next = Ray{offset_ray_origin(si.position, side_normal), direction, 0.0f, kInfinity};
+    ++path.rays;
+    return true;
+  }
 };
 
-VirtualPathTracer::VirtualPathTracer(const SceneDescription& d)
+VirtualPathTracer::VirtualPathTracer(const SceneDescription& d, bool light_tree)
     : scene_(std::make_unique<VirtualScene>()) {
   settings_ = d.render;
   auto& s = *scene_;
-  for (const auto& m : d.materials)
-    s.materials.push_back(std::make_unique<MaterialBsdf>(make_material(m)));
+  std::vector<Material> params;
+  for (const auto& m : d.materials) params.push_back(make_material(m));
+  if (params.empty()) params.push_back(Material{});  // as PreparedScene
+  for (const Material& m : params)
+    s.materials.push_back(VirtualMaterial{m.emission, m.emissive(), make_bsdf(m)});
+
+  // Each shape is also keyed by the tagged reference the pipeline's build gives it (its
+  // type and its index among that type), to find the emitters in its light list.
   std::vector<Aabb> boxes;
   std::vector<std::uint32_t> refs;
-  const auto add = [&](std::unique_ptr<Shape> shape, bool visible) {
+  std::unordered_map<std::uint32_t, std::uint32_t> shape_of_reference;
+  std::uint32_t count_of_type[3] = {0, 0, 0};
+  const auto add = [&](std::unique_ptr<Shape> shape, bool visible, PrimitiveType type) {
     const auto id = static_cast<std::uint32_t>(s.shapes.size());
     if (visible) {
       boxes.push_back(shape->bounds());
       refs.push_back(id);
     }
-    if (s.materials[shape->material()]->material().emissive()) s.lights.push_back(shape.get());
+    shape_of_reference[make_primitive_ref(type, count_of_type[static_cast<int>(type)]++)] = id;
     s.shapes.push_back(std::move(shape));
   };
   for (const auto& sp : d.spheres)
-    add(std::make_unique<ShapeOf<Sphere>>(
+    add(std::make_unique<SphereShape>(
             Sphere{vec3(sp.center), static_cast<float>(sp.radius), sp.material}),
-        sp.visible);
+        sp.visible, PrimitiveType::kSphere);
   for (const auto& q : d.quads)
-    add(std::make_unique<ShapeOf<Quad>>(
-            Quad::make(vec3(q.corner), vec3(q.u), vec3(q.v), q.material)),
-        q.visible);
+    add(std::make_unique<QuadShape>(Quad::make(vec3(q.corner), vec3(q.u), vec3(q.v), q.material)),
+        q.visible, PrimitiveType::kQuad);
   for (const auto& mesh : d.meshes)
     for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3)
-      add(std::make_unique<ShapeOf<Triangle>>(Triangle{
+      add(std::make_unique<TriangleShape>(Triangle{
               vec3(mesh.positions[mesh.indices[i]]), vec3(mesh.positions[mesh.indices[i + 1]]),
               vec3(mesh.positions[mesh.indices[i + 2]]), mesh.material}),
-          mesh.visible);
+          mesh.visible, PrimitiveType::kTriangle);
   s.bvh = build_bvh(boxes, refs);
   s.camera = Camera::from_description(d.camera, d.render.width, d.render.height);
   s.background = vec3(d.background.color * d.background.intensity);
+  s.max_depth = d.render.max_depth;
+  s.strategy = d.render.light_strategy;
+
+  // The light list, its alias table and its light tree are the pipeline's, taken from its
+  // scene build, so both renderers pick from one list in one order (sorted by reference)
+  // with the same probabilities. Meshes are baked (no shared geometry), so triangle
+  // references count the triangles in description order, as above.
+  const auto prepared =
+      PreparedScene::build(d, PrepareOptions{.instancing = false, .light_tree = light_tree});
+  const SceneView view = prepared->view();
+  s.light_of_shape.assign(s.shapes.size(), -1);
+  for (std::uint32_t i = 0; i < view.light_count; ++i) {
+    const LightSource& l = view.lights[i];
+    const auto found = shape_of_reference.find(l.primitive);
+    if (found == shape_of_reference.end())
+      throw std::invalid_argument(
+          "virtual path tracer: an emitter it does not model (only untransformed spheres, quads "
+          "and meshes)");
+    s.lights.push_back(
+        Light{s.shapes[found->second].get(), l.area, l.pmf, l.visible, l.tree_depth, l.tree_path});
+    s.light_of_shape[found->second] = static_cast<std::int32_t>(i);
+  }
+  s.light_alias.assign(view.light_alias, view.light_alias + view.light_count);
+  if (view.light_tree != nullptr) {
+    // The nodes are stored depth first from the root: their count is one past the last
+    // node reached.
+    std::uint32_t end = 0;
+    const auto walk = [&](const auto& self, std::uint32_t at) -> void {
+      end = std::max(end, at + 1);
+      if (view.light_tree[at].leaf()) return;
+      self(self, at + 1);
+      self(self, view.light_tree[at].child_or_light);
+    };
+    walk(walk, 0);
+    s.light_tree.assign(view.light_tree, view.light_tree + end);
+  }
 }
 
 VirtualPathTracer::~VirtualPathTracer() = default;
@@ -185,77 +673,29 @@ TileStats VirtualPathTracer::render_tile(const TileRect& tile, std::span<float> 
   for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
     for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x)
       for (std::uint32_t sample = 0; sample < settings_.samples_per_pixel; ++sample) {
-        SampleStream rng(settings_.seed, x, y, sample);
-        const float jx = rng.next(), jy = rng.next();
+        SampleStream rng(settings_.seed, x, y, sample, settings_.sampler);
+        float jx, jy;
+        rng.next_2d(jx, jy);
         Ray ray = s.camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
-        vec3 radiance(0.0f), throughput(1.0f);
-        bool count_emission = true;
-        ++stats.rays;
-        for (std::uint32_t depth = 0;;) {
+        PathState path;
+        for (;;) {
           HitRecord hit;
-          if (!s.trace(ray, hit, false)) {
-            radiance += throughput * s.background;
+          if (!s.closest(ray, hit)) {
+            path.radiance += path.throughput * s.background;
             break;
           }
-          const Shape& shape = *s.shapes[hit.primitive];
-          const SurfaceInteraction si = shape.surface(ray, hit);
-          const MaterialBsdf& bsdf = *s.materials[si.material];
-          const Material& m = bsdf.material();
-          if (m.emissive() && count_emission) radiance += throughput * m.emission;
-          if (m.kind == BsdfKind::kEmitter || depth + 1 >= settings_.max_depth) break;
-          const vec3 n = si.geometric_normal;
-          ScatterResult r = bsdf.scatter(si, ray.direction, rng, throughput);
-          if (r.diffuse) {
-            throughput *= m.albedo;
-            if (!s.lights.empty()) {  // tested per hit at run time
-              const float pick = rng.next() * static_cast<float>(s.lights.size());
-              const Shape& light = *s.lights[std::min<std::size_t>(static_cast<std::size_t>(pick),
-                                                                   s.lights.size() - 1)];
-              vec3 point, light_normal;
-              const float u1 = rng.next(), u2 = rng.next();
-              light.sample(u1, u2, point, light_normal);
-              const vec3 origin = offset_ray_origin(si.position, n);
-              const vec3 to_light = point - origin;
-              const float d2 = glm::dot(to_light, to_light);
-              if (d2 > 0.0f) {
-                const float d = std::sqrt(d2);
-                const vec3 wi = to_light / d;
-                const float cs = glm::dot(wi, n), cl = std::fabs(glm::dot(wi, light_normal));
-                if (cs > 0.0f && cl > 0.0f) {
-                  ++stats.rays;
-                  HitRecord shadow;
-                  if (!s.trace(Ray{origin, wi, 0.0f, d * (1.0f - 1e-4f)}, shadow, true)) {
-                    const float pdf = 1.0f / (light.area() * static_cast<float>(s.lights.size()));
-                    radiance += throughput * s.materials[light.material()]->material().emission *
-                                (kInvPi * cs * cl / (d2 * pdf));
-                  }
-                }
-              }
-            }
-            r.direction =
-                Frame::from_normal(n).to_world(sample_cosine_hemisphere(rng.next(), rng.next()));
-            count_emission = s.lights.empty();
-          } else {
-            count_emission = true;
-          }
-          if (r.direction == vec3(0.0f)) break;
-          ++depth;
-          if (depth >= 3) {
-            const float survive = glm::clamp(max_component(throughput), 0.05f, 1.0f);
-            if (rng.next() >= survive) break;
-            throughput /= survive;
-          }
-          const vec3 side = glm::dot(r.direction, n) >= 0.0f ? n : -n;
-          ray = Ray{offset_ray_origin(si.position, side), r.direction, 0.0f, kInfinity};
-          ++stats.rays;
+          Ray next;
+          if (!s.shade(ray, hit, rng, path, next)) break;
+          ray = next;
         }
-        if (!(std::isfinite(radiance.x) && std::isfinite(radiance.y) && std::isfinite(radiance.z)))
-          continue;
+        stats.rays += path.rays;
+        const vec3 l = path.radiance;
+        if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) continue;
         float* pixel =
             &rgba[4 * ((static_cast<std::size_t>(y) - tile.y) * tile.width + (x - tile.x))];
-        pixel[0] += radiance.x * weight;
-        pixel[1] += radiance.y * weight;
-        pixel[2] += radiance.z * weight;
+        pixel[0] += l.x * weight;
+        pixel[1] += l.y * weight;
+        pixel[2] += l.z * weight;
       }
   for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
   return stats;
