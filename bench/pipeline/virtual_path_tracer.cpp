@@ -151,14 +151,26 @@ class TriangleShape final : public ShapeOf<Triangle> {
   bool sample_light(const vec3& ref, float area, float u1, float u2,
                     LightSample& out) const override {
     const Triangle& t = shape_;
+    SphericalTriangle sph;
+    if (light_detail::triangle_spherical(t, ref, sph)) {
+      out.wi = sph.sample(u1, u2);
+      const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+      const float along = glm::dot(out.wi, n);
+      if (along == 0.0f) return false;
+      out.distance = glm::dot(t.p0 - ref, n) / along;
+      out.pdf = 1.0f / sph.solid_angle;
+      return out.distance > 0.0f;
+    }
     const vec2 b = sample_uniform_triangle(u1, u2);
     const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
     const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
     return light_detail::finish_area_sample(ref, point, normal, area, out);
   }
 
-  float light_pdf(const vec3&, float area, const vec3& wi, float distance,
+  float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
                   const vec3& light_normal) const override {
+    SphericalTriangle sph;
+    if (light_detail::triangle_spherical(shape_, ref, sph)) return 1.0f / sph.solid_angle;
     return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
   }
 };
