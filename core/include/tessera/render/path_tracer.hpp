@@ -212,7 +212,7 @@ struct PathHit {
     if (sample_lights) {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
       payload.radiance += payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
-                                                                 strategy, tracer, payload.rays);
+                                                               strategy, tracer, payload.rays);
     }
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
 
@@ -232,9 +232,12 @@ struct PathHit {
     payload.count_emission = bs.specular() || !kFeatures.direct_lighting;
 
     // Russian roulette keeps long paths unbiased without tracing every one to max depth.
+    // Survival is the square root of the throughput (as Cycles does), gentler than the
+    // throughput itself: on the colour-bleed box at 256 spp relMSE 0.00144 for 51% of the
+    // time without roulette (0.00109), where survival = throughput gave 0.00188 for 48%.
     ++payload.depth;
     if (payload.depth >= 3) {
-      const float survive = glm::clamp(max_component(payload.throughput), 0.05f, 1.0f);
+      const float survive = glm::clamp(std::sqrt(max_component(payload.throughput)), 0.05f, 1.0f);
       if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
     }
