@@ -194,30 +194,6 @@ float fuzzy_pdf(const vec3& wo, const vec3& wi, float roughness) {
   return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
 }
 
-// The white fuzzy reflection lobe (RayON's metal); below-surface directions are absorbed.
-BsdfSample sample_fuzzy(const vec3& wo, float roughness, float u3, float u1, float u2) {
-  BsdfSample s;
-  const vec3 mirror(-wo.x, -wo.y, wo.z);
-  if (roughness <= 0.0f) {
-    s.wi = mirror;
-    s.pdf = 1.0f;
-    s.f = vec3(1.0f / mirror.z);
-    s.lobe = kLobeReflection | kLobeSpecular;
-    return s;
-  }
-  const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
-  const vec3 r = mirror + roughness * ball;
-  const float len2 = glm::dot(r, r);
-  if (!(len2 > 0.0f)) return s;
-  s.wi = r / std::sqrt(len2);
-  if (s.wi.z <= 0.0f) return BsdfSample{};
-  s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
-  if (!(s.pdf > 0.0f)) return BsdfSample{};
-  s.f = vec3(s.pdf / s.wi.z);
-  s.lobe = kLobeReflection | kLobeGlossy;
-  return s;
-}
-
 class BsdfModel {
  public:
   virtual ~BsdfModel() = default;
@@ -265,7 +241,7 @@ class ConductorBsdf final : public BsdfModel {
   ConductorBsdf(const vec3& albedo, float roughness) : albedo_(albedo), roughness_(roughness) {}
   BsdfSample sample(const vec3& wo, bool, float u_lobe, float u1, float u2) const override {
     if (wo.z <= 0.0f) return BsdfSample{};
-    BsdfSample s = sample_fuzzy(wo, roughness_, u_lobe, u1, u2);
+    BsdfSample s = sample_fuzzy_reflection(wo, roughness_, u_lobe, u1, u2);
     s.f *= albedo_;
     return s;
   }
@@ -296,7 +272,8 @@ class CoatedBsdf final : public BsdfModel {
     if (wo.z <= 0.0f) return s;
     const float coat = coat_weight(wo, front_face);
     if (u_lobe < coat) {
-      s = sample_fuzzy(wo, roughness_, glm::min(u_lobe / coat, kOneMinusEpsilon), u1, u2);
+      s = sample_fuzzy_reflection(wo, roughness_, glm::min(u_lobe / coat, kOneMinusEpsilon), u1,
+                                  u2);
       if (!s.valid()) return s;
       if (s.specular()) {
         s.pdf *= coat;
@@ -585,7 +562,7 @@ class VirtualScene {
 
     ++path.depth;
     if (path.depth >= 3) {
-      const float survive = glm::clamp(max_component(path.throughput), 0.05f, 1.0f);
+      const float survive = roulette_survival(path.throughput);
       if (BounceSamples::roulette(rng, path.depth - 1) >= survive) return false;
       path.throughput /= survive;
     }

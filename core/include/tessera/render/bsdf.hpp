@@ -87,6 +87,34 @@ struct BsdfSample {
   TESSERA_HD vec3 weight() const { return f * (std::fabs(wi.z) / pdf); }
 };
 
+// White fuzzy reflection (RayON's metal lobe) in the shading frame: the mirror direction
+// plus `roughness` times a point in the unit ball (u3 its radius, u1 and u2 its direction);
+// directions the perturbation sends below the surface are absorbed, as RayON does, so the
+// lobe loses that energy. Roughness 0 is a perfect mirror.
+TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float roughness, float u3,
+                                                     float u1, float u2) {
+  BsdfSample s;
+  const vec3 mirror(-wo.x, -wo.y, wo.z);
+  if (roughness <= 0.0f) {
+    s.wi = mirror;
+    s.pdf = 1.0f;
+    s.f = vec3(1.0f / mirror.z);
+    s.lobe = kLobeReflection | kLobeSpecular;
+    return s;
+  }
+  const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
+  const vec3 r = mirror + roughness * ball;
+  const float len2 = glm::dot(r, r);
+  if (!(len2 > 0.0f)) return s;
+  s.wi = r / std::sqrt(len2);
+  if (s.wi.z <= 0.0f) return BsdfSample{};
+  s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
+  if (!(s.pdf > 0.0f)) return BsdfSample{};
+  s.f = vec3(s.pdf / s.wi.z);
+  s.lobe = kLobeReflection | kLobeGlossy;
+  return s;
+}
+
 // One material's scattering at one hit. `eta` is the relative index of refraction
 // n_transmitted / n_incident for the side the path arrives from.
 struct Bsdf {
@@ -252,29 +280,8 @@ struct Bsdf {
     return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
   }
 
-  // White fuzzy reflection (RayON's metal lobe): directions the perturbation sends below the
-  // surface are absorbed, as RayON does, so the lobe loses that energy.
   TESSERA_HD BsdfSample sample_fuzzy(const vec3& wo, float u3, float u1, float u2) const {
-    BsdfSample s;
-    const vec3 mirror(-wo.x, -wo.y, wo.z);
-    if (roughness <= 0.0f) {
-      s.wi = mirror;
-      s.pdf = 1.0f;
-      s.f = vec3(1.0f / mirror.z);
-      s.lobe = kLobeReflection | kLobeSpecular;
-      return s;
-    }
-    const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
-    const vec3 r = mirror + roughness * ball;
-    const float len2 = glm::dot(r, r);
-    if (!(len2 > 0.0f)) return s;
-    s.wi = r / std::sqrt(len2);
-    if (s.wi.z <= 0.0f) return BsdfSample{};
-    s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
-    if (!(s.pdf > 0.0f)) return BsdfSample{};
-    s.f = vec3(s.pdf / s.wi.z);
-    s.lobe = kLobeReflection | kLobeGlossy;
-    return s;
+    return sample_fuzzy_reflection(wo, roughness, u3, u1, u2);
   }
 };
 

@@ -116,6 +116,13 @@ struct BounceSamples {
   }
 };
 
+// Russian roulette's survival probability for a path of throughput `throughput`: the
+// square root of its largest component (as Cycles does), gentler than the throughput
+// itself, in [0.05, 1].
+TESSERA_HD TESSERA_INLINE float roulette_survival(const vec3& throughput) {
+  return glm::clamp(std::sqrt(max_component(throughput)), 0.05f, 1.0f);
+}
+
 // Next-event estimation at a surface point: one light picked by power, one direction towards
 // it by that light's sampler, one any-hit shadow ray. Returns f cos Li / pdf, weighted
 // against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
@@ -237,7 +244,7 @@ struct PathHit {
     // time without roulette (0.00109), where survival = throughput gave 0.00188 for 48%.
     ++payload.depth;
     if (payload.depth >= 3) {
-      const float survive = glm::clamp(std::sqrt(max_component(payload.throughput)), 0.05f, 1.0f);
+      const float survive = roulette_survival(payload.throughput);
       if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
     }
