@@ -59,121 +59,26 @@ class ShapeOf : public Shape {
   T shape_;
 };
 
-// The light samplers are light_sampling.hpp's, one class each.
-class SphereShape final : public ShapeOf<Sphere> {
+// The light samplers are light_sampling.hpp's per-shape ones (sample_emitter,
+// emitter_pdf), reached through a virtual call per shape class instead of a switch.
+template <typename Shape>
+class EmitterShape final : public ShapeOf<Shape> {
  public:
-  using ShapeOf::ShapeOf;
+  using ShapeOf<Shape>::ShapeOf;
 
   bool sample_light(const vec3& ref, float area, float u1, float u2,
                     LightSample& out) const override {
-    using namespace light_detail;
-    const Sphere& s = shape_;
-    const vec3 to_center = s.center - ref;
-    const float dc2 = glm::dot(to_center, to_center);
-    const float r2 = s.radius * s.radius;
-    if (dc2 <= r2 * 1.0001f) {
-      // Inside (or on) the sphere: every direction sees it; sample its area.
-      const vec3 n = sample_uniform_sphere(u1, u2);
-      return finish_area_sample(ref, s.center + s.radius * n, n, area, out);
-    }
-    // Uniform in the cone of directions that see the sphere.
-    const float dc = std::sqrt(dc2);
-    const float sin2_max = r2 / dc2;
-    const float one_minus_cos_max = one_minus_cos_cone(sin2_max);
-    const float one_minus_cos = u1 * one_minus_cos_max;
-    const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
-    const float cos_theta = 1.0f - one_minus_cos;
-    const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
-    const float phi = 2.0f * kPi * u2;
-    const Frame frame = Frame::from_normal(to_center / dc);
-    out.wi = frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
-    // The near intersection along wi by the sphere's own intersector, as sample_light.
-    HitRecord hit;
-    if (tessera::intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, 0))
-      out.distance = hit.t;
-    else
-      out.distance = dc * cos_theta - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
-    out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
-    return out.distance > 0.0f && out.pdf > 0.0f && std::isfinite(out.pdf);
+    return sample_emitter(this->shape_, area, ref, u1, u2, out);
   }
 
   float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
                   const vec3& light_normal) const override {
-    using namespace light_detail;
-    const vec3 to_center = shape_.center - ref;
-    const float dc2 = glm::dot(to_center, to_center);
-    const float r2 = shape_.radius * shape_.radius;
-    if (dc2 <= r2 * 1.0001f)
-      return area_to_solid_angle(area, distance * distance, wi, light_normal);
-    return 1.0f / (2.0f * kPi * one_minus_cos_cone(r2 / dc2));
+    return emitter_pdf(this->shape_, area, ref, wi, distance, light_normal);
   }
 };
-
-class QuadShape final : public ShapeOf<Quad> {
- public:
-  using ShapeOf::ShapeOf;
-
-  bool sample_light(const vec3& ref, float area, float u1, float u2,
-                    LightSample& out) const override {
-    using namespace light_detail;
-    const Quad& q = shape_;
-    if (rectangular(q)) {  // by its spherical rectangle where that is stable
-      const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
-      if (spherical_usable(rect.solid_angle)) {
-        const vec3 d = rect.sample(u1, u2) - ref;
-        const float distance2 = glm::dot(d, d);
-        if (!(distance2 > 0.0f)) return false;
-        out.distance = std::sqrt(distance2);
-        out.wi = d / out.distance;
-        out.pdf = 1.0f / rect.solid_angle;
-        return true;
-      }
-    }
-    return finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, area, out);
-  }
-
-  float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
-                  const vec3& light_normal) const override {
-    using namespace light_detail;
-    const Quad& q = shape_;
-    if (rectangular(q)) {
-      const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
-      if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
-    }
-    return area_to_solid_angle(area, distance * distance, wi, light_normal);
-  }
-};
-
-class TriangleShape final : public ShapeOf<Triangle> {
- public:
-  using ShapeOf::ShapeOf;
-
-  bool sample_light(const vec3& ref, float area, float u1, float u2,
-                    LightSample& out) const override {
-    const Triangle& t = shape_;
-    SphericalTriangle sph;
-    if (light_detail::triangle_spherical(t, ref, sph)) {
-      out.wi = sph.sample(u1, u2);
-      const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
-      const float along = glm::dot(out.wi, n);
-      if (along == 0.0f) return false;
-      out.distance = glm::dot(t.p0 - ref, n) / along;
-      out.pdf = 1.0f / sph.solid_angle;
-      return out.distance > 0.0f;
-    }
-    const vec2 b = sample_uniform_triangle(u1, u2);
-    const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
-    const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
-    return light_detail::finish_area_sample(ref, point, normal, area, out);
-  }
-
-  float light_pdf(const vec3& ref, float area, const vec3& wi, float distance,
-                  const vec3& light_normal) const override {
-    SphericalTriangle sph;
-    if (light_detail::triangle_spherical(shape_, ref, sph)) return 1.0f / sph.solid_angle;
-    return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
-  }
-};
+using SphereShape = EmitterShape<Sphere>;
+using QuadShape = EmitterShape<Quad>;
+using TriangleShape = EmitterShape<Triangle>;
 
 // ---------------------------------------------------------------------------------------
 // BSDFs: one class per kind, sample/eval/pdf virtual, in the shading frame of bsdf.hpp

@@ -1,5 +1,7 @@
 #include "light_list.hpp"
 
+#include "tessera/render/light_sampling.hpp"
+
 #include <algorithm>
 #include <limits>
 
@@ -18,44 +20,22 @@ void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& ma
 
 namespace {
 
-Aabb light_bounds(const SceneView& shapes, std::uint32_t primitive) {
-  const std::uint32_t index = primitive_index(primitive);
-  switch (primitive_type(primitive)) {
-    case PrimitiveType::kSphere:
-      return bounds(shapes.spheres[index]);
-    case PrimitiveType::kQuad:
-      return bounds(shapes.quads[index]);
-    case PrimitiveType::kTriangle:
-      return bounds(shapes.triangles[index]);
-    case PrimitiveType::kDisk:
-      return bounds(shapes.disks[index]);
-    case PrimitiveType::kCylinder:
-      return bounds(shapes.cylinders[index]);
-    case PrimitiveType::kCone:
-      return bounds(shapes.cones[index]);
-    default:
-      return Aabb{};
-  }
+Aabb light_bounds(const SceneView& shapes, const LightSource& light) {
+  Aabb box;
+  light_detail::with_emitter(shapes, light, [&](const auto& shape) {
+    box = bounds(shape);
+    return true;
+  });
+  return box;
 }
 
-std::uint32_t light_material(const SceneView& shapes, std::uint32_t primitive) {
-  const std::uint32_t index = primitive_index(primitive);
-  switch (primitive_type(primitive)) {
-    case PrimitiveType::kSphere:
-      return shapes.spheres[index].material;
-    case PrimitiveType::kQuad:
-      return shapes.quads[index].material;
-    case PrimitiveType::kTriangle:
-      return shapes.triangles[index].material;
-    case PrimitiveType::kDisk:
-      return shapes.disks[index].material;
-    case PrimitiveType::kCylinder:
-      return shapes.cylinders[index].material;
-    case PrimitiveType::kCone:
-      return shapes.cones[index].material;
-    default:
-      return 0;
-  }
+std::uint32_t light_material(const SceneView& shapes, const LightSource& light) {
+  std::uint32_t material = 0;
+  light_detail::with_emitter(shapes, light, [&](const auto& shape) {
+    material = shape.material;
+    return true;
+  });
+  return material;
 }
 
 // Emitted luminance times area; an emitter whose luminance is zero (a pure colour cannot
@@ -164,9 +144,9 @@ std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
   if (lights.empty()) return {};
   TreeBuild b{lights, {}, {}, {}, {}};
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    b.boxes.push_back(light_bounds(shapes, lights[i].primitive));
-    b.power.push_back(light_power(materials[light_material(shapes, lights[i].primitive)].emission,
-                                  lights[i].area));
+    b.boxes.push_back(light_bounds(shapes, lights[i]));
+    b.power.push_back(
+        light_power(materials[light_material(shapes, lights[i])].emission, lights[i].area));
     b.order.push_back(static_cast<std::uint32_t>(i));
   }
   b.nodes.reserve(2 * lights.size());
@@ -182,7 +162,7 @@ std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
   std::vector<double> power(lights.size());
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    const vec3 e = materials[light_material(shapes, lights[i].primitive)].emission;
+    const vec3 e = materials[light_material(shapes, lights[i])].emission;
     power[i] = light_power(e, lights[i].area);
     total += power[i];
   }

@@ -20,10 +20,6 @@ TESSERA_HD TESSERA_INLINE float schlick_reflectance(float cos_theta, float eta_r
   return r0 + (1.0f - r0) * m * m * m * m * m;
 }
 
-TESSERA_HD TESSERA_INLINE vec3 reflect(const vec3& d, const vec3& n) {
-  return d - 2.0f * glm::dot(d, n) * n;
-}
-
 // Refracts unit `d` through unit `n` (facing against d) with eta = n_incident / n_transmitted.
 // Returns false on total internal reflection.
 TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, vec3& out) {
@@ -35,19 +31,7 @@ TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, 
   return true;
 }
 
-// Mirror direction perturbed by a roughness-scaled point in the unit ball (RayON's fuzzy
-// metal). Returns a zero vector when the perturbation sends the ray below the surface.
-TESSERA_HD TESSERA_INLINE vec3 fuzzy_reflect(const vec3& d, const vec3& n, float roughness,
-                                             float u1, float u2, float u3) {
-  vec3 r = reflect(d, n);
-  if (roughness > 0.0f) {
-    const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
-    r = glm::normalize(r + roughness * ball);
-  }
-  return glm::dot(r, n) > 0.0f ? r : vec3(0.0f);
-}
-
-// The solid-angle density of fuzzy_reflect's direction about the unit mirror direction `r`
+// The solid-angle density of RayON's fuzzy-metal direction (sample_fuzzy_reflection) about the unit mirror direction `r`
 // (before the below-surface cut): the direction of r + f b with b uniform in the unit ball.
 // Along direction w the ball of radius f centred at r covers t in [t1, t2] with
 // t^2 - 2 t cos + 1 - f^2 = 0, and the density is the ball's volume along that ray,
@@ -150,7 +134,7 @@ struct Bsdf {
     if (wo.z <= 0.0f) return s;
     switch (kind) {
       case BsdfKind::kDiffuse:
-        return sample_diffuse(wo, u1, u2, albedo, 1.0f);
+        return sample_diffuse(u1, u2, albedo);
       case BsdfKind::kConductor:
         s = sample_fuzzy(wo, u_lobe, u1, u2);
         s.f *= albedo;
@@ -265,13 +249,12 @@ struct Bsdf {
   // index whichever side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
 
-  TESSERA_HD static BsdfSample sample_diffuse(const vec3&, float u1, float u2, const vec3& albedo,
-                                              float scale) {
+  TESSERA_HD static BsdfSample sample_diffuse(float u1, float u2, const vec3& albedo) {
     BsdfSample s;
     s.wi = sample_cosine_hemisphere(u1, u2);
     if (s.wi.z <= 0.0f) return s;
-    s.pdf = s.wi.z * kInvPi * scale;
-    s.f = albedo * (kInvPi * scale);
+    s.pdf = s.wi.z * kInvPi;
+    s.f = albedo * kInvPi;
     s.lobe = kLobeReflection | kLobeDiffuse;
     return s;
   }

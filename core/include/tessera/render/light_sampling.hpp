@@ -182,130 +182,184 @@ TESSERA_HD inline void sample_revolved(const vec3& base, const vec3& axis, const
 
 }  // namespace light_detail
 
+// One emitting shape's sampler: a direction from `ref` towards a point of `shape` (whose
+// surface area is `area`), its solid-angle pdf and distance; false when the shape subtends
+// nothing from there. sample_light dispatches to these; radiance is the caller's.
+TESSERA_HD inline bool sample_emitter(const Sphere& s, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  using namespace light_detail;
+  const vec3 to_center = s.center - ref;
+  const float dc2 = glm::dot(to_center, to_center);
+  const float r2 = s.radius * s.radius;
+  if (dc2 <= r2 * 1.0001f) {
+    // Inside (or on) the sphere: every direction sees it; sample its area.
+    const vec3 n = sample_uniform_sphere(u1, u2);
+    return finish_area_sample(ref, s.center + s.radius * n, n, area, out);
+  }
+  // Uniform in the cone of directions that see the sphere.
+  const float dc = std::sqrt(dc2);
+  const float sin2_max = r2 / dc2;
+  const float one_minus_cos_max = one_minus_cos_cone(sin2_max);
+  const float one_minus_cos = u1 * one_minus_cos_max;
+  const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
+  const float cos_theta = 1.0f - one_minus_cos;
+  const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
+  const float phi = 2.0f * kPi * u2;
+  const Frame frame = Frame::from_normal(to_center / dc);
+  out.wi = frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+  // Distance to the near intersection along wi, found by the sphere's own intersector
+  // (double, without cancellation), so the shadow ray stops where a ray along wi meets
+  // the sphere. dc cos - sqrt(r^2 - dc^2 sin^2) cancels near the silhouette: 1.001 radii
+  // away it overshot by 2e-4 of the distance, more than the shadow ray's 1e-4 margin,
+  // and the light shadowed itself (tests/unit/render/light_sampling_test.cpp). A float
+  // wi that just misses keeps that estimate.
+  HitRecord hit;
+  if (intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, 0))
+    out.distance = hit.t;
+  else
+    out.distance = dc * cos_theta - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
+  out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
+  return out.distance > 0.0f && out.pdf > 0.0f && std::isfinite(out.pdf);
+}
+
+TESSERA_HD inline bool sample_emitter(const Quad& q, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  using namespace light_detail;
+  if (rectangular(q)) {
+    const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+    if (spherical_usable(rect.solid_angle)) {
+      const vec3 d = rect.sample(u1, u2) - ref;
+      const float distance2 = glm::dot(d, d);
+      if (!(distance2 > 0.0f)) return false;
+      out.distance = std::sqrt(distance2);
+      out.wi = d / out.distance;
+      out.pdf = 1.0f / rect.solid_angle;
+      return true;
+    }
+  }
+  return finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, area, out);
+}
+
+TESSERA_HD inline bool sample_emitter(const Triangle& t, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  using namespace light_detail;
+  SphericalTriangle sph;
+  if (triangle_spherical(t, ref, sph)) {
+    out.wi = sph.sample(u1, u2);
+    // Where the direction meets the triangle's plane.
+    const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
+    const float along = glm::dot(out.wi, n);
+    if (along == 0.0f) return false;
+    out.distance = glm::dot(t.p0 - ref, n) / along;
+    out.pdf = 1.0f / sph.solid_angle;
+    return out.distance > 0.0f;
+  }
+  const vec2 b = sample_uniform_triangle(u1, u2);
+  const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
+  const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+  return finish_area_sample(ref, point, normal, area, out);
+}
+
+TESSERA_HD inline bool sample_emitter(const Disk& d, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  // Uniform in area over the annulus: radius by the inverse of its area CDF.
+  const float inner2 = d.inner_radius * d.inner_radius;
+  const float rho = std::sqrt(inner2 + u1 * (d.radius * d.radius - inner2));
+  const float phi = 2.0f * kPi * u2;
+  const Frame frame = Frame::from_normal(d.normal);
+  const vec3 point =
+      d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
+  return light_detail::finish_area_sample(ref, point, d.normal, area, out);
+}
+
+TESSERA_HD inline bool sample_emitter(const Cylinder& c, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  vec3 point, normal;
+  light_detail::sample_revolved(c.base, c.axis, c.frame, c.radius, c.radius, c.height,
+                                c.capped != 0, u1, u2, point, normal);
+  return light_detail::finish_area_sample(ref, point, normal, area, out);
+}
+
+TESSERA_HD inline bool sample_emitter(const Cone& c, float area, const vec3& ref, float u1,
+                                      float u2, LightSample& out) {
+  vec3 point, normal;
+  light_detail::sample_revolved(c.base, c.axis, c.frame, c.base_radius, c.top_radius, c.height,
+                                c.capped != 0, u1, u2, point, normal);
+  return light_detail::finish_area_sample(ref, point, normal, area, out);
+}
+
+// The solid-angle pdf with which sample_emitter(shape, ref) produces unit direction `wi`,
+// given that the ray along it first meets the shape at `distance` with geometric normal
+// `light_normal`. Shapes sampled by area alone take the generic form.
+template <typename Shape>
+TESSERA_HD inline float emitter_pdf(const Shape&, float area, const vec3&, const vec3& wi,
+                                    float distance, const vec3& light_normal) {
+  return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
+}
+
+TESSERA_HD inline float emitter_pdf(const Sphere& s, float area, const vec3& ref, const vec3& wi,
+                                    float distance, const vec3& light_normal) {
+  const vec3 to_center = s.center - ref;
+  const float dc2 = glm::dot(to_center, to_center);
+  const float r2 = s.radius * s.radius;
+  if (dc2 <= r2 * 1.0001f)
+    return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
+  return 1.0f / (2.0f * kPi * light_detail::one_minus_cos_cone(r2 / dc2));
+}
+
+TESSERA_HD inline float emitter_pdf(const Quad& q, float area, const vec3& ref, const vec3& wi,
+                                    float distance, const vec3& light_normal) {
+  using namespace light_detail;
+  if (rectangular(q)) {
+    const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+    if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
+  }
+  return area_to_solid_angle(area, distance * distance, wi, light_normal);
+}
+
+TESSERA_HD inline float emitter_pdf(const Triangle& t, float area, const vec3& ref, const vec3& wi,
+                                    float distance, const vec3& light_normal) {
+  SphericalTriangle sph;
+  if (light_detail::triangle_spherical(t, ref, sph)) return 1.0f / sph.solid_angle;
+  return light_detail::area_to_solid_angle(area, distance * distance, wi, light_normal);
+}
+
+namespace light_detail {
+
+// Calls `f` with the shape `light` refers to; false for types without a sampler
+// (has_light_sampler), which are never in the light list.
+template <typename F>
+TESSERA_HD inline bool with_emitter(const SceneView& scene, const LightSource& light, F&& f) {
+  const std::uint32_t index = primitive_index(light.primitive);
+  switch (primitive_type(light.primitive)) {
+    case PrimitiveType::kSphere:
+      return f(scene.spheres[index]);
+    case PrimitiveType::kQuad:
+      return f(scene.quads[index]);
+    case PrimitiveType::kTriangle:
+      return f(scene.triangles[index]);
+    case PrimitiveType::kDisk:
+      return f(scene.disks[index]);
+    case PrimitiveType::kCylinder:
+      return f(scene.cylinders[index]);
+    case PrimitiveType::kCone:
+      return f(scene.cones[index]);
+    default:
+      return false;
+  }
+}
+
+}  // namespace light_detail
+
 // A direction from `ref` towards `light`. Returns false (and no sample) when the light
 // subtends nothing from there.
 TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& light,
                                     const vec3& ref, float u1, float u2, LightSample& out) {
-  using namespace light_detail;
-  const std::uint32_t index = primitive_index(light.primitive);
-  std::uint32_t material = 0;
-  switch (primitive_type(light.primitive)) {
-    case PrimitiveType::kSphere: {
-      const Sphere& s = scene.spheres[index];
-      material = s.material;
-      const vec3 to_center = s.center - ref;
-      const float dc2 = glm::dot(to_center, to_center);
-      const float r2 = s.radius * s.radius;
-      if (dc2 <= r2 * 1.0001f) {
-        // Inside (or on) the sphere: every direction sees it; sample its area.
-        const vec3 n = sample_uniform_sphere(u1, u2);
-        if (!finish_area_sample(ref, s.center + s.radius * n, n, light.area, out)) return false;
-        break;
-      }
-      // Uniform in the cone of directions that see the sphere.
-      const float dc = std::sqrt(dc2);
-      const float sin2_max = r2 / dc2;
-      const float one_minus_cos_max = one_minus_cos_cone(sin2_max);
-      const float one_minus_cos = u1 * one_minus_cos_max;
-      const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
-      const float cos_theta = 1.0f - one_minus_cos;
-      const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
-      const float phi = 2.0f * kPi * u2;
-      const Frame frame = Frame::from_normal(to_center / dc);
-      out.wi =
-          frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
-      // Distance to the near intersection along wi, found by the sphere's own intersector
-      // (double, without cancellation), so the shadow ray stops where a ray along wi meets
-      // the sphere. dc cos - sqrt(r^2 - dc^2 sin^2) cancels near the silhouette: 1.001 radii
-      // away it overshot by 2e-4 of the distance, more than the shadow ray's 1e-4 margin,
-      // and the light shadowed itself (tests/unit/render/light_sampling_test.cpp). A float
-      // wi that just misses keeps that estimate.
-      HitRecord hit;
-      if (intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, light.primitive))
-        out.distance = hit.t;
-      else
-        out.distance = dc * cos_theta - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
-      out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
-      if (!(out.distance > 0.0f) || !(out.pdf > 0.0f) || !std::isfinite(out.pdf)) return false;
-      break;
-    }
-    case PrimitiveType::kQuad: {
-      const Quad& q = scene.quads[index];
-      material = q.material;
-      if (rectangular(q)) {
-        const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
-        if (spherical_usable(rect.solid_angle)) {
-          const vec3 point = rect.sample(u1, u2);
-          const vec3 d = point - ref;
-          const float distance2 = glm::dot(d, d);
-          if (!(distance2 > 0.0f)) return false;
-          out.distance = std::sqrt(distance2);
-          out.wi = d / out.distance;
-          out.pdf = 1.0f / rect.solid_angle;
-          break;
-        }
-      }
-      if (!finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, light.area, out))
-        return false;
-      break;
-    }
-    case PrimitiveType::kTriangle: {
-      const Triangle& t = scene.triangles[index];
-      material = t.material;
-      SphericalTriangle sph;
-      if (triangle_spherical(t, ref, sph)) {
-        out.wi = sph.sample(u1, u2);
-        // Where the direction meets the triangle's plane.
-        const vec3 n = glm::cross(t.p1 - t.p0, t.p2 - t.p0);
-        const float along = glm::dot(out.wi, n);
-        if (along == 0.0f) return false;
-        out.distance = glm::dot(t.p0 - ref, n) / along;
-        out.pdf = 1.0f / sph.solid_angle;
-        if (!(out.distance > 0.0f)) return false;
-        break;
-      }
-      const vec2 b = sample_uniform_triangle(u1, u2);
-      const vec3 point = b.x * t.p0 + b.y * t.p1 + (1.0f - b.x - b.y) * t.p2;
-      const vec3 normal = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
-      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
-      break;
-    }
-    case PrimitiveType::kDisk: {
-      // Uniform in area over the annulus: radius by the inverse of its area CDF.
-      const Disk& d = scene.disks[index];
-      material = d.material;
-      const float inner2 = d.inner_radius * d.inner_radius;
-      const float rho = std::sqrt(inner2 + u1 * (d.radius * d.radius - inner2));
-      const float phi = 2.0f * kPi * u2;
-      const Frame frame = Frame::from_normal(d.normal);
-      const vec3 point =
-          d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
-      if (!finish_area_sample(ref, point, d.normal, light.area, out)) return false;
-      break;
-    }
-    case PrimitiveType::kCylinder: {
-      const Cylinder& c = scene.cylinders[index];
-      material = c.material;
-      vec3 point, normal;
-      sample_revolved(c.base, c.axis, c.frame, c.radius, c.radius, c.height, c.capped != 0, u1, u2,
-                      point, normal);
-      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
-      break;
-    }
-    case PrimitiveType::kCone: {
-      const Cone& c = scene.cones[index];
-      material = c.material;
-      vec3 point, normal;
-      sample_revolved(c.base, c.axis, c.frame, c.base_radius, c.top_radius, c.height, c.capped != 0,
-                      u1, u2, point, normal);
-      if (!finish_area_sample(ref, point, normal, light.area, out)) return false;
-      break;
-    }
-    default:  // no sampler (has_light_sampler): never in the light list
-      return false;
-  }
-  out.radiance = scene.materials[material].emission;
-  return true;
+  return light_detail::with_emitter(scene, light, [&](const auto& shape) {
+    if (!sample_emitter(shape, light.area, ref, u1, u2, out)) return false;
+    out.radiance = scene.materials[shape.material].emission;
+    return true;
+  });
 }
 
 // The solid-angle pdf with which sample_light(light, ref) would produce unit direction `wi`,
@@ -313,39 +367,12 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
 // `light_normal`.
 TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& light, const vec3& ref,
                                   const vec3& wi, float distance, const vec3& light_normal) {
-  using namespace light_detail;
-  const std::uint32_t index = primitive_index(light.primitive);
-  switch (primitive_type(light.primitive)) {
-    case PrimitiveType::kSphere: {
-      const Sphere& s = scene.spheres[index];
-      const vec3 to_center = s.center - ref;
-      const float dc2 = glm::dot(to_center, to_center);
-      const float r2 = s.radius * s.radius;
-      if (dc2 <= r2 * 1.0001f)
-        return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
-      return 1.0f / (2.0f * kPi * one_minus_cos_cone(r2 / dc2));
-    }
-    case PrimitiveType::kQuad: {
-      const Quad& q = scene.quads[index];
-      if (rectangular(q)) {
-        const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
-        if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
-      }
-      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
-    }
-    case PrimitiveType::kTriangle: {
-      const Triangle& t = scene.triangles[index];
-      SphericalTriangle sph;
-      if (triangle_spherical(t, ref, sph)) return 1.0f / sph.solid_angle;
-      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
-    }
-    case PrimitiveType::kDisk:
-    case PrimitiveType::kCylinder:
-    case PrimitiveType::kCone:
-      return area_to_solid_angle(light.area, distance * distance, wi, light_normal);
-    default:
-      return 0.0f;
-  }
+  float pdf = 0.0f;
+  light_detail::with_emitter(scene, light, [&](const auto& shape) {
+    pdf = emitter_pdf(shape, light.area, ref, wi, distance, light_normal);
+    return true;
+  });
+  return pdf;
 }
 
 }  // namespace tessera
