@@ -234,17 +234,7 @@ class DielectricBsdf final : public BsdfModel {
     vec3 refracted(0.0f);
     const bool can_refract = refract(-wo, vec3(0.0f, 0.0f, 1.0f), inv_eta, refracted);
     const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
-    if (u_lobe < r) {
-      s.wi = vec3(-wo.x, -wo.y, wo.z);
-      s.pdf = r;
-      s.lobe = kLobeReflection | kLobeSpecular;
-    } else {
-      s.wi = refracted;
-      s.pdf = 1.0f - r;
-      s.lobe = kLobeTransmission | kLobeSpecular;
-    }
-    s.f = albedo_ * (s.pdf / std::fabs(s.wi.z));
-    return s;
+    return sample_specular_pair(wo, r, refracted, albedo_, u_lobe);
   }
   vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
   float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }
@@ -264,18 +254,7 @@ class ThinDielectricBsdf final : public BsdfModel {
     BsdfSample s;
     if (wo.z <= 0.0f) return s;
     const float r1 = schlick_reflectance(wo.z, 1.0f / eta_outside(relative_eta(ior_, front_face)));
-    const float r = 2.0f * r1 / (1.0f + r1);
-    if (u_lobe < r) {
-      s.wi = vec3(-wo.x, -wo.y, wo.z);
-      s.pdf = r;
-      s.lobe = kLobeReflection | kLobeSpecular;
-    } else {
-      s.wi = -wo;
-      s.pdf = 1.0f - r;
-      s.lobe = kLobeTransmission | kLobeSpecular;
-    }
-    s.f = vec3(s.pdf / std::fabs(s.wi.z));
-    return s;
+    return sample_specular_pair(wo, 2.0f * r1 / (1.0f + r1), -wo, vec3(1.0f), u_lobe);
   }
   vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
   float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }

@@ -31,12 +31,12 @@ TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, 
   return true;
 }
 
-// The solid-angle density of RayON's fuzzy-metal direction (sample_fuzzy_reflection) about the unit mirror direction `r`
-// (before the below-surface cut): the direction of r + f b with b uniform in the unit ball.
-// Along direction w the ball of radius f centred at r covers t in [t1, t2] with
-// t^2 - 2 t cos + 1 - f^2 = 0, and the density is the ball's volume along that ray,
-// (t2^3 - t1^3) / 3, over the ball's volume. sin^2 comes from a cross product, not
-// 1 - cos^2, so a narrow lobe keeps its precision.
+// The solid-angle density of RayON's fuzzy-metal direction (sample_fuzzy_reflection) about the unit
+// mirror direction `r` (before the below-surface cut): the direction of r + f b with b uniform in
+// the unit ball. Along direction w the ball of radius f centred at r covers t in [t1, t2] with t^2
+// - 2 t cos + 1 - f^2 = 0, and the density is the ball's volume along that ray, (t2^3 - t1^3) / 3,
+// over the ball's volume. sin^2 comes from a cross product, not 1 - cos^2, so a narrow lobe keeps
+// its precision.
 TESSERA_HD TESSERA_INLINE float fuzzy_reflection_pdf(const vec3& r, const vec3& w, float f) {
   const float cos_theta = glm::dot(r, w);
   const vec3 c = glm::cross(r, w);
@@ -96,6 +96,24 @@ TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float rough
   if (!(s.pdf > 0.0f)) return BsdfSample{};
   s.f = vec3(s.pdf / s.wi.z);
   s.lobe = kLobeReflection | kLobeGlossy;
+  return s;
+}
+
+// A specular pair: the mirror reflection with probability `r` (u below it), else the
+// `transmitted` direction, each tinted by `tint` (glass and thin shells).
+TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const vec3& transmitted,
+                                                  const vec3& tint, float u) {
+  BsdfSample s;
+  if (u < r) {
+    s.wi = vec3(-wo.x, -wo.y, wo.z);
+    s.pdf = r;
+    s.lobe = kLobeReflection | kLobeSpecular;
+  } else {
+    s.wi = transmitted;
+    s.pdf = 1.0f - r;
+    s.lobe = kLobeTransmission | kLobeSpecular;
+  }
+  s.f = tint * (s.pdf / std::fabs(s.wi.z));
   return s;
 }
 
@@ -170,34 +188,13 @@ struct Bsdf {
         vec3 refracted(0.0f);  // unused on total internal reflection
         const bool can_refract = refract(d, n, inv_eta, refracted);
         const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
-        if (u_lobe < r) {
-          s.wi = vec3(-wo.x, -wo.y, wo.z);
-          s.pdf = r;
-          s.lobe = kLobeReflection | kLobeSpecular;
-        } else {
-          s.wi = refracted;
-          s.pdf = 1.0f - r;
-          s.lobe = kLobeTransmission | kLobeSpecular;
-        }
         // RayON's glass: the albedo tints both, Fresnel only chooses between them.
-        s.f = albedo * (s.pdf / std::fabs(s.wi.z));
-        return s;
+        return sample_specular_pair(wo, r, refracted, albedo, u_lobe);
       }
       case BsdfKind::kThinDielectric: {
         // Two interfaces close together: R' = 2R / (1 + R), transmission straight on.
         const float r1 = schlick_reflectance(wo.z, 1.0f / eta_outside());
-        const float r = 2.0f * r1 / (1.0f + r1);
-        if (u_lobe < r) {
-          s.wi = vec3(-wo.x, -wo.y, wo.z);
-          s.pdf = r;
-          s.lobe = kLobeReflection | kLobeSpecular;
-        } else {
-          s.wi = -wo;
-          s.pdf = 1.0f - r;
-          s.lobe = kLobeTransmission | kLobeSpecular;
-        }
-        s.f = vec3(s.pdf / std::fabs(s.wi.z));
-        return s;
+        return sample_specular_pair(wo, 2.0f * r1 / (1.0f + r1), -wo, vec3(1.0f), u_lobe);
       }
       case BsdfKind::kEmitter:
         return s;
