@@ -300,6 +300,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"mis", "light", "bsdf"}));
   converge->add_flag("!--no-light-tree", converge_options.light_tree,
                      "Tessera picks lights by power alone (ablation)");
+  converge
+      ->add_option("--adaptive", converge_options.adaptive_targets,
+                   "also render with adaptive sampling at these render.target_error values "
+                   "(comma-separated), capped at the largest --spp")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-4, 1.0));
   converge->add_option("--export-json", converge_options.export_json,
                        "write the scene as the peer reads it (JSON) and stop");
 

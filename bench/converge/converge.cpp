@@ -37,9 +37,11 @@ struct Render {
 
 // Every tile on `threads` threads: the same image as any other tiling or thread count.
 Render render(const SceneDescription& description, std::uint32_t spp, unsigned threads,
-              bool light_tree) {
+              bool light_tree, double target_error = 0.0) {
   SceneDescription scene = description;
   scene.render.samples_per_pixel = spp;
+  scene.render.target_error = target_error;
+  scene.render.min_samples_per_pixel = std::min(scene.render.min_samples_per_pixel, spp);
   const auto prepared = PreparedScene::build(scene, PrepareOptions{.light_tree = light_tree});
   const RenderSettings& s = prepared->settings();
   Render out;
@@ -69,7 +71,8 @@ Render render(const SceneDescription& description, std::uint32_t spp, unsigned t
 }
 
 struct Sample {
-  std::uint32_t spp = 0;
+  std::uint32_t spp = 0;      // the most a pixel takes, under adaptive sampling
+  double target_error = 0.0;  // adaptive sampling's, 0 when off
   double seconds = 0.0;
   double wall = 0.0;
   ImageError error;
@@ -95,11 +98,15 @@ const std::map<char, std::array<std::uint8_t, 7>>& glyphs() {
   static const std::map<char, std::array<std::uint8_t, 7>> table{
       {'A', {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}},
       {'C', {0x0F, 0x10, 0x10, 0x10, 0x10, 0x10, 0x0F}},
+      {'D', {0x1E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x1E}},
       {'E', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}},
+      {'I', {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
       {'L', {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}},
+      {'P', {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}},
       {'R', {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}},
       {'S', {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}},
       {'T', {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}},
+      {'V', {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04}},
       {'Y', {0x11, 0x11, 0x0A, 0x04, 0x04, 0x04, 0x04}},
   };
   return table;
@@ -189,11 +196,12 @@ void write_plot(const std::string& path, const std::vector<Series>& all, double 
 }
 
 void print_series(const Series& series, double target) {
-  std::printf("%s:\n%8s %10s %10s %12s %12s %10s %10s\n", series.name.c_str(), "spp", "seconds",
-              "wall", "rmse", "relmse", "mean", "ref mean");
+  std::printf("%s:\n%8s %8s %10s %10s %12s %12s %10s %10s\n", series.name.c_str(), "spp", "target",
+              "seconds", "wall", "rmse", "relmse", "mean", "ref mean");
   for (const Sample& s : series.samples)
-    std::printf("%8u %10.3f %10.3f %12.5g %12.5g %10.5f %10.5f\n", s.spp, s.seconds, s.wall,
-                s.error.rmse, s.error.rel_mse, s.error.mean, s.error.reference_mean);
+    std::printf("%8u %8.4g %10.3f %10.3f %12.5g %12.5g %10.5f %10.5f\n", s.spp, s.target_error,
+                s.seconds, s.wall, s.error.rmse, s.error.rel_mse, s.error.mean,
+                s.error.reference_mean);
   if (const auto& at = series.at_target)
     std::printf("%s time to relMSE %g: %.3g s (%s; relMSE ~ time^%.2f)\n", series.name.c_str(),
                 target, at->seconds, at->extrapolated ? "extrapolated" : "measured", at->slope);
@@ -336,14 +344,27 @@ int run_converge(const ConvergeOptions& options) {
   std::printf("scene: %s, %ux%u, max depth %u, %u threads\n", options.scene.c_str(),
               scene.render.width, scene.render.height, scene.render.max_depth, threads);
   std::vector<Series> all;
-  all.reserve(2);  // `tessera` and `cycles` below are references into it
+  all.reserve(3);  // `tessera`, `adaptive` and `cycles` below are references into it
   Series& tessera = all.emplace_back(Series{"tessera", {}, {}, {0.1f, 0.2f, 0.8f}});
   for (std::uint32_t spp : options.spp) {
     const Render r = render(scene, spp, threads, options.light_tree);
-    tessera.samples.push_back({spp, r.seconds, r.wall, image_error(r.image, reference)});
+    tessera.samples.push_back({spp, 0.0, r.seconds, r.wall, image_error(r.image, reference)});
   }
   tessera.at_target = time_to_error(tessera.points(), options.target);
   print_series(tessera, options.target);
+  if (!options.adaptive_targets.empty()) {
+    Series& adaptive = all.emplace_back(Series{"adaptive", {}, {}, {0.1f, 0.6f, 0.3f}});
+    const std::uint32_t cap = *std::max_element(options.spp.begin(), options.spp.end());
+    for (double target : options.adaptive_targets) {
+      const Render r = render(scene, cap, threads, options.light_tree, target);
+      adaptive.samples.push_back({cap, target, r.seconds, r.wall, image_error(r.image, reference)});
+    }
+    adaptive.at_target = time_to_error(adaptive.points(), options.target);
+    print_series(adaptive, options.target);
+    if (tessera.at_target && adaptive.at_target)
+      std::printf("time to relMSE %g: plain / adaptive = %.3g\n", options.target,
+                  tessera.at_target->seconds / adaptive.at_target->seconds);
+  }
 
   std::optional<ImageError> references;  // Tessera's reference against Cycles'
   if (options.peer == "cycles") {
@@ -364,7 +385,7 @@ int run_converge(const ConvergeOptions& options) {
     for (std::uint32_t n : options.spp) {
       const Render& r = renders.series.at(n);
       cycles.samples.push_back(
-          {n, r.seconds, r.wall, image_error(r.image, cycles_reference.image)});
+          {n, 0.0, r.seconds, r.wall, image_error(r.image, cycles_reference.image)});
     }
     cycles.at_target = time_to_error(cycles.points(), options.target);
     print_series(cycles, options.target);
@@ -383,22 +404,25 @@ int run_converge(const ConvergeOptions& options) {
   const auto time_of = [](const Series* s) {
     return s && s->at_target ? s->at_target->seconds : std::nan("");
   };
-  const Series* cycles = all.size() > 1 ? &all[1] : nullptr;
+  const Series* cycles = all.back().name == "cycles" ? &all.back() : nullptr;
+  const Series* adaptive = nullptr;
+  for (const Series& series : all)
+    if (series.name == "adaptive") adaptive = &series;
   std::printf(
       "summary: tessera_time=%.6g cycles_time=%.6g ratio=%.6g tessera_ref_mean=%.6g "
-      "cycles_ref_mean=%.6g ref_relmse=%.6g\n",
+      "cycles_ref_mean=%.6g ref_relmse=%.6g adaptive_time=%.6g\n",
       time_of(&tessera), time_of(cycles), time_of(cycles) / time_of(&tessera),
       image_error(reference, reference).mean,
       references ? references->reference_mean : std::nan(""),
-      references ? references->rel_mse : std::nan(""));
+      references ? references->rel_mse : std::nan(""), time_of(adaptive));
 
   if (!options.csv.empty()) {
     std::ofstream csv(options.csv);
-    csv << "renderer,spp,seconds,wall_seconds,rmse,relmse,mean,reference_mean\n";
+    csv << "renderer,spp,target_error,seconds,wall_seconds,rmse,relmse,mean,reference_mean\n";
     for (const Series& series : all)
       for (const Sample& s : series.samples)
-        csv << series.name << ',' << s.spp << ',' << s.seconds << ',' << s.wall << ','
-            << s.error.rmse << ',' << s.error.rel_mse << ',' << s.error.mean << ','
+        csv << series.name << ',' << s.spp << ',' << s.target_error << ',' << s.seconds << ','
+            << s.wall << ',' << s.error.rmse << ',' << s.error.rel_mse << ',' << s.error.mean << ','
             << s.error.reference_mean << '\n';
   }
   if (!options.plot.empty()) write_plot(options.plot, all, options.target);

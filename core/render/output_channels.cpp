@@ -12,7 +12,10 @@ const AovChannels kAovChannels[] = {
     {{"normal.X", "normal.Y", "normal.Z"}},
     {{"Z"}},
     {{"primitive_id"}},
+    {{"variance.R", "variance.G", "variance.B"}},
+    {{"sample_count"}},
 };
+static_assert(std::size(kAovChannels) == kAovCount);
 }  // namespace
 
 std::vector<std::string> output_channels(std::uint32_t aovs) {

@@ -180,7 +180,9 @@ TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) c
   passes.beauty.assign(floats, 0.0f);
   FilmPlanes film;
   film.beauty = passes.beauty.data();
-  float** planes[] = {&film.albedo, &film.normal, &film.depth, &film.primitive_id};
+  float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
+                      &film.primitive_id, &film.variance, &film.sample_count};
+  static_assert(std::size(planes) == kAovCount);
   for (std::size_t i = 0; i < passes.aovs.size(); ++i) {
     if ((settings_.aovs & (1u << i)) == 0) {
       passes.aovs[i].clear();

@@ -33,7 +33,8 @@ constexpr std::string_view kMaterialTypeNames[] = {
 };
 constexpr std::string_view kIntegratorNames[] = {"path",         "normals", "shadow",
                                                  "transparency", "albedo",  "depth"};
-constexpr std::string_view kAovNameViews[] = {"albedo", "normal", "depth", "primitive_id"};
+constexpr std::string_view kAovNameViews[] = {"albedo",       "normal",   "depth",
+                                              "primitive_id", "variance", "sample_count"};
 constexpr std::string_view kSamplerNames[] = {"independent", "sobol"};
 constexpr std::string_view kLightStrategyNames[] = {"mis", "light", "bsdf"};
 static_assert(std::size(kMaterialTypeNames) ==

@@ -3,6 +3,7 @@
 // it over a tile. Private to core/render.
 #include "tessera/render/first_hit_integrators.hpp"
 #include "tessera/render/path_tracer.hpp"
+#include "tessera/render/pixel_variance.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/shadow_integrator.hpp"
 #include "tessera/render/tile_cancel.hpp"
@@ -14,19 +15,56 @@ namespace tessera::variants {
 // cancel reaches a tile within a fraction of a second whatever its size and spp.
 inline constexpr std::uint32_t kCancelCheckSamples = 256;
 
+// Runs every pixel's samples. With adaptive sampling (settings.adaptive()) a pixel stops
+// once its estimated error meets settings.target_error; the ray generation then adds samples
+// at weight 1 and the pixel's planes are divided by the count it took. A sample's value is
+// read back from the beauty plane (the change it made), so this works for every integrator.
 template <typename P>
-void run_tile(const P& pipeline, const TileRect& tile, std::uint32_t samples_per_pixel) {
+void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& settings,
+              const FilmPlanes& film) {
   const std::atomic<bool>* cancel = current_tile_cancel_flag();
   std::uint32_t until_check = 0;
+  const bool adaptive = settings.adaptive();
+  const bool track = adaptive || film.variance != nullptr;
+  // Non-adaptive samples land at weight 1 / spp.
+  const float sample_scale = adaptive ? 1.0f : static_cast<float>(settings.samples_per_pixel);
+  const float target = static_cast<float>(settings.target_error);
+  const auto beauty_at = [&](std::size_t at) {
+    return vec3(film.beauty[at], film.beauty[at + 1], film.beauty[at + 2]);
+  };
   for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
-    for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x)
-      for (std::uint32_t s = 0; s < samples_per_pixel; ++s) {
+    for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x) {
+      const std::size_t at = FilmPlanes::offset(tile, x, y);
+      PixelVariance stats;
+      std::uint32_t taken = 0;
+      while (taken < settings.samples_per_pixel) {
         if (until_check-- == 0) {
           if (cancel && cancel->load(std::memory_order_relaxed)) return;
           until_check = kCancelCheckSamples - 1;
         }
-        pipeline.launch(x, y, s);
+        const vec3 before = track ? beauty_at(at) : vec3(0.0f);
+        pipeline.launch(x, y, taken);
+        ++taken;
+        if (!track) continue;
+        stats.add((beauty_at(at) - before) * sample_scale);
+        if (adaptive && pixel_converged(stats, settings.min_samples_per_pixel, target)) break;
       }
+      if (adaptive) {
+        const float inv = 1.0f / static_cast<float>(taken);
+        for (float* plane : {film.beauty, film.albedo, film.normal, film.depth})
+          if (plane)
+            for (int c = 0; c < 4; ++c) plane[at + c] *= inv;
+      }
+      if (film.variance) FilmPlanes::add(film.variance, at, stats.variance_of_mean(), 1.0f);
+      if (film.sample_count)
+        FilmPlanes::add(film.sample_count, at, vec3(static_cast<float>(taken)), 1.0f);
+    }
+}
+
+// What each sample adds to the film: 1 / spp, or 1 under adaptive sampling (run_tile
+// divides by the count each pixel took).
+inline float sample_weight(const RenderSettings& settings) {
+  return settings.adaptive() ? 1.0f : 1.0f / static_cast<float>(settings.samples_per_pixel);
 }
 
 template <unsigned kShapes>
@@ -42,16 +80,12 @@ TileStats render_camera_pipeline(const SceneView& scene, const RenderSettings& s
                                  const TileRect& tile, const FilmPlanes& film,
                                  typename Config::Hit hit, typename Config::Miss miss) {
   TileStats stats;
-  const typename Config::RayGeneration rays{scene.camera,
-                                            settings.seed,
-                                            tile,
-                                            1.0f / static_cast<float>(settings.samples_per_pixel),
-                                            film,
-                                            &stats.rays,
-                                            settings.sampler};
+  const typename Config::RayGeneration rays{
+      scene.camera, settings.seed,   tile, sample_weight(settings), film,
+      &stats.rays,  settings.sampler};
   const Pipeline<Config> pipeline(rays, make_tracer<Config::Intersection::kShapeMask>(scene), hit,
                                   miss);
-  run_tile(pipeline, tile, settings.samples_per_pixel);
+  run_tile(pipeline, tile, settings, film);
   return stats;
 }
 

@@ -12,7 +12,7 @@ TEST(OutputChannels, NamesFollowTheAovMaskInOrder) {
   EXPECT_EQ(output_channels(kAovNormal | kAovAlbedo),
             (std::vector<std::string>{"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B",
                                       "normal.X", "normal.Y", "normal.Z"}));
-  EXPECT_EQ(output_channels(kAllAovs).size(), 12u);
+  EXPECT_EQ(output_channels(kAllAovs).size(), 16u);
 }
 
 TEST(OutputChannels, InterleavesEveryPlaneAndRoundTripsThroughExr) {

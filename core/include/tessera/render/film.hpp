@@ -14,6 +14,8 @@ struct FilmPlanes {
   float* normal = nullptr;
   float* depth = nullptr;         // distance along the camera ray, in R, G and B
   float* primitive_id = nullptr;  // first sample's primitive index + 1 (0 = background)
+  float* variance = nullptr;      // variance of the pixel's mean, per channel
+  float* sample_count = nullptr;  // samples the pixel took, in R, G and B
 
   TESSERA_HD static std::size_t offset(const TileRect& tile, std::uint32_t x, std::uint32_t y) {
     return 4 * ((static_cast<std::size_t>(y) - tile.y) * tile.width + (x - tile.x));

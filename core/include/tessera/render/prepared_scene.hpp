@@ -24,7 +24,7 @@ namespace tessera {
 // mask is set (order of aov_names()).
 struct TilePasses {
   std::vector<float> beauty;
-  std::array<std::vector<float>, 4> aovs;
+  std::array<std::vector<float>, kAovCount> aovs;
 };
 
 struct PrepareOptions {

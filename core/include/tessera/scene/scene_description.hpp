@@ -330,8 +330,13 @@ enum AovBit : std::uint32_t {
   kAovNormal = 1u << 1,
   kAovDepth = 1u << 2,
   kAovPrimitiveId = 1u << 3,
+  kAovVariance = 1u << 4,     // the variance of the pixel's mean luminance (adaptive sampling's
+                              // error estimate), in R, G and B
+  kAovSampleCount = 1u << 5,  // samples the pixel took, in R, G and B
 };
-inline constexpr std::uint32_t kAllAovs = kAovAlbedo | kAovNormal | kAovDepth | kAovPrimitiveId;
+inline constexpr std::size_t kAovCount = 6;
+inline constexpr std::uint32_t kAllAovs =
+    kAovAlbedo | kAovNormal | kAovDepth | kAovPrimitiveId | kAovVariance | kAovSampleCount;
 std::optional<AovBit> aov_from_string(const std::string& name);
 std::span<const std::string_view> aov_names();  // bit i is aov_names()[i]
 
@@ -349,6 +354,13 @@ struct RenderSettings {
   std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
   SamplerKind sampler = SamplerKind::kSobol;
   LightStrategy light_strategy = LightStrategy::kMis;
+  // Adaptive sampling: 0 renders samples_per_pixel everywhere; otherwise a pixel stops once
+  // the relative standard error of its mean luminance is below this (samples_per_pixel is
+  // then the most a pixel takes).
+  double target_error = 0.0;
+  std::uint32_t min_samples_per_pixel = 16;  // before adaptive sampling may stop a pixel
+
+  bool adaptive() const { return target_error > 0.0; }
 
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };

@@ -77,7 +77,7 @@ struct BackgroundKind {
   static constexpr IgnoredKey ignored[] = {
       {"ambient_light", "RayON's ambient term is not supported (light comes from emitters)"},
       {"use_bvh", "Tessera always picks its own acceleration structure"},
-      {"adaptive_sampling", "adaptive sampling is not implemented yet"},
+      {"adaptive_sampling", "set render.target_error for adaptive sampling"},
   };
   static void check(const Desc&, Checks&) {}
 };
@@ -110,9 +110,22 @@ struct RenderKind {
        .zero_means_default = true},
       {.name = "seed", .doc = "random seed (the image is a function of it)"},
       {.name = "integrator", .doc = "path, normals, shadow, transparency, albedo or depth"},
-      {.name = "aovs", .doc = "extra outputs: albedo, normal, depth, primitive_id"},
+      {.name = "aovs",
+       .doc = "extra outputs: albedo, normal, depth, primitive_id, variance, sample_count"},
       {.name = "sampler", .doc = "sobol (default) or independent"},
       {.name = "light_strategy", .doc = "direct light: mis (default), light or bsdf"},
+      {.name = "target_error",
+       .member = &Desc::target_error,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1.0,
+       .doc = "adaptive sampling: a pixel stops once the relative standard error of its mean "
+              "is below this (0: off; spp is then the most a pixel takes)"},
+      {.name = "min_samples_per_pixel",
+       .member = &Desc::min_samples_per_pixel,
+       .doc = "adaptive sampling: samples every pixel takes before it may stop",
+       .yaml_name = "min_spp",
+       .zero_means_default = true},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
 };
