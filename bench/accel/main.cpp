@@ -303,9 +303,14 @@ int main(int argc, char** argv) {
   converge
       ->add_option("--adaptive", converge_options.adaptive_targets,
                    "also render with adaptive sampling at these render.target_error values "
-                   "(comma-separated), capped at the largest --spp")
+                   "(comma-separated)")
       ->delimiter(',')
       ->check(CLI::Range(1e-4, 1.0));
+  converge
+      ->add_option("--adaptive-max-spp", converge_options.adaptive_max_spp,
+                   "the most samples a pixel takes under --adaptive (default: 4 x the largest "
+                   "--spp)")
+      ->check(CLI::Range(1u, 1u << 20));
   converge->add_option("--export-json", converge_options.export_json,
                        "write the scene as the peer reads it (JSON) and stop");
 

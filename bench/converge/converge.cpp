@@ -354,7 +354,9 @@ int run_converge(const ConvergeOptions& options) {
   print_series(tessera, options.target);
   if (!options.adaptive_targets.empty()) {
     Series& adaptive = all.emplace_back(Series{"adaptive", {}, {}, {0.1f, 0.6f, 0.3f}});
-    const std::uint32_t cap = *std::max_element(options.spp.begin(), options.spp.end());
+    const std::uint32_t cap = options.adaptive_max_spp != 0
+                                  ? options.adaptive_max_spp
+                                  : 4 * *std::max_element(options.spp.begin(), options.spp.end());
     for (double target : options.adaptive_targets) {
       const Render r = render(scene, cap, threads, options.light_tree, target);
       adaptive.samples.push_back({cap, target, r.seconds, r.wall, image_error(r.image, reference)});

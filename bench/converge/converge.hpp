@@ -28,8 +28,9 @@ struct ConvergeOptions {
   std::string peer_dir;             // scene JSON, peer EXRs, Blender's log; empty: beside --csv
   std::string export_json;          // write the scene as the peer reads it, then stop
   // Also measure Tessera with adaptive sampling (render.target_error) at each of these
-  // targets, capped at the largest of `spp`; empty: not measured.
+  // targets, each pixel capped at adaptive_max_spp; empty: not measured.
   std::vector<double> adaptive_targets;
+  std::uint32_t adaptive_max_spp = 0;  // 0: 4 x the largest of `spp`
 };
 
 // Renders the scene at each spp (wall time of the render alone, scene preparation
