@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 
 #include "mesh_sharing.hpp"
 #include "mesh_triangles.hpp"
@@ -176,22 +177,41 @@ TileStats PreparedScene::render_tile(const TileRect& tile, std::span<float> rgba
 }
 
 TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) const {
+  return refine_tile(tile, passes, 0, settings_.samples_per_pixel);
+}
+
+TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, std::uint32_t first,
+                                     std::uint32_t end) const {
+  if (first >= end)
+    throw std::invalid_argument("refine_tile: first sample " + std::to_string(first) +
+                                " is not below the end " + std::to_string(end));
+  if (first > 0 && settings_.adaptive())
+    throw std::invalid_argument("refine_tile: adaptive sampling renders in one pass");
   const std::size_t floats = tile.pixel_count() * 4;
-  passes.beauty.assign(floats, 0.0f);
   FilmPlanes film;
-  film.beauty = passes.beauty.data();
+  film.first_sample = first;
   float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
                       &film.primitive_id, &film.variance, &film.sample_count};
   static_assert(std::size(planes) == kAovCount);
+  const auto prepare = [&](std::vector<float>& plane) {
+    if (first == 0) {
+      plane.assign(floats, 0.0f);
+    } else if (plane.size() != floats) {
+      throw std::invalid_argument("refine_tile: the passes do not hold this tile");
+    }
+    return plane.data();
+  };
+  film.beauty = prepare(passes.beauty);
   for (std::size_t i = 0; i < passes.aovs.size(); ++i) {
     if ((settings_.aovs & (1u << i)) == 0) {
       passes.aovs[i].clear();
       continue;
     }
-    passes.aovs[i].assign(floats, 0.0f);
-    *planes[i] = passes.aovs[i].data();
+    *planes[i] = prepare(passes.aovs[i]);
   }
-  const TileStats stats = variant_->render(view(), settings_, tile, film);
+  RenderSettings settings = settings_;
+  settings.samples_per_pixel = end;
+  const TileStats stats = variant_->render(view(), settings, tile, film);
   const auto set_alpha = [](std::vector<float>& plane) {
     for (std::size_t i = 3; i < plane.size(); i += 4) plane[i] = 1.0f;
   };

@@ -15,10 +15,13 @@ namespace tessera::variants {
 // cancel reaches a tile within a fraction of a second whatever its size and spp.
 inline constexpr std::uint32_t kCancelCheckSamples = 256;
 
-// Runs every pixel's samples. With adaptive sampling (settings.adaptive()) a pixel stops
-// once its estimated error meets settings.target_error; the ray generation then adds samples
-// at weight 1 and the pixel's planes are divided by the count it took. A sample's value is
-// read back from the beauty plane (the change it made), so this works for every integrator.
+// Runs every pixel's samples from film.first_sample to settings.samples_per_pixel. With
+// adaptive sampling (settings.adaptive()) a pixel stops once its estimated error meets
+// settings.target_error; the ray generation then adds samples at weight 1 and the pixel's
+// planes are divided by the count it took. A sample's value is read back from the beauty
+// plane (the change it made), so this works for every integrator. When refining (first
+// sample > 0) the planes are rescaled to the new count and the pixel's running statistics
+// resume from its beauty and variance planes.
 template <typename P>
 void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& settings,
               const FilmPlanes& film) {
@@ -26,9 +29,12 @@ void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& set
   std::uint32_t until_check = 0;
   const bool adaptive = settings.adaptive();
   const bool track = adaptive || film.variance != nullptr;
+  const std::uint32_t first = film.first_sample, end = settings.samples_per_pixel;
   // Non-adaptive samples land at weight 1 / spp.
-  const float sample_scale = adaptive ? 1.0f : static_cast<float>(settings.samples_per_pixel);
+  const float sample_scale = adaptive ? 1.0f : static_cast<float>(end);
   const float target = static_cast<float>(settings.target_error);
+  const float keep = static_cast<float>(first) / static_cast<float>(end);
+  float* const averaged[] = {film.beauty, film.albedo, film.normal, film.depth};
   const auto beauty_at = [&](std::size_t at) {
     return vec3(film.beauty[at], film.beauty[at + 1], film.beauty[at + 2]);
   };
@@ -36,8 +42,22 @@ void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& set
     for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x) {
       const std::size_t at = FilmPlanes::offset(tile, x, y);
       PixelVariance stats;
-      std::uint32_t taken = 0;
-      while (taken < settings.samples_per_pixel) {
+      if (first > 0) {
+        if (film.variance) {
+          const float pairs = static_cast<float>(first) * static_cast<float>(first - 1);
+          stats.count = first;
+          stats.mean = beauty_at(at);
+          stats.m2 = vec3(film.variance[at], film.variance[at + 1], film.variance[at + 2]) * pairs;
+          for (int c = 0; c < 3; ++c) film.variance[at + c] = 0.0f;
+        }
+        if (film.sample_count)
+          for (int c = 0; c < 3; ++c) film.sample_count[at + c] = 0.0f;
+        for (float* plane : averaged)
+          if (plane)
+            for (int c = 0; c < 4; ++c) plane[at + c] *= keep;
+      }
+      std::uint32_t taken = first;
+      while (taken < end) {
         if (until_check-- == 0) {
           if (cancel && cancel->load(std::memory_order_relaxed)) return;
           until_check = kCancelCheckSamples - 1;
@@ -51,7 +71,7 @@ void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& set
       }
       if (adaptive) {
         const float inv = 1.0f / static_cast<float>(taken);
-        for (float* plane : {film.beauty, film.albedo, film.normal, film.depth})
+        for (float* plane : averaged)
           if (plane)
             for (int c = 0; c < 4; ++c) plane[at + c] *= inv;
       }

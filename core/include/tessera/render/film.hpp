@@ -16,6 +16,9 @@ struct FilmPlanes {
   float* primitive_id = nullptr;  // first sample's primitive index + 1 (0 = background)
   float* variance = nullptr;      // variance of the pixel's mean, per channel
   float* sample_count = nullptr;  // samples the pixel took, in R, G and B
+  // Progressive refinement: the planes already hold the image of samples [0, first_sample),
+  // and the render adds the samples from there on.
+  std::uint32_t first_sample = 0;
 
   TESSERA_HD static std::size_t offset(const TileRect& tile, std::uint32_t x, std::uint32_t y) {
     return 4 * ((static_cast<std::size_t>(y) - tile.y) * tile.width + (x - tile.x));

@@ -55,6 +55,15 @@ class PreparedScene {
   TileStats render_tile(const TileRect& tile, std::span<float> rgba) const;
   // Renders the beauty pass and every AOV the job asked for.
   TileStats render_tile(const TileRect& tile, TilePasses& passes) const;
+  // Progressive refinement: `passes` hold this tile at `first` samples per pixel (what
+  // render_tile or refine_tile left; ignored when `first` is 0); adds samples [first, end)
+  // of the same sequence, so they then hold the image of `end` samples (equal, up to float
+  // rounding, to rendering `end` at once). A job can so show passes of 1, 4, 16, 64 spp
+  // without wasting any. Throws std::invalid_argument for first >= end, for planes of the
+  // wrong size, and for first > 0 under adaptive sampling (a pixel's stopping state is not
+  // kept between passes).
+  TileStats refine_tile(const TileRect& tile, TilePasses& passes, std::uint32_t first,
+                        std::uint32_t end) const;
 
   // The specialisation this scene renders with, and what the scene needed.
   const RenderVariant& variant() const { return *variant_; }
