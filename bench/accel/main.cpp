@@ -311,6 +311,8 @@ int main(int argc, char** argv) {
                    "the most samples a pixel takes under --adaptive (default: 4 x the largest "
                    "--spp)")
       ->check(CLI::Range(1u, 1u << 20));
+  converge->add_flag("--denoise", converge_options.denoise,
+                     "also measure the denoised render at each --spp (denoiser time included)");
   converge->add_option("--export-json", converge_options.export_json,
                        "write the scene as the peer reads it (JSON) and stop");
 

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "scene_export.hpp"
+#include "tessera/image/denoise.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/image/image_error.hpp"
 #include "tessera/render/prepared_scene.hpp"
@@ -70,6 +71,52 @@ Render render(const SceneDescription& description, std::uint32_t spp, unsigned t
   return out;
 }
 
+// render() with the denoiser's guides, then the denoiser; the time includes both.
+Render render_denoised(const SceneDescription& description, std::uint32_t spp, unsigned threads,
+                       bool light_tree) {
+  SceneDescription scene = description;
+  scene.render.samples_per_pixel = spp;
+  scene.render.aovs = kAovAlbedo | kAovNormal | kAovVariance;
+  const auto prepared = PreparedScene::build(scene, PrepareOptions{.light_tree = light_tree});
+  const RenderSettings& s = prepared->settings();
+  const std::size_t floats = std::size_t{s.width} * s.height * 3;
+  std::vector<float> beauty(floats), albedo(floats), normal(floats), variance(floats);
+  const std::vector<TileRect> tiles = make_tiles(s.width, s.height, s.tile_size);
+  std::atomic<std::size_t> next{0};
+  const auto start = std::chrono::steady_clock::now();
+  const auto work = [&] {
+    TilePasses passes;
+    for (std::size_t t = next++; t < tiles.size(); t = next++) {
+      const TileRect& tile = tiles[t];
+      prepared->render_tile(tile, passes);
+      const std::pair<const std::vector<float>*, std::vector<float>*> planes[] = {
+          {&passes.beauty, &beauty},
+          {&passes.aovs[0], &albedo},
+          {&passes.aovs[1], &normal},
+          {&passes.aovs[4], &variance}};
+      for (const auto& [from, to] : planes)
+        for (std::uint32_t y = 0; y < tile.height; ++y)
+          for (std::uint32_t x = 0; x < tile.width; ++x)
+            for (int c = 0; c < 3; ++c)
+              (*to)[((std::size_t{tile.y} + y) * s.width + tile.x + x) * 3 + c] =
+                  (*from)[(std::size_t{y} * tile.width + x) * 4 + c];
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work);
+  work();
+  for (auto& thread : pool) thread.join();
+  const std::vector<float> clean = denoise({s.width, s.height, beauty, albedo, normal, variance});
+  Render out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall = out.seconds;
+  out.image =
+      RgbaImage{s.width, s.height, std::vector<float>(std::size_t{s.width} * s.height * 4, 1.0f)};
+  for (std::size_t p = 0; p < std::size_t{s.width} * s.height; ++p)
+    for (int c = 0; c < 3; ++c) out.image.pixels[p * 4 + c] = clean[p * 3 + c];
+  return out;
+}
+
 struct Sample {
   std::uint32_t spp = 0;      // the most a pixel takes, under adaptive sampling
   double target_error = 0.0;  // adaptive sampling's, 0 when off
@@ -102,6 +149,8 @@ const std::map<char, std::array<std::uint8_t, 7>>& glyphs() {
       {'E', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}},
       {'I', {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
       {'L', {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}},
+      {'N', {0x11, 0x19, 0x15, 0x13, 0x11, 0x11, 0x11}},
+      {'O', {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}},
       {'P', {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}},
       {'R', {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}},
       {'S', {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}},
@@ -344,7 +393,7 @@ int run_converge(const ConvergeOptions& options) {
   std::printf("scene: %s, %ux%u, max depth %u, %u threads\n", options.scene.c_str(),
               scene.render.width, scene.render.height, scene.render.max_depth, threads);
   std::vector<Series> all;
-  all.reserve(3);  // `tessera`, `adaptive` and `cycles` below are references into it
+  all.reserve(4);  // `tessera`, `adaptive`, `denoised` and `cycles` are references into it
   Series& tessera = all.emplace_back(Series{"tessera", {}, {}, {0.1f, 0.2f, 0.8f}});
   for (std::uint32_t spp : options.spp) {
     const Render r = render(scene, spp, threads, options.light_tree);
@@ -366,6 +415,19 @@ int run_converge(const ConvergeOptions& options) {
     if (tessera.at_target && adaptive.at_target)
       std::printf("time to relMSE %g: plain / adaptive = %.3g\n", options.target,
                   tessera.at_target->seconds / adaptive.at_target->seconds);
+  }
+
+  if (options.denoise) {
+    Series& denoised = all.emplace_back(Series{"denoised", {}, {}, {0.6f, 0.1f, 0.6f}});
+    for (std::uint32_t spp : options.spp) {
+      const Render r = render_denoised(scene, spp, threads, options.light_tree);
+      denoised.samples.push_back({spp, 0.0, r.seconds, r.wall, image_error(r.image, reference)});
+    }
+    denoised.at_target = time_to_error(denoised.points(), options.target);
+    print_series(denoised, options.target);
+    if (tessera.at_target && denoised.at_target)
+      std::printf("time to relMSE %g: plain / denoised = %.3g\n", options.target,
+                  tessera.at_target->seconds / denoised.at_target->seconds);
   }
 
   std::optional<ImageError> references;  // Tessera's reference against Cycles'
@@ -407,16 +469,18 @@ int run_converge(const ConvergeOptions& options) {
     return s && s->at_target ? s->at_target->seconds : std::nan("");
   };
   const Series* cycles = all.back().name == "cycles" ? &all.back() : nullptr;
-  const Series* adaptive = nullptr;
-  for (const Series& series : all)
+  const Series *adaptive = nullptr, *denoised = nullptr;
+  for (const Series& series : all) {
     if (series.name == "adaptive") adaptive = &series;
+    if (series.name == "denoised") denoised = &series;
+  }
   std::printf(
       "summary: tessera_time=%.6g cycles_time=%.6g ratio=%.6g tessera_ref_mean=%.6g "
-      "cycles_ref_mean=%.6g ref_relmse=%.6g adaptive_time=%.6g\n",
+      "cycles_ref_mean=%.6g ref_relmse=%.6g adaptive_time=%.6g denoised_time=%.6g\n",
       time_of(&tessera), time_of(cycles), time_of(cycles) / time_of(&tessera),
       image_error(reference, reference).mean,
       references ? references->reference_mean : std::nan(""),
-      references ? references->rel_mse : std::nan(""), time_of(adaptive));
+      references ? references->rel_mse : std::nan(""), time_of(adaptive), time_of(denoised));
 
   if (!options.csv.empty()) {
     std::ofstream csv(options.csv);

@@ -31,6 +31,9 @@ struct ConvergeOptions {
   // targets, each pixel capped at adaptive_max_spp; empty: not measured.
   std::vector<double> adaptive_targets;
   std::uint32_t adaptive_max_spp = 0;  // 0: 4 x the largest of `spp`
+  // Also measure Tessera denoised (the à-trous filter on albedo, normal and variance AOVs),
+  // at each of `spp`, the filter's time included.
+  bool denoise = false;
 };
 
 // Renders the scene at each spp (wall time of the render alone, scene preparation
