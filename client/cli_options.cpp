@@ -130,6 +130,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   render->add_option("--name", cmd.name, "job name (default: the scene file's name)");
   render->add_option("--priority", cmd.priority, "higher runs first");
   render->add_flag("--lenient", cmd.lenient, "unknown scene keys are warnings, not errors");
+  render->add_flag("--denoise", cmd.denoise,
+                   "also render the albedo, normal and variance AOVs and add a denoised pass "
+                   "(channels denoised.R/G/B; the PNG preview shows it)");
   add_server_option(*render, cmd.server);
 
   CLI::App* submit =
@@ -167,6 +170,16 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   remove->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
   add_server_option(*remove, cmd.server);
 
+  CLI::App* denoise = app.add_subcommand(
+      "denoise", "add a denoised pass (denoised.R/G/B) to a render with the denoiser's AOVs");
+  denoise->add_option("input", cmd.input_exr, "rendered EXR with albedo, normal and variance")
+      ->required()
+      ->check(CLI::ExistingFile);
+  denoise->add_option("-o,--output", cmd.output_exr, "output EXR (default: rewrite the input)")
+      ->check(extension_validator(".exr"));
+  denoise->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG of the denoised pass")
+      ->check(extension_validator(".png"));
+
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {
     const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
@@ -174,7 +187,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
                        [&](const CLI::App* c) { return c->get_name() == word; });
   };
   const char* const expected =
-      "expected render, submit, watch, list, status, cancel or delete; see 'tessera --help'";
+      "expected render, submit, watch, list, status, cancel, delete or denoise; see 'tessera "
+      "--help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
@@ -214,6 +228,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     cmd.kind = CommandKind::kStatus;
   } else if (cancel->parsed()) {
     cmd.kind = CommandKind::kCancel;
+  } else if (denoise->parsed()) {
+    cmd.kind = CommandKind::kDenoise;
+    if (cmd.output_exr.empty()) cmd.output_exr = cmd.input_exr;
   } else {
     cmd.kind = CommandKind::kDelete;
   }

@@ -8,7 +8,7 @@ namespace tessera {
 
 inline constexpr const char* kDefaultServer = "127.0.0.1:50051";
 
-enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel, kDelete };
+enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel, kDelete, kDenoise };
 
 // Values given on the command line replace the scene file's `render` section.
 struct RenderOverrides {
@@ -26,7 +26,8 @@ struct CliCommand {
   std::string server = kDefaultServer;
   std::string scene_path;   // render, submit
   std::string job_id;       // watch, status, cancel, delete
-  std::string output_exr;   // render, watch
+  std::string input_exr;    // denoise
+  std::string output_exr;   // render, watch, denoise
   std::string preview_png;  // render, watch; empty: none
   RenderOverrides overrides;
   bool local = false;    // render in-process instead of through a server
@@ -34,6 +35,7 @@ struct CliCommand {
   std::string name;      // job name; empty: the scene file's stem
   std::int32_t priority = 0;
   bool lenient = false;  // unknown scene keys are warnings instead of errors
+  bool denoise = false;  // render: add the denoiser's AOVs and denoised.R/G/B channels
 };
 
 struct ParsedCommandLine {

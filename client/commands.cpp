@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "client/client.hpp"
+#include "client/denoise_file.hpp"
 #include "client/local_render.hpp"
 #include "client/progress.hpp"
 #include "client/tile_assembler.hpp"
@@ -183,6 +184,7 @@ SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
   for (const SceneIssue& warning : loaded.warnings)
     err << "tessera: warning: " << warning.to_string() << '\n';
   apply_overrides(loaded.scene.render, cmd.overrides);
+  if (cmd.denoise) loaded.scene.render.aovs |= kAovAlbedo | kAovNormal | kAovVariance;
   const std::vector<SceneIssue> issues = validate_scene(loaded.scene);
   if (!issues.empty()) {
     SceneIssue first = issues.front();
@@ -241,6 +243,7 @@ void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::s
   try {
     assembler.finish();
     if (!cmd.preview_png.empty()) write_image(cmd.preview_png, assembler.image());
+    if (cmd.denoise) denoise_exr_file(cmd.output_exr, cmd.output_exr, cmd.preview_png);
   } catch (const std::exception& e) {
     discard_output(assembler, cmd);
     throw CommandFailure{kExitFailed, e.what()};
@@ -534,6 +537,22 @@ int remove(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+int denoise_file(const CliCommand& cmd, const CommandOutput& io) {
+  const Clock::time_point start = Clock::now();
+  create_parent_directory(cmd.output_exr);
+  if (!cmd.preview_png.empty()) create_parent_directory(cmd.preview_png);
+  try {
+    denoise_exr_file(cmd.input_exr, cmd.output_exr, cmd.preview_png);
+  } catch (const std::exception& e) {
+    throw CommandFailure{kExitFailed, e.what()};
+  }
+  io.out << "tessera: denoised " << cmd.input_exr << " in " << format_duration(seconds_since(start))
+         << ": " << cmd.output_exr;
+  if (!cmd.preview_png.empty()) io.out << ", " << cmd.preview_png;
+  io.out << '\n' << std::flush;
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_command(const CliCommand& command, const CommandOutput& io) {
@@ -553,6 +572,8 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return cancel(command, io);
       case CommandKind::kDelete:
         return remove(command, io);
+      case CommandKind::kDenoise:
+        return denoise_file(command, io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "client/commands.hpp"
+#include "tessera/image/denoise.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
@@ -184,6 +185,57 @@ TEST_F(CommandsTest, LocalRenderWritesAovChannels) {
         ASSERT_EQ(written.pixels[((tile.y + row) * 16 + tile.x) * stride + col],
                   expected[row * tile.width * stride + col]);
   }
+}
+
+// `render --denoise` adds the guides and a denoised pass equal to the core's denoiser on
+// the written beauty and guides; `denoise` on a file without the guides names them.
+TEST_F(CommandsTest, DenoiseAddsADenoisedPassAndNamesMissingGuides) {
+  const std::filesystem::path scene = dir_ / "denoise.yaml";
+  std::ofstream(scene) << "materials:\n  - { name: m, type: lambertian, albedo: [0.2, 0.4, 0.6] }\n"
+                          "  - { name: l, type: light, emission: 4 }\ngeometry:\n"
+                          "  - { type: sphere, material: m, center: [0, 0, 0], radius: 1 }\n"
+                          "  - { type: sphere, material: l, center: [2, 2, 2], radius: 0.5 }\n"
+                          "render: { width: 16, height: 12, spp: 4, tile_size: 8 }\n";
+  CliCommand command;
+  command.kind = CommandKind::kRender;
+  command.local = true;
+  command.denoise = true;
+  command.scene_path = scene.string();
+  command.output_exr = (dir_ / "denoised.exr").string();
+  command.preview_png = (dir_ / "denoised.png").string();
+  const CommandRun r = run(command);
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(command.preview_png));
+
+  std::ifstream in(command.output_exr, std::ios::binary);
+  const ChannelImage file = decode_exr_channels(std::vector<std::uint8_t>(
+      (std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+  const auto plane = [&](const std::vector<std::string>& names) {
+    return select_channels(file, names).pixels;
+  };
+  const auto aov = [&](std::uint32_t bit) {
+    std::vector<std::string> names = output_channels(bit);
+    return plane({names.begin() + 4, names.end()});
+  };
+  const std::vector<float> beauty = plane({"R", "G", "B"}), albedo = aov(kAovAlbedo),
+                           normal = aov(kAovNormal), variance = aov(kAovVariance);
+  const std::vector<float> expected = denoise({16, 12, beauty, albedo, normal, variance});
+  EXPECT_EQ(plane({"denoised.R", "denoised.G", "denoised.B"}), expected);
+  EXPECT_NE(expected, beauty);
+
+  const std::filesystem::path plain = dir_ / "plain.exr";
+  command.denoise = false;
+  command.output_exr = plain.string();
+  command.preview_png.clear();
+  ASSERT_EQ(run(command).exit_code, kExitOk);
+  CliCommand denoise_command;
+  denoise_command.kind = CommandKind::kDenoise;
+  denoise_command.input_exr = plain.string();
+  denoise_command.output_exr = (dir_ / "out.exr").string();
+  const CommandRun missing = run(denoise_command);
+  EXPECT_EQ(missing.exit_code, kExitFailed);
+  EXPECT_NE(missing.err.find("albedo"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("--denoise"), std::string::npos) << missing.err;
 }
 
 TEST_F(CommandsTest, UnwritableOutputFailsBeforeRendering) {
