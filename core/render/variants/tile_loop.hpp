@@ -3,7 +3,7 @@
 // it over a tile. Private to core/render.
 #include "tessera/render/first_hit_integrators.hpp"
 #include "tessera/render/path_tracer.hpp"
-#include "tessera/render/pixel_variance.hpp"
+#include "tessera/render/pixel_sampling.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/shadow_integrator.hpp"
 #include "tessera/render/tile_cancel.hpp"
@@ -15,76 +15,34 @@ namespace tessera::variants {
 // cancel reaches a tile within a fraction of a second whatever its size and spp.
 inline constexpr std::uint32_t kCancelCheckSamples = 256;
 
-// Runs every pixel's samples from film.first_sample to settings.samples_per_pixel. With
-// adaptive sampling (settings.adaptive()) a pixel stops once its estimated error meets
-// settings.target_error; the ray generation then adds samples at weight 1 and the pixel's
-// planes are divided by the count it took. A sample's value is read back from the beauty
-// plane (the change it made), so this works for every integrator. When refining (first
-// sample > 0) the planes are rescaled to the new count and the pixel's running statistics
-// resume from its beauty and variance planes.
-template <typename P>
-void run_tile(const P& pipeline, const TileRect& tile, const RenderSettings& settings,
-              const FilmPlanes& film) {
-  const std::atomic<bool>* cancel = current_tile_cancel_flag();
-  std::uint32_t until_check = 0;
-  const bool adaptive = settings.adaptive();
-  const bool track = adaptive || film.variance != nullptr;
-  const std::uint32_t first = film.first_sample, end = settings.samples_per_pixel;
-  // Non-adaptive samples land at weight 1 / spp.
-  const float sample_scale = adaptive ? 1.0f : static_cast<float>(end);
-  const float target = static_cast<float>(settings.target_error);
-  const float keep = static_cast<float>(first) / static_cast<float>(end);
-  float* const averaged[] = {film.beauty, film.albedo, film.normal, film.depth};
-  const auto beauty_at = [&](std::size_t at) {
-    return vec3(film.beauty[at], film.beauty[at + 1], film.beauty[at + 2]);
-  };
-  for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
-    for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x) {
-      const std::size_t at = FilmPlanes::offset(tile, x, y);
-      PixelVariance stats;
-      if (first > 0) {
-        if (film.variance) {
-          const float pairs = static_cast<float>(first) * static_cast<float>(first - 1);
-          stats.count = first;
-          stats.mean = beauty_at(at);
-          stats.m2 = vec3(film.variance[at], film.variance[at + 1], film.variance[at + 2]) * pairs;
-          for (int c = 0; c < 3; ++c) film.variance[at + c] = 0.0f;
-        }
-        if (film.sample_count)
-          for (int c = 0; c < 3; ++c) film.sample_count[at + c] = 0.0f;
-        for (float* plane : averaged)
-          if (plane)
-            for (int c = 0; c < 4; ++c) plane[at + c] *= keep;
-      }
-      std::uint32_t taken = first;
-      while (taken < end) {
-        if (until_check-- == 0) {
-          if (cancel && cancel->load(std::memory_order_relaxed)) return;
-          until_check = kCancelCheckSamples - 1;
-        }
-        const vec3 before = track ? beauty_at(at) : vec3(0.0f);
-        pipeline.launch(x, y, taken);
-        ++taken;
-        if (!track) continue;
-        stats.add((beauty_at(at) - before) * sample_scale);
-        if (adaptive && pixel_converged(stats, settings.min_samples_per_pixel, target)) break;
-      }
-      if (adaptive) {
-        const float inv = 1.0f / static_cast<float>(taken);
-        for (float* plane : averaged)
-          if (plane)
-            for (int c = 0; c < 4; ++c) plane[at + c] *= inv;
-      }
-      if (film.variance) FilmPlanes::add(film.variance, at, stats.variance_of_mean(), 1.0f);
-      if (film.sample_count)
-        FilmPlanes::add(film.sample_count, at, vec3(static_cast<float>(taken)), 1.0f);
-    }
+// Polls the thread's cancel flag (TileCancelScope) every kCancelCheckSamples samples.
+class CancelPoll {
+ public:
+  bool operator()() {
+    if (until_check_-- != 0) return false;
+    until_check_ = kCancelCheckSamples - 1;
+    return flag_ && flag_->load(std::memory_order_relaxed);
+  }
+
+ private:
+  const std::atomic<bool>* flag_ = current_tile_cancel_flag();
+  std::uint32_t until_check_ = 0;
+};
+
+// The sampling of every pixel of a render: settings.samples_per_pixel is the end, the film
+// says where refinement starts.
+inline PixelSampling pixel_sampling(const RenderSettings& settings, const FilmPlanes& film) {
+  return PixelSampling{film.first_sample, settings.samples_per_pixel,
+                       settings.min_samples_per_pixel, static_cast<float>(settings.target_error)};
 }
 
-// What each sample adds to the film: 1 / spp, or 1 under adaptive sampling (run_tile
-// divides by the count each pixel took).
-inline float sample_weight(const RenderSettings& settings) {
-  return settings.adaptive() ? 1.0f : 1.0f / static_cast<float>(settings.samples_per_pixel);
+template <typename P>
+void run_tile(const P& pipeline, const TileRect& tile, const PixelSampling& sampling,
+              const FilmPlanes& film) {
+  CancelPoll interrupted;
+  for (std::uint32_t y = tile.y; y < tile.y + tile.height; ++y)
+    for (std::uint32_t x = tile.x; x < tile.x + tile.width; ++x)
+      if (!render_pixel(pipeline, x, y, tile, film, sampling, interrupted)) return;
 }
 
 template <unsigned kShapes>
@@ -100,12 +58,13 @@ TileStats render_camera_pipeline(const SceneView& scene, const RenderSettings& s
                                  const TileRect& tile, const FilmPlanes& film,
                                  typename Config::Hit hit, typename Config::Miss miss) {
   TileStats stats;
+  const PixelSampling sampling = pixel_sampling(settings, film);
   const typename Config::RayGeneration rays{
-      scene.camera, settings.seed,   tile, sample_weight(settings), film,
+      scene.camera, settings.seed,   tile, sampling.sample_weight(), film,
       &stats.rays,  settings.sampler};
   const Pipeline<Config> pipeline(rays, make_tracer<Config::Intersection::kShapeMask>(scene), hit,
                                   miss);
-  run_tile(pipeline, tile, settings, film);
+  run_tile(pipeline, tile, sampling, film);
   return stats;
 }
 

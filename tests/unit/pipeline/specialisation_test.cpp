@@ -109,7 +109,8 @@ TEST(Specialisation, AovsAreComputedOnlyWhenAsked) {
   const auto with_aovs = PreparedScene::build(scene);
   EXPECT_TRUE(with_aovs->variant().features.aovs);
   with_aovs->render_tile(tile, passes);
-  for (const auto& plane : passes.aovs) ASSERT_EQ(plane.size(), 8u * 8u * 4u);
+  for (std::size_t i = 0; i < passes.aovs.size(); ++i)
+    ASSERT_EQ(passes.aovs[i].size(), (scene.render.aovs >> i & 1u) != 0 ? 8u * 8u * 4u : 0u);
   // The beauty pass does not change when AOVs are recorded beside it.
   std::vector<float> beauty_only(8 * 8 * 4);
   scene.render.aovs = 0;
