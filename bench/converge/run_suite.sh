@@ -4,8 +4,10 @@
 # with the time to relMSE 1e-3 of each renderer and how the two references compare.
 #
 #   bench/converge/run_suite.sh OUTDIR [--peer cycles] [--reference-spp N] [--spp LIST]
-#                               [--threads N] [--build DIR]
+#                               [--threads N] [--build DIR] [--adaptive TARGETS] [--denoise]
 #
+# --adaptive and --denoise add Tessera's adaptive-sampling and denoised series (see
+# `tessera-bench converge --help`) and their times to the summary.
 # Defaults: reference 4096 spp, spp 1,2,...,256, 2 threads, build/. Scenes that need
 # ../shared (the colour-bleed box, the 250k-triangle mesh) are skipped when it is absent.
 set -euo pipefail
@@ -21,6 +23,7 @@ fi
 out=$1
 shift
 peer=()
+extra=()
 reference_spp=4096
 spp=1,2,4,8,16,32,64,128,256
 threads=2
@@ -32,6 +35,8 @@ while [ $# -gt 0 ]; do
     --spp) spp=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
+    --adaptive) extra+=(--adaptive "$2"); shift 2 ;;
+    --denoise) extra+=(--denoise); shift ;;
     *) echo "run_suite.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -58,8 +63,8 @@ summary="$out/summary.md"
   echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -n), $threads threads, reference $reference_spp spp, spp $spp${peer:+, peer ${peer[1]}}."
   echo "Times are seconds to relMSE 1e-3 against each renderer's own reference, measured or extrapolated (see each scene's .log); \"–\": not reached and not falling."
   echo
-  echo "| scene | Tessera time to 1e-3 | Cycles time to 1e-3 | Cycles / Tessera | Tessera reference mean | Cycles reference mean | relMSE between references |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| scene | Tessera time to 1e-3 | Cycles time to 1e-3 | Cycles / Tessera | Tessera reference mean | Cycles reference mean | relMSE between references | Tessera adaptive | Tessera denoised |"
+  echo "|---|---|---|---|---|---|---|---|---|"
 } > "$summary"
 
 for entry in "${scenes[@]}"; do
@@ -67,19 +72,19 @@ for entry in "${scenes[@]}"; do
   scene=${entry#*=}
   if [ "$name" = mesh_250k ] && [ ! -f "$shared/meshes/suzanne-sub4.ply" ] || [ ! -f "$scene" ]; then
     echo "run_suite.sh: $name skipped ($scene or its mesh is absent)"
-    echo "| $name | skipped | | | | | |" >> "$summary"
+    echo "| $name | skipped | | | | | | | |" >> "$summary"
     continue
   fi
   echo "run_suite.sh: $name"
   # Every scene at the suite's size, whatever its file says.
   nice "$bench" converge "$scene" --width 128 --height 128 --threads "$threads" \
-    --reference-spp "$reference_spp" --spp "$spp" ${peer[@]+"${peer[@]}"} \
+    --reference-spp "$reference_spp" --spp "$spp" ${peer[@]+"${peer[@]}"} ${extra[@]+"${extra[@]}"} \
     --csv "$out/$name.csv" --plot "$out/$name.png" --save-reference "$out/${name}_reference.exr" \
     --peer-dir "$out/${name}_cycles" | tee "$out/$name.log"
   line=$(grep '^summary:' "$out/$name.log")
   field() { sed -n "s/.*$1=\([^ ]*\).*/\1/p" <<< "$line"; }
   fmt() { [ "$1" = nan ] && echo "–" || printf '%.3g' "$1"; }
-  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") |" >> "$summary"
+  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") |" >> "$summary"
 done
 echo "run_suite.sh: $summary"
 cat "$summary"
