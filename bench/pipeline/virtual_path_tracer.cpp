@@ -279,6 +279,8 @@ std::unique_ptr<BsdfModel> make_bsdf(const Material& m) {
     case BsdfKind::kThinDielectric:
       return std::make_unique<ThinDielectricBsdf>(m.ior);
     case BsdfKind::kEmitter:
+    case BsdfKind::kConstant:  // unlit materials are not part of this baseline
+    case BsdfKind::kShowNormals:
       break;
   }
   return nullptr;

@@ -86,7 +86,7 @@ class SceneValidator {
 
   bool emits(std::uint32_t material) const {
     if (material >= scene_.materials.size()) return false;
-    const glm::dvec3& e = scene_.materials[material].emission;
+    const glm::dvec3 e = scene_.materials[material].emitted_radiance();
     return e.x > 0.0 || e.y > 0.0 || e.z > 0.0;
   }
 

@@ -11,9 +11,14 @@ enum class BsdfKind : std::uint32_t {
   kDiffuse = 0,         // Lambertian
   kConductor = 1,       // mirror with roughness-scaled perturbation of the reflection
   kDielectric = 2,      // smooth glass: Fresnel-weighted reflection or refraction
-  kThinDielectric = 3,  // thin shell (soap film): reflection or straight transmission
+  kThinDielectric = 3,  // thin film (soap bubble): Airy reflectance or straight transmission
   kCoated = 4,          // clear coat over a diffuse base
   kEmitter = 5,         // emits, does not scatter
+  // Unlit (RayON's debugging materials): the path ends at the surface and returns a colour
+  // that no light affects. Not lights: nothing samples them, but a path that hits one sees
+  // its colour, as in RayON.
+  kConstant = 6,     // the albedo
+  kShowNormals = 7,  // the shading normal facing the ray, mapped from [-1, 1] to [0, 1]
 };
 
 struct Material {
@@ -23,9 +28,21 @@ struct Material {
   float roughness = 0.0f;
   float ior = 1.5f;
   float opacity = 1.0f;  // for the transparency integrator only
+  // Thin films: the film's thickness and the index of the medium on both its sides (`ior`
+  // is the film's).
+  float film_thickness_nm = 0.0f;
+  float exterior_ior = 1.0f;
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
+  }
+  TESSERA_HD bool unlit() const {
+    return kind == BsdfKind::kConstant || kind == BsdfKind::kShowNormals;
+  }
+  // The colour an unlit material shows; `facing_normal` is the unit shading normal on the
+  // side the ray arrives from (RayON's hit normal).
+  TESSERA_HD vec3 unlit_color(const vec3& facing_normal) const {
+    return kind == BsdfKind::kShowNormals ? 0.5f * (facing_normal + vec3(1.0f)) : albedo;
   }
 };
 

@@ -201,6 +201,11 @@ struct PathHit {
       payload.radiance +=
           payload.throughput * material.emission * emission_weight(ray, hit, si, payload);
     if (material.kind == BsdfKind::kEmitter) return;
+    // Unlit materials end the path with their colour, at any depth, as RayON's do.
+    if (material.unlit()) {
+      payload.radiance += payload.throughput * material.unlit_color(si.shading_normal);
+      return;
+    }
     if (payload.depth + 1 >= max_depth) return;
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray

@@ -19,6 +19,10 @@ struct ShadowHit {
     const Material& material = scene.materials[si.material];
     payload.radiance += material.emission;
     if (material.kind == BsdfKind::kEmitter) return;
+    if (material.unlit()) {
+      payload.radiance += material.unlit_color(si.shading_normal);
+      return;
+    }
     payload.radiance +=
         material.albedo * sample_direct_light(scene, si, payload.samples, tracer, payload.rays);
   }

@@ -42,6 +42,9 @@ enum class MaterialType {
   kAnisotropicMetal,
   kClearCoat,
   kThinFilm,
+  kMirror,       // RayON: perfect specular reflection tinted by albedo
+  kConstant,     // RayON: flat unlit colour (albedo); the path ends there
+  kShowNormals,  // RayON: the surface normal as a colour; the path ends there
 };
 
 const char* to_string(MaterialType type);
@@ -59,14 +62,22 @@ struct MaterialDesc {
   double transmission = 0.0;
   double anisotropy = 0.0;
   std::string preset;           // anisotropic_metal: named metal colour
-  double film_thickness = 0.0;  // thin_film, nanometres
+  double film_thickness = 0.0;  // thin_film, nanometres (400 for thin_film by default)
   double film_ior = 1.33;
+  // RayON's emission shorthand: emitted radiance color * emission_intensity, instead of
+  // `emission` (validation rejects both together).
+  glm::dvec3 color{1.0};
+  double emission_intensity = 0.0;
+
+  // What the material emits, whichever way it was written.
+  glm::dvec3 emitted_radiance() const { return emission + color * emission_intensity; }
 
   friend bool operator==(const MaterialDesc&, const MaterialDesc&) = default;
 };
 
 // Defaults that depend on the type, applied before the fields are read: a light's albedo
-// is 1 (its emission is what it shows).
+// is 1 (its emission is what it shows); a thin film is 400 nm thick and in air
+// (refractive_index 1), as in RayON.
 void apply_type_defaults(MaterialDesc& material);
 
 // Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,

@@ -129,7 +129,8 @@ struct MaterialKind {
       {.name = "type",
        .presence = kRequired,
        .doc = "lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat, "
-              "thin_film"},
+              "thin_film, mirror, constant (unlit albedo), show_normals (the normal as a "
+              "colour)"},
       {.name = "albedo",
        .member = &Desc::albedo,
        .rule = kNonNegativeComponents,
@@ -141,13 +142,12 @@ struct MaterialKind {
        .doc = "emitted radiance (required for lights)",
        .grey_scalar = true},
       {.name = "roughness", .member = &Desc::roughness, .rule = kInRange, .lo = 0.0, .hi = 1.0},
-      {
-          .name = "refractive_index",
-          .member = &Desc::refractive_index,
-          .rule = kInRange,
-          .lo = 1.0,
-          .hi = 4.0,
-      },
+      {.name = "refractive_index",
+       .member = &Desc::refractive_index,
+       .rule = kInRange,
+       .lo = 1.0,
+       .hi = 4.0,
+       .doc = "glass, clear_coat; thin_film: the medium around the film (thin_film: 1)"},
       {.name = "metallic", .member = &Desc::metallic, .rule = kInRange, .lo = 0.0, .hi = 1.0},
       {.name = "transmission",
        .member = &Desc::transmission,
@@ -165,25 +165,40 @@ struct MaterialKind {
        .rule = kInRange,
        .lo = 0.0,
        .hi = 1e5,
-       .doc = "thin_film, nanometres"},
+       .doc = "thin_film, nanometres (thin_film: 400)"},
       {.name = "film_ior",
        .member = &Desc::film_ior,
        .rule = kInRange,
        .lo = 1.0,
        .hi = 4.0,
        .doc = "thin_film"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "with emission_intensity: emission = color * emission_intensity",
+       .grey_scalar = true},
+      {.name = "emission_intensity",
+       .member = &Desc::emission_intensity,
+       .rule = kNonNegative,
+       .doc = "scales color into emission; not with emission"},
   };
   static constexpr IgnoredKey ignored[] = {
-      {"color", "RayON's colour + emission_intensity shorthand is not supported yet; use emission"},
-      {"emission_intensity", "not supported yet; use emission"},
       {"eta", "explicit conductor constants are not supported yet; use preset"},
       {"k", "explicit conductor constants are not supported yet; use preset"},
       {"pattern", "procedural patterns are not supported yet"},
   };
-  // A light without emission would be black: RayON requires it too.
+  // A light without emission would be black: RayON requires it too. The shorthand and
+  // `emission` together would be ambiguous (RayON silently drops `emission`).
   static void check(const Desc& material, Checks& check) {
-    if (material.type == MaterialType::kLight && material.emission == glm::dvec3(0.0))
-      check.fail("emission", "is required for a light material (and must not be zero)");
+    if (material.emission_intensity > 0.0 && material.emission != glm::dvec3(0.0))
+      check.fail("emission_intensity",
+                 "cannot be combined with emission: write emission, or color and "
+                 "emission_intensity");
+    else if (material.type == MaterialType::kLight &&
+             material.emitted_radiance() == glm::dvec3(0.0))
+      check.fail("emission",
+                 "is required for a light material (and must not be zero): write emission, or "
+                 "color and emission_intensity");
   }
 };
 
