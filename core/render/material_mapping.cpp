@@ -1,6 +1,7 @@
 #include "tessera/render/material_mapping.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace tessera {
@@ -64,6 +65,15 @@ Material make_material(const MaterialDesc& desc) {
     case MaterialType::kShowNormals:
       m.kind = BsdfKind::kShowNormals;
       break;
+  }
+  if (desc.pattern) {
+    const PatternDesc& p = *desc.pattern;
+    if (p.type == "fibonacci_dots") m.pattern.type = PatternType::kFibonacciDots;
+    if (p.type == "checkerboard") m.pattern.type = PatternType::kCheckerboard;
+    if (p.type == "stripes") m.pattern.type = PatternType::kStripes;
+    m.pattern.color = vec3(p.color);
+    m.pattern.dot_count = p.dot_count;
+    m.pattern.cos_dot_radius = static_cast<float>(std::cos(p.dot_radius));
   }
   // Transmissive surfaces stay faintly visible in the transparency view.
   const bool transmissive = m.kind == BsdfKind::kDielectric || m.kind == BsdfKind::kThinDielectric;

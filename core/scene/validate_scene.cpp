@@ -81,6 +81,11 @@ class SceneValidator {
         check.fail("name", "duplicate material name '" + m.name + "'");
       if (schema::check_fields(m, schema::MaterialKind::fields, check))
         schema::MaterialKind::check(m, check);
+      if (m.pattern) {
+        Checks pattern = check.nested("pattern");
+        if (schema::check_fields(*m.pattern, schema::PatternKind::fields, pattern))
+          schema::PatternKind::check(*m.pattern, pattern);
+      }
     }
   }
 

@@ -3,6 +3,7 @@
 // emission_intensity is the emission, and conflicting or incomplete input names its field.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "scene_error_of.hpp"
@@ -49,14 +50,14 @@ TEST(RayonMaterials, MirrorConstantAndShowNormalsLoadAndMap) {
   EXPECT_EQ(flat.kind, BsdfKind::kConstant);
   EXPECT_TRUE(flat.unlit());
   EXPECT_FALSE(flat.emissive());  // not a light: nothing samples it
-  EXPECT_EQ(flat.unlit_color(vec3(0.0f, 0.0f, 1.0f)), vec3(1.0f, 0.0f, 0.5f));
+  EXPECT_EQ(flat.unlit_color(flat.albedo, vec3(0.0f, 0.0f, 1.0f)), vec3(1.0f, 0.0f, 0.5f));
 
   const Material normals = make_material(m[2]);
   EXPECT_EQ(normals.kind, BsdfKind::kShowNormals);
   EXPECT_TRUE(normals.unlit());
   EXPECT_FALSE(normals.emissive());
-  EXPECT_EQ(normals.unlit_color(vec3(0.0f, -1.0f, 0.0f)), vec3(0.5f, 0.0f, 0.5f));
-  EXPECT_EQ(normals.unlit_color(vec3(0.6f, 0.0f, 0.8f)), vec3(0.8f, 0.5f, 0.9f));
+  EXPECT_EQ(normals.unlit_color(normals.albedo, vec3(0.0f, -1.0f, 0.0f)), vec3(0.5f, 0.0f, 0.5f));
+  EXPECT_EQ(normals.unlit_color(normals.albedo, vec3(0.6f, 0.0f, 0.8f)), vec3(0.8f, 0.5f, 0.9f));
 }
 
 TEST(RayonMaterials, ColorAndEmissionIntensityAreTheEmission) {
@@ -88,6 +89,63 @@ TEST(RayonMaterials, EmissionShorthandErrorsNameTheField) {
   issue = load_error(
       with_material("{ name: m, type: light, color: [1, -1, 1], emission_intensity: 1 }"));
   EXPECT_EQ(issue.field, "materials[0].color");
+}
+
+TEST(RayonMaterials, PatternLoadsAndMaps) {
+  const LoadedScene loaded = load(with_material(
+      "{ name: m, type: lambertian, albedo: [0.9, 0.1, 0.1], pattern: { type: fibonacci_dots, "
+      "color: [0.02, 0.02, 0.02], dot_count: 12, dot_radius: 0.33 } }"));
+  EXPECT_TRUE(loaded.warnings.empty());
+  const MaterialDesc& m = loaded.scene.materials.at(0);
+  ASSERT_TRUE(m.pattern.has_value());
+  EXPECT_EQ(m.pattern->type, "fibonacci_dots");
+  EXPECT_EQ(m.pattern->color, glm::dvec3(0.02));
+  EXPECT_EQ(m.pattern->dot_count, 12u);
+  EXPECT_EQ(m.pattern->dot_radius, 0.33);
+  const Material mapped = make_material(m);
+  EXPECT_EQ(mapped.pattern.type, PatternType::kFibonacciDots);
+  EXPECT_EQ(mapped.pattern.dot_count, 12u);
+  EXPECT_FLOAT_EQ(mapped.pattern.cos_dot_radius, std::cos(0.33f));
+  EXPECT_EQ(mapped.pattern.color, vec3(0.02f));
+
+  // checkerboard needs nothing but its type (RayON reads the same keys for every type).
+  const LoadedScene checker = load(with_material(
+      "{ name: m, type: lambertian, pattern: { type: checkerboard, color: [0.05, 0.05, 0.05] } "
+      "}"));
+  EXPECT_EQ(make_material(checker.scene.materials.at(0)).pattern.type, PatternType::kCheckerboard);
+}
+
+TEST(RayonMaterials, PatternErrorsNameTheField) {
+  const auto error_for = [](const std::string& pattern) {
+    return load_error(with_material("{ name: m, type: lambertian, pattern: " + pattern + " }"));
+  };
+  SceneIssue issue = error_for("{ type: polka }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.type");
+  EXPECT_NE(issue.message.find("fibonacci_dots"), std::string::npos) << issue.message;
+
+  issue = error_for("{ color: [1, 1, 1] }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.type");
+  EXPECT_NE(issue.message.find("required"), std::string::npos) << issue.message;
+
+  issue = error_for("{ type: fibonacci_dots, dot_radius: 0.3 }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.dot_count");
+  EXPECT_NE(issue.message.find("[1, 10000]"), std::string::npos) << issue.message;
+
+  issue = error_for("{ type: fibonacci_dots, dot_count: 20000, dot_radius: 0.3 }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.dot_count");
+
+  issue = error_for("{ type: fibonacci_dots, dot_count: 12, dot_radius: 4 }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.dot_radius");
+
+  issue = error_for("{ type: fibonacci_dots, dot_count: 12, dot_radius: 0.3, colour: 1 }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.colour");
+  EXPECT_NE(issue.message.find("did you mean 'color'"), std::string::npos) << issue.message;
+
+  issue = error_for("{ type: fibonacci_dots, dot_count: 12, color: [0, -1, 0] }");
+  EXPECT_EQ(issue.field, "materials[0].pattern.color");
+
+  issue = error_for("[1, 2]");
+  EXPECT_EQ(issue.field, "materials[0].pattern");
 }
 
 }  // namespace

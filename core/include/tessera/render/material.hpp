@@ -2,6 +2,7 @@
 #include <cstdint>
 
 #include "tessera/math/vec.hpp"
+#include "tessera/render/pattern.hpp"
 
 namespace tessera {
 
@@ -32,6 +33,7 @@ struct Material {
   // is the film's).
   float film_thickness_nm = 0.0f;
   float exterior_ior = 1.0f;
+  MaterialPattern pattern;  // varies the albedo over the surface (RayON's pattern)
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
@@ -39,10 +41,11 @@ struct Material {
   TESSERA_HD bool unlit() const {
     return kind == BsdfKind::kConstant || kind == BsdfKind::kShowNormals;
   }
-  // The colour an unlit material shows; `facing_normal` is the unit shading normal on the
-  // side the ray arrives from (RayON's hit normal).
-  TESSERA_HD vec3 unlit_color(const vec3& facing_normal) const {
-    return kind == BsdfKind::kShowNormals ? 0.5f * (facing_normal + vec3(1.0f)) : albedo;
+  // The colour an unlit material shows: its albedo at the hit (`albedo_here`: patterns
+  // vary it), or for show_normals `facing_normal`, the unit shading normal on the side the
+  // ray arrives from (RayON's hit normal).
+  TESSERA_HD vec3 unlit_color(const vec3& albedo_here, const vec3& facing_normal) const {
+    return kind == BsdfKind::kShowNormals ? 0.5f * (facing_normal + vec3(1.0f)) : albedo_here;
   }
 };
 

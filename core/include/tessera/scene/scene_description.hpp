@@ -51,6 +51,19 @@ const char* to_string(MaterialType type);
 std::optional<MaterialType> material_type_from_string(const std::string& name);
 std::span<const std::string_view> material_type_names();  // in MaterialType order
 
+// RayON's procedural pattern on a material's albedo. fibonacci_dots paints `color` dots of
+// angular radius `dot_radius` (radians) around `dot_count` points of a spherical Fibonacci
+// spiral, seen from a sphere's centre (from the world origin on other shapes). RayON parses
+// checkerboard and stripes but draws them as the plain albedo, and so does Tessera.
+struct PatternDesc {
+  std::string type;  // fibonacci_dots, checkerboard, stripes
+  glm::dvec3 color{0.0};
+  std::uint32_t dot_count = 0;
+  double dot_radius = 0.0;
+
+  friend bool operator==(const PatternDesc&, const PatternDesc&) = default;
+};
+
 struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::kLambertian;
@@ -68,6 +81,7 @@ struct MaterialDesc {
   // `emission` (validation rejects both together).
   glm::dvec3 color{1.0};
   double emission_intensity = 0.0;
+  std::optional<PatternDesc> pattern = std::nullopt;
 
   // What the material emits, whichever way it was written.
   glm::dvec3 emitted_radiance() const { return emission + color * emission_intensity; }
