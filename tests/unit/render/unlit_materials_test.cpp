@@ -4,6 +4,7 @@
 // background tinted by its albedo.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "tessera/render/prepared_scene.hpp"
@@ -101,6 +102,44 @@ TEST(UnlitMaterials, ConstantSeenInAMirrorIsTintedByTheMirror) {
   back.source_index = 1;
   scene.quads.push_back(back);
   expect_every_pixel(scene, glm::vec3(0.1f, 0.2f, 0.4f), 1e-5f);
+}
+
+// A furnace lit by a constant surface alone: a Lambertian sphere of albedo 0.5 inside a
+// constant sphere of albedo 1. Nothing light-samples the constant surface (it is not a
+// light), so its colour arrives only through the BSDF-sampled hit, counted once with full
+// weight whatever the light strategy: every sample that sees the inner sphere returns
+// exactly 0.5 (cosine sampling's weight is the albedo), every other exactly 1.
+TEST(UnlitMaterials, ConstantEnclosureLightsThroughHitsUnderEveryStrategy) {
+  for (LightStrategy strategy :
+       {LightStrategy::kMis, LightStrategy::kLight, LightStrategy::kBsdf}) {
+    SceneDescription scene;
+    scene.camera.position = glm::dvec3(0.0, 0.0, 3.0);
+    scene.camera.look_at = glm::dvec3(0.0);
+    scene.camera.fov_degrees = 50.0;
+    scene.materials.push_back(material(MaterialType::kLambertian, glm::dvec3(0.5)));
+    scene.materials.push_back(material(MaterialType::kConstant, glm::dvec3(1.0)));
+    SphereDesc inner;
+    inner.radius = 1.0;
+    SphereDesc enclosure;
+    enclosure.radius = 20.0;
+    enclosure.material = 1;
+    enclosure.source_index = 1;
+    scene.spheres = {inner, enclosure};
+    scene.render.width = kSize;
+    scene.render.height = kSize;
+    scene.render.samples_per_pixel = 8;
+    scene.render.tile_size = 8;
+    scene.render.light_strategy = strategy;
+    const std::vector<float> image = render_image(*PreparedScene::build(scene));
+    int inside = 0;
+    for (std::size_t p = 0; p < kSize * kSize; ++p) {
+      const float v = image[4 * p];
+      // Edge pixels mix both; the rest are exactly one or the other.
+      ASSERT_TRUE(v >= 0.5f - 1e-5f && v <= 1.0f + 1e-5f) << "pixel " << p << ": " << v;
+      if (std::fabs(v - 0.5f) < 1e-5f) ++inside;
+    }
+    EXPECT_GT(inside, 4) << static_cast<int>(strategy);
+  }
 }
 
 }  // namespace
