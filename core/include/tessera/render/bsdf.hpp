@@ -101,7 +101,7 @@ TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float rough
 }
 
 // A specular pair: the mirror reflection with probability `r` (u below it), else the
-// `transmitted` direction, each tinted by `tint` (glass and thin shells).
+// `transmitted` direction, each tinted by `tint` (glass; the virtual baseline's thin shell).
 TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const vec3& transmitted,
                                                   const vec3& tint, float u) {
   BsdfSample s;
@@ -249,8 +249,8 @@ struct Bsdf {
  private:
   static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
-  // The coat and thin shells face air on both sides: their Fresnel term uses the material's
-  // index whichever side is hit.
+  // The coat faces air on both sides: its Fresnel term uses the material's index whichever
+  // side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
 
   TESSERA_HD static BsdfSample sample_diffuse(float u1, float u2, const vec3& albedo) {
