@@ -53,6 +53,12 @@ void convert_materials(const v1::Scene& in, Reader& check, std::vector<MaterialD
     }
     apply_type_defaults(mat);
     proto_fields::read(m, schema::MaterialKind::fields, mat, base, check);
+    if (m.has_pattern()) {
+      PatternDesc pattern;
+      proto_fields::read(m.pattern(), schema::PatternKind::fields, pattern, base + ".pattern",
+                         check);
+      mat.pattern = pattern;
+    }
     materials.push_back(std::move(mat));
   }
 }

@@ -114,6 +114,8 @@ v1::Scene scene_to_proto(const SceneDescription& scene) {
     v1::Material* material = out.add_materials();
     material->set_type(material_type_to_proto(m.type));
     proto_fields::write(m, schema::MaterialKind::fields, *material);
+    if (m.pattern)
+      proto_fields::write(*m.pattern, schema::PatternKind::fields, *material->mutable_pattern());
   }
 
   // Each shape, in input order, written into the proto's single geometry list.

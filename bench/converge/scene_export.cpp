@@ -33,6 +33,10 @@ const char* bsdf_name(BsdfKind kind) {
       return "coated";
     case BsdfKind::kEmitter:
       return "emitter";
+    case BsdfKind::kConstant:
+      return "constant";
+    case BsdfKind::kShowNormals:
+      return "show_normals";
   }
   return "unknown";
 }

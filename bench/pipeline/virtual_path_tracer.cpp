@@ -246,7 +246,8 @@ class DielectricBsdf final : public BsdfModel {
   float ior_;
 };
 
-// A thin shell: reflection R' = 2R / (1 + R), else straight through.
+// A thin shell: reflection R' = 2R / (1 + R), else straight through. (The renderer's thin film
+// reflects its Airy interference colours instead; no benchmark scene has one.)
 class ThinDielectricBsdf final : public BsdfModel {
  public:
   explicit ThinDielectricBsdf(float ior) : ior_(ior) {}
@@ -279,6 +280,8 @@ std::unique_ptr<BsdfModel> make_bsdf(const Material& m) {
     case BsdfKind::kThinDielectric:
       return std::make_unique<ThinDielectricBsdf>(m.ior);
     case BsdfKind::kEmitter:
+    case BsdfKind::kConstant:  // unlit materials are not part of this baseline
+    case BsdfKind::kShowNormals:
       break;
   }
   return nullptr;

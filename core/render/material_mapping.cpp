@@ -1,6 +1,7 @@
 #include "tessera/render/material_mapping.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace tessera {
@@ -21,7 +22,7 @@ vec3 metal_preset_color(const std::string& preset, const vec3& fallback) {
 Material make_material(const MaterialDesc& desc) {
   Material m;
   m.albedo = vec3(desc.albedo);
-  m.emission = vec3(desc.emission);
+  m.emission = vec3(desc.emitted_radiance());
   m.roughness = static_cast<float>(desc.roughness);
   m.ior = static_cast<float>(desc.refractive_index);
   switch (desc.type) {
@@ -44,13 +45,35 @@ Material make_material(const MaterialDesc& desc) {
       m.kind = BsdfKind::kDielectric;
       break;
     case MaterialType::kThinFilm:
-      // Interference colours are not modelled: a thin shell with the film's Fresnel term.
+      // RayON's thin_film: refractive_index is the medium around the film.
       m.kind = BsdfKind::kThinDielectric;
       m.ior = static_cast<float>(desc.film_ior);
+      m.exterior_ior = static_cast<float>(desc.refractive_index);
+      m.film_thickness_nm = static_cast<float>(desc.film_thickness);
       break;
     case MaterialType::kClearCoat:
       m.kind = BsdfKind::kCoated;
       break;
+    case MaterialType::kMirror:
+      // RayON's mirror: the reflection direction, tinted by albedo, whatever the roughness.
+      m.kind = BsdfKind::kConductor;
+      m.roughness = 0.0f;
+      break;
+    case MaterialType::kConstant:
+      m.kind = BsdfKind::kConstant;
+      break;
+    case MaterialType::kShowNormals:
+      m.kind = BsdfKind::kShowNormals;
+      break;
+  }
+  if (desc.pattern) {
+    const PatternDesc& p = *desc.pattern;
+    if (p.type == "fibonacci_dots") m.pattern.type = PatternType::kFibonacciDots;
+    if (p.type == "checkerboard") m.pattern.type = PatternType::kCheckerboard;
+    if (p.type == "stripes") m.pattern.type = PatternType::kStripes;
+    m.pattern.color = vec3(p.color);
+    m.pattern.dot_count = p.dot_count;
+    m.pattern.cos_dot_radius = static_cast<float>(std::cos(p.dot_radius));
   }
   // Transmissive surfaces stay faintly visible in the transparency view.
   const bool transmissive = m.kind == BsdfKind::kDielectric || m.kind == BsdfKind::kThinDielectric;

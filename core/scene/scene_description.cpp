@@ -28,8 +28,8 @@ namespace {
 // follow the same order and names (MATERIAL_TYPE_<NAME>, INTEGRATOR_<NAME>, AOV_<NAME>,
 // SAMPLER_<NAME>, LIGHT_STRATEGY_<NAME>).
 constexpr std::string_view kMaterialTypeNames[] = {
-    "lambertian",        "light",      "metal",     "rough_mirror", "glass",
-    "anisotropic_metal", "clear_coat", "thin_film",
+    "lambertian", "light",     "metal",  "rough_mirror", "glass",        "anisotropic_metal",
+    "clear_coat", "thin_film", "mirror", "constant",     "show_normals",
 };
 constexpr std::string_view kIntegratorNames[] = {"path",         "normals", "shadow",
                                                  "transparency", "albedo",  "depth"};
@@ -38,7 +38,7 @@ constexpr std::string_view kAovNameViews[] = {"albedo",       "normal",   "depth
 constexpr std::string_view kSamplerNames[] = {"independent", "sobol"};
 constexpr std::string_view kLightStrategyNames[] = {"mis", "light", "bsdf"};
 static_assert(std::size(kMaterialTypeNames) ==
-              static_cast<std::size_t>(MaterialType::kThinFilm) + 1);
+              static_cast<std::size_t>(MaterialType::kShowNormals) + 1);
 static_assert(std::size(kIntegratorNames) == static_cast<std::size_t>(IntegratorKind::kDepth) + 1);
 static_assert(std::size(kSamplerNames) == static_cast<std::size_t>(SamplerKind::kSobol) + 1);
 static_assert(std::size(kLightStrategyNames) == static_cast<std::size_t>(LightStrategy::kBsdf) + 1);
@@ -66,6 +66,11 @@ std::span<const std::string_view> material_type_names() {
 
 void apply_type_defaults(MaterialDesc& material) {
   if (material.type == MaterialType::kLight) material.albedo = glm::dvec3(1.0);
+  // RayON's thin film: 400 nm thick, in air (refractive_index is the medium around it).
+  if (material.type == MaterialType::kThinFilm) {
+    material.film_thickness = 400.0;
+    material.refractive_index = 1.0;
+  }
 }
 
 const char* to_string(IntegratorKind kind) {

@@ -13,7 +13,8 @@ SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
     if (material >= scene.materials.size()) return;
     const MaterialDesc& m = scene.materials[material];
     f.material_kinds |= 1u << static_cast<unsigned>(make_material(m).kind);
-    if (m.emission.x > 0 || m.emission.y > 0 || m.emission.z > 0) f.light_shapes |= shape;
+    const glm::dvec3 e = m.emitted_radiance();
+    if (e.x > 0 || e.y > 0 || e.z > 0) f.light_shapes |= shape;
   };
   for (const auto& q : scene.quads) use(kShapeQuad, q.material);
   for (const auto& m : scene.meshes)

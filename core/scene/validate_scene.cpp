@@ -81,12 +81,17 @@ class SceneValidator {
         check.fail("name", "duplicate material name '" + m.name + "'");
       if (schema::check_fields(m, schema::MaterialKind::fields, check))
         schema::MaterialKind::check(m, check);
+      if (m.pattern) {
+        Checks pattern = check.nested("pattern");
+        if (schema::check_fields(*m.pattern, schema::PatternKind::fields, pattern))
+          schema::PatternKind::check(*m.pattern, pattern);
+      }
     }
   }
 
   bool emits(std::uint32_t material) const {
     if (material >= scene_.materials.size()) return false;
-    const glm::dvec3& e = scene_.materials[material].emission;
+    const glm::dvec3 e = scene_.materials[material].emitted_radiance();
     return e.x > 0.0 || e.y > 0.0 || e.z > 0.0;
   }
 

@@ -267,6 +267,7 @@ class SceneBuilder {
       mat.type = *parsed;
       apply_type_defaults(mat);
       read_fields(m, schema::MaterialKind::fields, mat, path);
+      mat.pattern = read_pattern(m, path);
       // Names are checked here as well as in validate_scene, so geometry can refer to them.
       if (!material_index_.emplace(mat.name, scene_.materials.size()).second)
         in_.fail(m["name"], path + ".name", "duplicate material name '" + mat.name + "'");
@@ -292,6 +293,20 @@ class SceneBuilder {
   // A scale: one number (uniform) or three.
   glm::dvec3 scale_of(const YAML::Node& n, const std::string& f) {
     return n.IsScalar() ? glm::dvec3(in_.number(n, f)) : in_.vec3(n, f);
+  }
+
+  // pattern: { type: fibonacci_dots, color: [r, g, b], dot_count: n, dot_radius: a }
+  std::optional<PatternDesc> read_pattern(const YAML::Node& material, const std::string& path) {
+    std::optional<PatternDesc> result;
+    optional(material, "pattern", path, [&](const YAML::Node& n, const std::string& f) {
+      map_at(n, f);
+      static const std::vector<std::string_view> kKeys = yaml_keys(schema::PatternKind::fields);
+      in_.check_keys(n, f, kKeys);
+      PatternDesc pattern;
+      read_fields(n, schema::PatternKind::fields, pattern, f);
+      result = pattern;
+    });
+    return result;
   }
 
   // transform: { translate: [x, y, z], rotate: { axis: [x, y, z], degrees: a }, scale: s }

@@ -118,11 +118,15 @@ std::string shape_table_markdown() {
 std::string material_table_markdown() {
   std::ostringstream out;
   out << "| field | default | allowed | meaning |\n|---|---|---|---|\n";
-  for (const auto& field : MaterialKind::fields) {
-    out << "| " << quoted(field.name) << " | "
-        << (field.presence == Presence::kRequired ? "required" : default_text(field)) << " | "
-        << rule_text(field) << " | " << field.doc << " |\n";
-  }
+  const auto rows = [&](const auto& fields, const std::string& prefix) {
+    for (const auto& field : fields) {
+      out << "| " << quoted(prefix + std::string(field.name)) << " | "
+          << (field.presence == Presence::kRequired ? "required" : default_text(field)) << " | "
+          << rule_text(field) << " | " << field.doc << " |\n";
+    }
+  };
+  rows(MaterialKind::fields, "");
+  rows(PatternKind::fields, "pattern.");
   return out.str();
 }
 

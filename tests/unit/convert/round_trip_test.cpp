@@ -49,6 +49,10 @@ void expect_same_scene(const SceneDescription& a, const SceneDescription& b) {
     EXPECT_EQ(x.preset, y.preset);
     EXPECT_EQ(x.film_thickness, y.film_thickness);
     EXPECT_EQ(x.film_ior, y.film_ior);
+    EXPECT_EQ(x.color, y.color);
+    EXPECT_EQ(x.emission_intensity, y.emission_intensity);
+    EXPECT_EQ(x.pattern, y.pattern);
+    EXPECT_EQ(x, y);  // and every field added later
   }
   ASSERT_EQ(a.spheres.size(), b.spheres.size());
   for (std::size_t i = 0; i < a.spheres.size(); ++i) {
@@ -121,6 +125,11 @@ materials:
   - { name: brushed, type: anisotropic_metal, roughness: 0.3, anisotropy: -0.4, preset: gold }
   - { name: coat, type: clear_coat, albedo: [0.8, 0.1, 0.1], refractive_index: 1.45 }
   - { name: bubble, type: thin_film, film_thickness: 420, film_ior: 1.4 }
+  - { name: dots, type: lambertian, pattern: { type: fibonacci_dots, color: [0.1, 0.2, 0.3], dot_count: 12, dot_radius: 0.33 } }
+  - { name: chrome, type: mirror, albedo: 0.95 }
+  - { name: flat, type: constant, albedo: [1, 0, 0.5] }
+  - { name: normals, type: show_normals }
+  - { name: warm, type: light, color: [1.0, 0.875, 0.75], emission_intensity: 12 }
 geometry:
   - { type: triangle, material: coat, v0: [0, 0, 0], v1: [1, 0, 0], v2: [0, 1, 0] }
   - { type: sphere, material: glass, center: [0.1, 0.2, 0.3], radius: 0.123456789 }
@@ -159,7 +168,8 @@ TEST(SceneToProto, MaterialTypesMapOneToOne) {
   for (const MaterialType type :
        {MaterialType::kLambertian, MaterialType::kLight, MaterialType::kMetal,
         MaterialType::kRoughMirror, MaterialType::kGlass, MaterialType::kAnisotropicMetal,
-        MaterialType::kClearCoat, MaterialType::kThinFilm}) {
+        MaterialType::kClearCoat, MaterialType::kThinFilm, MaterialType::kMirror,
+        MaterialType::kConstant, MaterialType::kShowNormals}) {
     const v1::MaterialType proto = material_type_to_proto(type);
     EXPECT_NE(proto, v1::MATERIAL_TYPE_UNSPECIFIED) << to_string(type);
     // Names agree: MATERIAL_TYPE_<UPPER-CASE YAML NAME>.

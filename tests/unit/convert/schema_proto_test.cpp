@@ -104,6 +104,7 @@ TEST(SchemaProto, SectionsMaterialsAndTransformsMatchTheirMessages) {
                                                schema::RenderKind::fields);
   expect_declared_fields_match<MaterialDesc>(v1::Material::descriptor(),
                                              schema::MaterialKind::fields);
+  expect_declared_fields_match<PatternDesc>(v1::Pattern::descriptor(), schema::PatternKind::fields);
   expect_declared_fields_match<TransformDesc>(v1::Transform::descriptor(),
                                               schema::TransformKind::fields);
   expect_declared_fields_match<TransformDesc>(v1::Rotation::descriptor(),

@@ -60,6 +60,22 @@ TEST(RayonScenes, LoadAndRenderATinyImageWithoutNan) {
   EXPECT_EQ(rendered, static_cast<int>(scenes.size()) - 1);
 }
 
+// The material laboratory and the soap bubbles use every material key RayON documents for
+// them; none may be dropped with a warning (settings such as use_bvh still warn).
+TEST(RayonScenes, MaterialScenesLoadWithoutMaterialWarnings) {
+  for (const char* name : {"05_material_laboratory.yaml", "11_soap_bubbles.yaml"}) {
+    const std::filesystem::path path = kRayonDir / name;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    SCOPED_TRACE(name);
+    const LoadedScene loaded = load_scene_file(path);
+    EXPECT_FALSE(loaded.scene.materials.empty());
+    for (const SceneIssue& warning : loaded.warnings) {
+      EXPECT_NE(warning.field.rfind("materials", 0), 0u) << warning.to_string();
+      EXPECT_EQ(warning.message.find("unknown key"), std::string::npos) << warning.to_string();
+    }
+  }
+}
+
 TEST(RayonScenes, DragonSceneFailsNamingTheMissingModel) {
   const std::filesystem::path path = kRayonDir / kMissingModelScene;
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;

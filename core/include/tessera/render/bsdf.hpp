@@ -9,6 +9,7 @@
 #include "tessera/math/sampling.hpp"
 #include "tessera/math/vec.hpp"
 #include "tessera/render/material.hpp"
+#include "tessera/render/thin_film.hpp"
 
 namespace tessera {
 
@@ -100,7 +101,7 @@ TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float rough
 }
 
 // A specular pair: the mirror reflection with probability `r` (u below it), else the
-// `transmitted` direction, each tinted by `tint` (glass and thin shells).
+// `transmitted` direction, each tinted by `tint` (glass; the virtual baseline's thin shell).
 TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const vec3& transmitted,
                                                   const vec3& tint, float u) {
   BsdfSample s;
@@ -124,6 +125,10 @@ struct Bsdf {
   vec3 albedo{0.0f};
   float roughness = 0.0f;
   float eta = 1.5f;
+  // Thin films (kThinDielectric): the same on both faces.
+  float film_ior = 1.33f;
+  float exterior_ior = 1.0f;
+  float film_thickness_nm = 0.0f;
 
   TESSERA_HD static Bsdf of(const Material& m, bool front_face) {
     Bsdf b;
@@ -131,6 +136,9 @@ struct Bsdf {
     b.albedo = m.albedo;
     b.roughness = m.roughness;
     b.eta = front_face ? m.ior : 1.0f / m.ior;
+    b.film_ior = m.ior;
+    b.exterior_ior = m.exterior_ior;
+    b.film_thickness_nm = m.film_thickness_nm;
     return b;
   }
 
@@ -191,12 +199,11 @@ struct Bsdf {
         // RayON's glass: the albedo tints both, Fresnel only chooses between them.
         return sample_specular_pair(wo, r, refracted, albedo, u_lobe);
       }
-      case BsdfKind::kThinDielectric: {
-        // Two interfaces close together: R' = 2R / (1 + R), transmission straight on.
-        const float r1 = schlick_reflectance(wo.z, 1.0f / eta_outside());
-        return sample_specular_pair(wo, 2.0f * r1 / (1.0f + r1), -wo, vec3(1.0f), u_lobe);
-      }
+      case BsdfKind::kThinDielectric:
+        return sample_thin_film(wo, u_lobe);
       case BsdfKind::kEmitter:
+      case BsdfKind::kConstant:  // unlit: the path tracer ends the path before sampling
+      case BsdfKind::kShowNormals:
         return s;
     }
     return s;
@@ -242,8 +249,8 @@ struct Bsdf {
  private:
   static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
-  // The coat and thin shells face air on both sides: their Fresnel term uses the material's
-  // index whichever side is hit.
+  // The coat faces air on both sides: its Fresnel term uses the material's index whichever
+  // side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
 
   TESSERA_HD static BsdfSample sample_diffuse(float u1, float u2, const vec3& albedo) {
@@ -253,6 +260,27 @@ struct Bsdf {
     s.pdf = s.wi.z * kInvPi;
     s.f = albedo * kInvPi;
     s.lobe = kLobeReflection | kLobeDiffuse;
+    return s;
+  }
+
+  // A thin film reflects R (RGB, Airy) and transmits 1 - R straight on. The lobe is picked
+  // by the channel average, and each lobe's weight divides by its probability, so every
+  // channel keeps exactly R + (1 - R) = 1 in expectation.
+  TESSERA_HD BsdfSample sample_thin_film(const vec3& wo, float u_lobe) const {
+    const vec3 r = thin_film_reflectance(wo.z, exterior_ior, film_ior, film_thickness_nm);
+    const float reflect = (r.x + r.y + r.z) * (1.0f / 3.0f);
+    BsdfSample s;
+    if (u_lobe < reflect) {
+      s.wi = vec3(-wo.x, -wo.y, wo.z);
+      s.pdf = reflect;
+      s.f = r / s.wi.z;  // weight r / reflect
+      s.lobe = kLobeReflection | kLobeSpecular;
+    } else {
+      s.wi = -wo;
+      s.pdf = 1.0f - reflect;
+      s.f = (vec3(1.0f) - r) / wo.z;  // weight (1 - r) / (1 - reflect)
+      s.lobe = kLobeTransmission | kLobeSpecular;
+    }
     return s;
   }
 

@@ -54,7 +54,7 @@ struct FirstHitShade {
       if constexpr (kOutput == FirstHitOutput::kNormals) {
         payload.value = 0.5f * si.shading_normal + vec3(0.5f);
       } else {
-        payload.value = scene.materials[si.material].albedo;
+        payload.value = albedo_at(scene, scene.materials[si.material], hit.primitive, si.position);
       }
     }
   }

@@ -2,6 +2,7 @@
 #include <cstdint>
 
 #include "tessera/math/vec.hpp"
+#include "tessera/render/pattern.hpp"
 
 namespace tessera {
 
@@ -11,9 +12,14 @@ enum class BsdfKind : std::uint32_t {
   kDiffuse = 0,         // Lambertian
   kConductor = 1,       // mirror with roughness-scaled perturbation of the reflection
   kDielectric = 2,      // smooth glass: Fresnel-weighted reflection or refraction
-  kThinDielectric = 3,  // thin shell (soap film): reflection or straight transmission
+  kThinDielectric = 3,  // thin film (soap bubble): Airy reflectance or straight transmission
   kCoated = 4,          // clear coat over a diffuse base
   kEmitter = 5,         // emits, does not scatter
+  // Unlit (RayON's debugging materials): the path ends at the surface and returns a colour
+  // that no light affects. Not lights: nothing samples them, but a path that hits one sees
+  // its colour, as in RayON.
+  kConstant = 6,     // the albedo
+  kShowNormals = 7,  // the shading normal facing the ray, mapped from [-1, 1] to [0, 1]
 };
 
 struct Material {
@@ -23,9 +29,23 @@ struct Material {
   float roughness = 0.0f;
   float ior = 1.5f;
   float opacity = 1.0f;  // for the transparency integrator only
+  // Thin films: the film's thickness and the index of the medium on both its sides (`ior`
+  // is the film's).
+  float film_thickness_nm = 0.0f;
+  float exterior_ior = 1.0f;
+  MaterialPattern pattern;  // varies the albedo over the surface (RayON's pattern)
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;
+  }
+  TESSERA_HD bool unlit() const {
+    return kind == BsdfKind::kConstant || kind == BsdfKind::kShowNormals;
+  }
+  // The colour an unlit material shows: its albedo at the hit (`albedo_here`: patterns
+  // vary it), or for show_normals `facing_normal`, the unit shading normal on the side the
+  // ray arrives from (RayON's hit normal).
+  TESSERA_HD vec3 unlit_color(const vec3& albedo_here, const vec3& facing_normal) const {
+    return kind == BsdfKind::kShowNormals ? 0.5f * (facing_normal + vec3(1.0f)) : albedo_here;
   }
 };
 

@@ -189,9 +189,10 @@ struct PathHit {
                          const T& tracer) const {
     const SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
     const Material& material = scene.materials[si.material];
+    const vec3 albedo = albedo_at(scene, material, hit.primitive, si.position);
     if constexpr (kFeatures.aovs) {
       if (payload.depth == 0) {
-        payload.aov.albedo = material.albedo;
+        payload.aov.albedo = albedo;
         payload.aov.normal = si.shading_normal;
         payload.aov.depth = hit.t * glm::length(ray.direction);
         payload.aov.primitive = hit.primitive;
@@ -201,12 +202,18 @@ struct PathHit {
       payload.radiance +=
           payload.throughput * material.emission * emission_weight(ray, hit, si, payload);
     if (material.kind == BsdfKind::kEmitter) return;
+    // Unlit materials end the path with their colour, at any depth, as RayON's do.
+    if (material.unlit()) {
+      payload.radiance += payload.throughput * material.unlit_color(albedo, si.shading_normal);
+      return;
+    }
     if (payload.depth + 1 >= max_depth) return;
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
     const Frame frame = Frame::from_normal(si.shading_normal);
     const vec3 wo = frame.to_local(-ray.direction);
     Bsdf bsdf = Bsdf::of(material, si.front_face);
+    bsdf.albedo = albedo;
     // Variants without specular materials compile the Lambertian case alone.
     if constexpr (!kFeatures.specular) bsdf.kind = BsdfKind::kDiffuse;
     BounceSamples u;

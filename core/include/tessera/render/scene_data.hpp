@@ -395,4 +395,27 @@ TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray,
       [&](const auto& shape) { return surface_at(shape, ray, hit); });
 }
 
+// The albedo of `material` at a hit: its pattern's, where it has one. RayON measures the
+// pattern from a sphere's centre and from the world origin on every other shape; an
+// instanced sphere uses its object-space centre.
+TESSERA_HD inline vec3 albedo_at(const SceneView& scene, const Material& material,
+                                 std::uint32_t primitive, const vec3& position) {
+  if (material.pattern.type == PatternType::kNone) return material.albedo;
+  vec3 from_centre = position;
+  const std::uint32_t i = primitive_index(primitive);
+  switch (primitive_type(primitive)) {
+    case PrimitiveType::kSphere:
+      from_centre = position - scene.spheres[i].center;
+      break;
+    case PrimitiveType::kSphereInstance: {
+      const Instance<Sphere>& instance = scene.sphere_instances[i];
+      from_centre = vec3(instance.world_to_object.point(dvec3(position))) - instance.shape.center;
+      break;
+    }
+    default:
+      break;
+  }
+  return patterned_albedo(material.pattern, material.albedo, from_centre);
+}
+
 }  // namespace tessera

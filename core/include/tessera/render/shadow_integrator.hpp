@@ -19,8 +19,13 @@ struct ShadowHit {
     const Material& material = scene.materials[si.material];
     payload.radiance += material.emission;
     if (material.kind == BsdfKind::kEmitter) return;
+    const vec3 albedo = albedo_at(scene, material, hit.primitive, si.position);
+    if (material.unlit()) {
+      payload.radiance += material.unlit_color(albedo, si.shading_normal);
+      return;
+    }
     payload.radiance +=
-        material.albedo * sample_direct_light(scene, si, payload.samples, tracer, payload.rays);
+        albedo * sample_direct_light(scene, si, payload.samples, tracer, payload.rays);
   }
 };
 

@@ -24,9 +24,11 @@ struct TransparencyHit {
     for (int i = 0; i < count && alpha < 0.999f; ++i) {
       const SurfaceInteraction si = surface_at<kShapes>(scene, ray, hits[i]);
       const Material& m = scene.materials[si.material];
+      const vec3 albedo = albedo_at(scene, m, hits[i].primitive, si.position);
       const vec3 surface =
-          m.emissive() ? m.emission
-                       : m.albedo * (0.25f + 0.75f * std::fabs(glm::dot(view, si.shading_normal)));
+          m.unlit()      ? m.unlit_color(albedo, si.shading_normal)
+          : m.emissive() ? m.emission
+                         : albedo * (0.25f + 0.75f * std::fabs(glm::dot(view, si.shading_normal)));
       const float weight = (1.0f - alpha) * m.opacity;
       color += weight * surface;
       alpha += weight;

@@ -42,11 +42,27 @@ enum class MaterialType {
   kAnisotropicMetal,
   kClearCoat,
   kThinFilm,
+  kMirror,       // RayON: perfect specular reflection tinted by albedo
+  kConstant,     // RayON: flat unlit colour (albedo); the path ends there
+  kShowNormals,  // RayON: the surface normal as a colour; the path ends there
 };
 
 const char* to_string(MaterialType type);
 std::optional<MaterialType> material_type_from_string(const std::string& name);
 std::span<const std::string_view> material_type_names();  // in MaterialType order
+
+// RayON's procedural pattern on a material's albedo. fibonacci_dots paints `color` dots of
+// angular radius `dot_radius` (radians) around `dot_count` points of a spherical Fibonacci
+// spiral, seen from a sphere's centre (from the world origin on other shapes). RayON parses
+// checkerboard and stripes but draws them as the plain albedo, and so does Tessera.
+struct PatternDesc {
+  std::string type;  // fibonacci_dots, checkerboard, stripes
+  glm::dvec3 color{0.0};
+  std::uint32_t dot_count = 0;
+  double dot_radius = 0.0;
+
+  friend bool operator==(const PatternDesc&, const PatternDesc&) = default;
+};
 
 struct MaterialDesc {
   std::string name;
@@ -59,14 +75,23 @@ struct MaterialDesc {
   double transmission = 0.0;
   double anisotropy = 0.0;
   std::string preset;           // anisotropic_metal: named metal colour
-  double film_thickness = 0.0;  // thin_film, nanometres
+  double film_thickness = 0.0;  // thin_film, nanometres (400 for thin_film by default)
   double film_ior = 1.33;
+  // RayON's emission shorthand: emitted radiance color * emission_intensity, instead of
+  // `emission` (validation rejects both together).
+  glm::dvec3 color{1.0};
+  double emission_intensity = 0.0;
+  std::optional<PatternDesc> pattern = std::nullopt;
+
+  // What the material emits, whichever way it was written.
+  glm::dvec3 emitted_radiance() const { return emission + color * emission_intensity; }
 
   friend bool operator==(const MaterialDesc&, const MaterialDesc&) = default;
 };
 
 // Defaults that depend on the type, applied before the fields are read: a light's albedo
-// is 1 (its emission is what it shows).
+// is 1 (its emission is what it shows); a thin film is 400 nm thick and in air
+// (refractive_index 1), as in RayON.
 void apply_type_defaults(MaterialDesc& material);
 
 // Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,

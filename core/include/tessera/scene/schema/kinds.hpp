@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <string>
 #include <string_view>
 #include <tuple>
 
@@ -132,6 +133,40 @@ struct RenderKind {
 
 // ---------------------------------------------------------------- materials
 
+// A material's `pattern` sub-block.
+struct PatternKind {
+  using Desc = PatternDesc;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "type",
+       .member = &Desc::type,
+       .presence = kRequired,
+       .rule = kOneOf,
+       .doc = "checkerboard and stripes draw the plain albedo, as in RayON",
+       .choices = "fibonacci_dots|checkerboard|stripes"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "the dots' colour",
+       .grey_scalar = true},
+      {.name = "dot_count",
+       .member = &Desc::dot_count,
+       .doc = "fibonacci_dots: dots on the sphere, 1 to 10000"},
+      {.name = "dot_radius",
+       .member = &Desc::dot_radius,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 3.14159265358979323846,
+       .doc = "fibonacci_dots: angular radius, radians"},
+  };
+  // Every shading point tests every dot, so the count is bounded.
+  static constexpr std::uint32_t kMaxDots = 10000;
+  static void check(const Desc& pattern, Checks& check) {
+    if (pattern.type == "fibonacci_dots" && (pattern.dot_count < 1 || pattern.dot_count > kMaxDots))
+      check.fail("dot_count", "must be in [1, " + std::to_string(kMaxDots) +
+                                  "] for fibonacci_dots, got " + std::to_string(pattern.dot_count));
+  }
+};
+
 struct MaterialKind {
   using Desc = MaterialDesc;
   static constexpr Field<Desc> fields[] = {
@@ -142,7 +177,8 @@ struct MaterialKind {
       {.name = "type",
        .presence = kRequired,
        .doc = "lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat, "
-              "thin_film"},
+              "thin_film, mirror, constant (unlit albedo), show_normals (the normal as a "
+              "colour)"},
       {.name = "albedo",
        .member = &Desc::albedo,
        .rule = kNonNegativeComponents,
@@ -154,19 +190,27 @@ struct MaterialKind {
        .doc = "emitted radiance (required for lights)",
        .grey_scalar = true},
       {.name = "roughness", .member = &Desc::roughness, .rule = kInRange, .lo = 0.0, .hi = 1.0},
-      {
-          .name = "refractive_index",
-          .member = &Desc::refractive_index,
-          .rule = kInRange,
-          .lo = 1.0,
-          .hi = 4.0,
-      },
-      {.name = "metallic", .member = &Desc::metallic, .rule = kInRange, .lo = 0.0, .hi = 1.0},
+      {.name = "refractive_index",
+       .member = &Desc::refractive_index,
+       .rule = kInRange,
+       .lo = 1.0,
+       .hi = 4.0,
+       .doc = "glass, clear_coat; thin_film: the medium around the film (thin_film: 1)"},
+      // RayON reads metallic and transmission but none of its renderers (CUDA, OptiX, CPU)
+      // uses them: its look comes from the type alone.
+      {.name = "metallic",
+       .member = &Desc::metallic,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1.0,
+       .doc = "read, not rendered (RayON's renderers ignore it too)"},
       {.name = "transmission",
        .member = &Desc::transmission,
        .rule = kInRange,
        .lo = 0.0,
-       .hi = 1.0},
+       .hi = 1.0,
+       .doc = "the transparency view's opacity is 1 - transmission; the path tracer, like "
+              "RayON, ignores it"},
       {.name = "anisotropy", .member = &Desc::anisotropy, .rule = kInRange, .lo = -1.0, .hi = 1.0},
       {.name = "preset",
        .member = &Desc::preset,
@@ -178,25 +222,40 @@ struct MaterialKind {
        .rule = kInRange,
        .lo = 0.0,
        .hi = 1e5,
-       .doc = "thin_film, nanometres"},
+       .doc = "thin_film, nanometres (thin_film: 400)"},
       {.name = "film_ior",
        .member = &Desc::film_ior,
        .rule = kInRange,
        .lo = 1.0,
        .hi = 4.0,
        .doc = "thin_film"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "with emission_intensity: emission = color * emission_intensity",
+       .grey_scalar = true},
+      {.name = "emission_intensity",
+       .member = &Desc::emission_intensity,
+       .rule = kNonNegative,
+       .doc = "scales color into emission; not with emission"},
+      {.name = "pattern", .doc = "{ type, color, dot_count, dot_radius }: see below"},
   };
   static constexpr IgnoredKey ignored[] = {
-      {"color", "RayON's colour + emission_intensity shorthand is not supported yet; use emission"},
-      {"emission_intensity", "not supported yet; use emission"},
       {"eta", "explicit conductor constants are not supported yet; use preset"},
       {"k", "explicit conductor constants are not supported yet; use preset"},
-      {"pattern", "procedural patterns are not supported yet"},
   };
-  // A light without emission would be black: RayON requires it too.
+  // A light without emission would be black: RayON requires it too. The shorthand and
+  // `emission` together would be ambiguous (RayON silently drops `emission`).
   static void check(const Desc& material, Checks& check) {
-    if (material.type == MaterialType::kLight && material.emission == glm::dvec3(0.0))
-      check.fail("emission", "is required for a light material (and must not be zero)");
+    if (material.emission_intensity > 0.0 && material.emission != glm::dvec3(0.0))
+      check.fail("emission_intensity",
+                 "cannot be combined with emission: write emission, or color and "
+                 "emission_intensity");
+    else if (material.type == MaterialType::kLight &&
+             material.emitted_radiance() == glm::dvec3(0.0))
+      check.fail("emission",
+                 "is required for a light material (and must not be zero): write emission, or "
+                 "color and emission_intensity");
   }
 };
 
