@@ -58,7 +58,9 @@ struct MaterialDesc {
   double metallic = 0.0;
   double transmission = 0.0;
   double anisotropy = 0.0;
-  std::string preset;           // anisotropic_metal: named metal colour
+  std::string preset;   // conductors: named measured metal (its eta and k)
+  glm::dvec3 eta{0.0};  // conductors: complex index eta + i k per RGB; 0 = unset
+  glm::dvec3 k{0.0};
   double film_thickness = 0.0;  // thin_film, nanometres
   double film_ior = 1.33;
 
@@ -66,7 +68,8 @@ struct MaterialDesc {
 };
 
 // Defaults that depend on the type, applied before the fields are read: a light's albedo
-// is 1 (its emission is what it shows).
+// is 1 (its emission is what it shows); so is glass's (lossless unless tinted) and an
+// anisotropic metal's (its colour comes from its preset or eta and k).
 void apply_type_defaults(MaterialDesc& material);
 
 // Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,

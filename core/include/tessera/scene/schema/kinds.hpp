@@ -128,19 +128,26 @@ struct MaterialKind {
        .doc = "unique; geometry refers to it"},
       {.name = "type",
        .presence = kRequired,
-       .doc = "lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat, "
-              "thin_film"},
+       .doc = "lambertian, light, metal, rough_mirror, glass (alias dielectric), "
+              "anisotropic_metal, clear_coat, thin_film"},
       {.name = "albedo",
        .member = &Desc::albedo,
        .rule = kNonNegativeComponents,
-       .doc = "reflectance, linear RGB (lights: 1)",
+       .doc = "reflectance, linear RGB (lights, glass, anisotropic_metal: 1); glass: the "
+              "tint of light entering it",
        .grey_scalar = true},
       {.name = "emission",
        .member = &Desc::emission,
        .rule = kNonNegativeComponents,
        .doc = "emitted radiance (required for lights)",
        .grey_scalar = true},
-      {.name = "roughness", .member = &Desc::roughness, .rule = kInRange, .lo = 0.0, .hi = 1.0},
+      {.name = "roughness",
+       .member = &Desc::roughness,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1.0,
+       .doc = "GGX alpha = roughness / 2 (metal, rough_mirror), roughness^2 (anisotropic_metal, "
+              "glass); 0: mirror, smooth glass"},
       {
           .name = "refractive_index",
           .member = &Desc::refractive_index,
@@ -154,12 +161,26 @@ struct MaterialKind {
        .rule = kInRange,
        .lo = 0.0,
        .hi = 1.0},
-      {.name = "anisotropy", .member = &Desc::anisotropy, .rule = kInRange, .lo = -1.0, .hi = 1.0},
+      {.name = "anisotropy",
+       .member = &Desc::anisotropy,
+       .rule = kInRange,
+       .lo = -1.0,
+       .hi = 1.0,
+       .doc = "conductors: alpha / a along the tangent cross(+y, n), alpha * a across, "
+              "a = sqrt(1 - 0.9 anisotropy)"},
       {.name = "preset",
        .member = &Desc::preset,
        .rule = kOneOf,
-       .doc = "anisotropic_metal colour",
-       .choices = "silver|gold|copper|aluminium|aluminum"},
+       .doc = "conductors: measured eta and k of this metal",
+       .choices = "silver|gold|copper|aluminium|aluminum|chromium"},
+      {.name = "eta",
+       .member = &Desc::eta,
+       .rule = kNonNegativeComponents,
+       .doc = "conductors: real part of the complex index per RGB (with k; 0: unset)"},
+      {.name = "k",
+       .member = &Desc::k,
+       .rule = kNonNegativeComponents,
+       .doc = "conductors: extinction coefficient per RGB (with eta)"},
       {.name = "film_thickness",
        .member = &Desc::film_thickness,
        .rule = kInRange,
@@ -176,14 +197,20 @@ struct MaterialKind {
   static constexpr IgnoredKey ignored[] = {
       {"color", "RayON's colour + emission_intensity shorthand is not supported yet; use emission"},
       {"emission_intensity", "not supported yet; use emission"},
-      {"eta", "explicit conductor constants are not supported yet; use preset"},
-      {"k", "explicit conductor constants are not supported yet; use preset"},
       {"pattern", "procedural patterns are not supported yet"},
   };
   // A light without emission would be black: RayON requires it too.
   static void check(const Desc& material, Checks& check) {
     if (material.type == MaterialType::kLight && material.emission == glm::dvec3(0.0))
       check.fail("emission", "is required for a light material (and must not be zero)");
+    // A complex index needs its real part: eta = 0 reflects everything whatever k says.
+    const bool has_eta = material.eta != glm::dvec3(0.0);
+    if (material.k != glm::dvec3(0.0) && !has_eta)
+      check.fail("eta", "is required with k (the complex index is eta + i k)");
+    if (has_eta && (material.eta.x <= 0.0 || material.eta.y <= 0.0 || material.eta.z <= 0.0))
+      check.fail("eta", "must be > 0 in every channel");
+    if (has_eta && !material.preset.empty())
+      check.fail("preset", "cannot be combined with eta and k (both give the metal's index)");
   }
 };
 
