@@ -98,7 +98,9 @@ Material make_material(const MaterialDesc& desc) {
       m.ior = static_cast<float>(desc.film_ior);
       break;
     case MaterialType::kClearCoat:
+      // RayON's coat perturbs its mirror like rough_mirror: the same alpha = roughness / 2.
       m.kind = BsdfKind::kCoated;
+      m.alpha_x = m.alpha_y = 0.5f * m.roughness;
       break;
   }
   // Transmissive surfaces stay faintly visible in the transparency view.

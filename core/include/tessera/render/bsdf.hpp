@@ -33,25 +33,6 @@ TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, 
   return true;
 }
 
-// The solid-angle density of RayON's fuzzy-metal direction (sample_fuzzy_reflection) about the unit
-// mirror direction `r` (before the below-surface cut): the direction of r + f b with b uniform in
-// the unit ball. Along direction w the ball of radius f centred at r covers t in [t1, t2] with t^2
-// - 2 t cos + 1 - f^2 = 0, and the density is the ball's volume along that ray, (t2^3 - t1^3) / 3,
-// over the ball's volume. sin^2 comes from a cross product, not 1 - cos^2, so a narrow lobe keeps
-// its precision.
-TESSERA_HD TESSERA_INLINE float fuzzy_reflection_pdf(const vec3& r, const vec3& w, float f) {
-  const float cos_theta = glm::dot(r, w);
-  const vec3 c = glm::cross(r, w);
-  const float disc = f * f - glm::dot(c, c);
-  if (!(disc > 0.0f)) return 0.0f;
-  const float root = std::sqrt(disc);
-  const float t2 = cos_theta + root;
-  if (!(t2 > 0.0f)) return 0.0f;
-  const float t1 = glm::max(cos_theta - root, 0.0f);
-  const float cubes = (t2 - t1) * (t2 * t2 + t2 * t1 + t1 * t1);
-  return cubes / (4.0f * kPi * f * f * f);
-}
-
 enum BsdfLobe : std::uint32_t {
   kLobeNone = 0,
   kLobeReflection = 1u << 0,
@@ -72,34 +53,6 @@ struct BsdfSample {
   // f |cos| / pdf: what the path throughput is multiplied by.
   TESSERA_HD vec3 weight() const { return f * (std::fabs(wi.z) / pdf); }
 };
-
-// White fuzzy reflection (RayON's metal lobe) in the shading frame: the mirror direction
-// plus `roughness` times a point in the unit ball (u3 its radius, u1 and u2 its direction);
-// directions the perturbation sends below the surface are absorbed, as RayON does, so the
-// lobe loses that energy. Roughness 0 is a perfect mirror.
-TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float roughness, float u3,
-                                                     float u1, float u2) {
-  BsdfSample s;
-  const vec3 mirror(-wo.x, -wo.y, wo.z);
-  if (roughness <= 0.0f) {
-    s.wi = mirror;
-    s.pdf = 1.0f;
-    s.f = vec3(1.0f / mirror.z);
-    s.lobe = kLobeReflection | kLobeSpecular;
-    return s;
-  }
-  const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
-  const vec3 r = mirror + roughness * ball;
-  const float len2 = glm::dot(r, r);
-  if (!(len2 > 0.0f)) return s;
-  s.wi = r / std::sqrt(len2);
-  if (s.wi.z <= 0.0f) return BsdfSample{};
-  s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
-  if (!(s.pdf > 0.0f)) return BsdfSample{};
-  s.f = vec3(s.pdf / s.wi.z);
-  s.lobe = kLobeReflection | kLobeGlossy;
-  return s;
-}
 
 // A specular pair: the mirror reflection with probability `r` (u below it), else the
 // `transmitted` direction, each tinted by `tint` (glass and thin shells).
@@ -134,7 +87,6 @@ TESSERA_HD TESSERA_INLINE vec3 anisotropy_tangent(const vec3& n) {
 struct Bsdf {
   BsdfKind kind = BsdfKind::kDiffuse;
   vec3 albedo{0.0f};
-  float roughness = 0.0f;
   float eta = 1.5f;
   GgxDistribution ggx{};
   bool complex_fresnel = false;
@@ -145,7 +97,6 @@ struct Bsdf {
     Bsdf b;
     b.kind = m.kind;
     b.albedo = m.albedo;
-    b.roughness = m.roughness;
     b.eta = front_face ? m.ior : 1.0f / m.ior;
     b.ggx = GgxDistribution{m.alpha_x, m.alpha_y};
     b.complex_fresnel = m.complex_fresnel;
@@ -192,11 +143,10 @@ struct Bsdf {
       case BsdfKind::kConductor:
         return sample_conductor(wo, u1, u2);
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
-        // u_lobe picks the coat with probability `coat`, then is stretched back to [0, 1)
-        // so the fuzzy lobe can use it.
+        const float coat = coat_reflectance(wo);
+        // u_lobe picks the coat with probability `coat`.
         if (u_lobe < coat) {
-          s = sample_fuzzy(wo, glm::min(u_lobe / coat, kOneMinusEpsilon), u1, u2);
+          s = sample_white_ggx(wo, u1, u2);
           if (!s.valid()) return s;
           if (s.specular()) {
             s.pdf *= coat;
@@ -244,18 +194,16 @@ struct Bsdf {
       case BsdfKind::kDiffuse:
         return albedo * kInvPi;
       case BsdfKind::kConductor: {
-        if (ggx.effectively_smooth()) return vec3(0.0f);
-        const vec3 h = wo + wi;
-        const float len2 = glm::dot(h, h);
-        if (!(len2 > 0.0f)) return vec3(0.0f);
-        const vec3 m = h / std::sqrt(len2);
-        return conductor_fresnel(glm::dot(wo, m)) *
-               (ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z));
+        vec3 m;
+        if (ggx.effectively_smooth() || !reflection_half_vector(wo, wi, m)) return vec3(0.0f);
+        return conductor_fresnel(glm::dot(wo, m)) * white_ggx_f(wo, wi, m);
       }
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
+        const float coat = coat_reflectance(wo);
         vec3 f = (1.0f - coat) * kInvPi * albedo;
-        if (roughness > 0.0f) f += vec3(coat * fuzzy_pdf(wo, wi) / wi.z);
+        vec3 m;
+        if (!ggx.effectively_smooth() && reflection_half_vector(wo, wi, m))
+          f += vec3(coat * white_ggx_f(wo, wi, m));
         return f;
       }
       default:
@@ -271,17 +219,16 @@ struct Bsdf {
       case BsdfKind::kDiffuse:
         return wi.z * kInvPi;
       case BsdfKind::kConductor: {
-        if (ggx.effectively_smooth()) return 0.0f;
-        const vec3 h = wo + wi;
-        const float len2 = glm::dot(h, h);
-        if (!(len2 > 0.0f)) return 0.0f;
-        const vec3 m = h / std::sqrt(len2);
-        return ggx.visible_d(wo, m) / (4.0f * glm::dot(wo, m));
+        vec3 m;
+        if (ggx.effectively_smooth() || !reflection_half_vector(wo, wi, m)) return 0.0f;
+        return white_ggx_pdf(wo, m);
       }
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
+        const float coat = coat_reflectance(wo);
         float p = (1.0f - coat) * wi.z * kInvPi;
-        if (roughness > 0.0f) p += coat * fuzzy_pdf(wo, wi);
+        vec3 m;
+        if (!ggx.effectively_smooth() && reflection_half_vector(wo, wi, m))
+          p += coat * white_ggx_pdf(wo, m);
         return p;
       }
       default:
@@ -290,8 +237,6 @@ struct Bsdf {
   }
 
  private:
-  static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
-
   // The coat and thin shells face air on both sides: their Fresnel term uses the material's
   // index whichever side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
@@ -317,14 +262,15 @@ struct Bsdf {
     return albedo * fresnel_conductor(cos_i, conductor_eta, conductor_k);
   }
 
-  // GGX conductor: a visible normal, the mirror direction about it; the weight f cos / pdf
-  // is F G2 / G1(wo). Smooth: a mirror with F at the macro normal.
-  TESSERA_HD BsdfSample sample_conductor(const vec3& wo, float u1, float u2) const {
+  // White GGX reflection (Fresnel 1): a visible normal, the mirror direction about it; the
+  // weight f cos / pdf is G2 / G1(wo) <= 1. Smooth: a mirror with weight 1. The conductor
+  // multiplies it by its Fresnel term, the coat picks it with its own.
+  TESSERA_HD BsdfSample sample_white_ggx(const vec3& wo, float u1, float u2) const {
     BsdfSample s;
     if (ggx.effectively_smooth()) {
       s.wi = vec3(-wo.x, -wo.y, wo.z);
       s.pdf = 1.0f;
-      s.f = conductor_fresnel(wo.z) / wo.z;
+      s.f = vec3(1.0f / wo.z);
       s.lobe = kLobeReflection | kLobeSpecular;
       return s;
     }
@@ -333,11 +279,44 @@ struct Bsdf {
     if (!(cos_om > 0.0f)) return s;
     s.wi = reflect_about(wo, m);
     if (s.wi.z <= 0.0f) return BsdfSample{};
-    s.pdf = ggx.visible_d(wo, m) / (4.0f * cos_om);
+    s.pdf = white_ggx_pdf(wo, m);
     if (!(s.pdf > 0.0f)) return BsdfSample{};
-    s.f = conductor_fresnel(cos_om) * (ggx.d(m) * ggx.g2(wo, s.wi) / (4.0f * wo.z * s.wi.z));
+    s.f = vec3(white_ggx_f(wo, s.wi, m));
     s.lobe = kLobeReflection | kLobeGlossy;
     return s;
+  }
+
+  // D G2 / (4 cos_o cos_i) and the reflection's density D_visible / (4 wo.m), for the
+  // half vector m of wo and wi (both above the surface).
+  TESSERA_HD float white_ggx_f(const vec3& wo, const vec3& wi, const vec3& m) const {
+    return ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z);
+  }
+  TESSERA_HD float white_ggx_pdf(const vec3& wo, const vec3& m) const {
+    return ggx.visible_d(wo, m) / (4.0f * glm::dot(wo, m));
+  }
+  TESSERA_HD static bool reflection_half_vector(const vec3& wo, const vec3& wi, vec3& m) {
+    const vec3 h = wo + wi;
+    const float len2 = glm::dot(h, h);
+    if (!(len2 > 0.0f)) return false;
+    m = h / std::sqrt(len2);
+    return true;
+  }
+
+  // GGX conductor: white GGX reflection times the Fresnel term at the sampled microfacet
+  // (at the macro normal when smooth).
+  TESSERA_HD BsdfSample sample_conductor(const vec3& wo, float u1, float u2) const {
+    BsdfSample s = sample_white_ggx(wo, u1, u2);
+    if (!s.valid()) return s;
+    const float cos_om = s.specular() ? wo.z : glm::dot(wo, glm::normalize(wo + s.wi));
+    s.f *= conductor_fresnel(cos_om);
+    return s;
+  }
+
+  // The clear coat's share: the exact Fresnel reflectance of its interface (air on both
+  // sides of a coat, whichever side is hit) at the macro normal. The base receives the
+  // rest; a coat lobe of albedo <= 1 and a base of albedo <= 1 mix to <= 1.
+  TESSERA_HD float coat_reflectance(const vec3& wo) const {
+    return fresnel_dielectric(wo.z, eta_outside());
   }
 
   // Rough glass (Walter et al. 2007, sampled through the visible normals): a microfacet
@@ -412,14 +391,6 @@ struct Bsdf {
     const float cos_im = glm::dot(wi, m);
     const float denom = cos_im + cos_om / eta;
     return (1.0f - r) * visible * std::fabs(cos_im) / (denom * denom);
-  }
-
-  TESSERA_HD float fuzzy_pdf(const vec3& wo, const vec3& wi) const {
-    return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
-  }
-
-  TESSERA_HD BsdfSample sample_fuzzy(const vec3& wo, float u3, float u1, float u2) const {
-    return sample_fuzzy_reflection(wo, roughness, u3, u1, u2);
   }
 };
 

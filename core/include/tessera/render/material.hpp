@@ -12,7 +12,7 @@ enum class BsdfKind : std::uint32_t {
   kConductor = 1,       // GGX microfacet conductor (a mirror when smooth)
   kDielectric = 2,      // glass: smooth, or rough (GGX, Walter et al. 2007)
   kThinDielectric = 3,  // thin shell (soap film): reflection or straight transmission
-  kCoated = 4,          // clear coat over a diffuse base
+  kCoated = 4,          // clear coat (exact Fresnel, GGX) over a diffuse base
   kEmitter = 5,         // emits, does not scatter
 };
 
@@ -23,7 +23,8 @@ struct Material {
   float roughness = 0.0f;
   float ior = 1.5f;
   float opacity = 1.0f;  // for the transparency integrator only
-  // GGX roughness along the shading frame's tangent and bitangent (conductors and glass);
+  // GGX roughness along the shading frame's tangent and bitangent (conductors, glass and
+  // clear coats);
   // make_material maps the scene's roughness and anisotropy onto them.
   float alpha_x = 0.0f;
   float alpha_y = 0.0f;

@@ -146,8 +146,8 @@ struct MaterialKind {
        .rule = kInRange,
        .lo = 0.0,
        .hi = 1.0,
-       .doc = "GGX alpha = roughness / 2 (metal, rough_mirror), roughness^2 (anisotropic_metal, "
-              "glass); 0: mirror, smooth glass"},
+       .doc = "GGX alpha = roughness / 2 (metal, rough_mirror, clear_coat), roughness^2 "
+              "(anisotropic_metal, glass); 0: mirror, smooth glass"},
       {
           .name = "refractive_index",
           .member = &Desc::refractive_index,
