@@ -90,6 +90,8 @@ Material make_material(const MaterialDesc& desc) {
       // Rough glass is GGX with alpha = roughness^2 (Cycles' and Disney's convention).
       m.kind = BsdfKind::kDielectric;
       m.alpha_x = m.alpha_y = m.roughness * m.roughness;
+      // Beer's law: T = exp(-sigma d) for the given share T left after distance d.
+      m.absorption = vec3(-glm::log(desc.transmittance) / desc.transmittance_distance);
       break;
     }
     case MaterialType::kThinFilm:

@@ -73,6 +73,15 @@ TEST(MaterialMapping, ExplicitIndexAndRoughGlass) {
   EXPECT_EQ(glass.kind, BsdfKind::kDielectric);
   EXPECT_FLOAT_EQ(glass.alpha_x, 0.25f);
   EXPECT_EQ(glass.albedo, vec3(1.0f));
+  EXPECT_FALSE(glass.absorbs());
+  MaterialDesc tinted = desc(MaterialType::kGlass, 0.0);
+  tinted.transmittance = glm::dvec3(0.5, 1.0, 0.25);
+  tinted.transmittance_distance = 2.0;
+  const Material absorbing = make_material(tinted);
+  EXPECT_TRUE(absorbing.absorbs());
+  EXPECT_NEAR(absorbing.absorption.x, std::log(2.0) / 2.0, 1e-6);
+  EXPECT_EQ(absorbing.absorption.y, 0.0f);
+  EXPECT_NEAR(absorbing.absorption.z, std::log(4.0) / 2.0, 1e-6);
 }
 
 }  // namespace

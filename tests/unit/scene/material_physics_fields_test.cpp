@@ -33,12 +33,13 @@ TEST(MaterialPhysicsFields, ConductorIndexIsReadPerChannel) {
 TEST(MaterialPhysicsFields, ConductorIndexIsValidated) {
   EXPECT_EQ(load_error("materials:\n  - { name: m, type: metal, k: [3, 2, 1] }\n").field,
             "materials[0].eta");
-  EXPECT_EQ(load_error("materials:\n  - { name: m, type: metal, eta: [1, 0, 1], k: [2, 2, 2] }\n").field,
-            "materials[0].eta");
+  EXPECT_EQ(
+      load_error("materials:\n  - { name: m, type: metal, eta: [1, 0, 1], k: [2, 2, 2] }\n").field,
+      "materials[0].eta");
   EXPECT_EQ(load_error("materials:\n  - { name: m, type: metal, eta: [1, -1, 1] }\n").field,
             "materials[0].eta");
-  const SceneIssue both =
-      load_error("materials:\n  - { name: m, type: metal, preset: gold, eta: [1, 1, 1], k: [2, 2, 2] }\n");
+  const SceneIssue both = load_error(
+      "materials:\n  - { name: m, type: metal, preset: gold, eta: [1, 1, 1], k: [2, 2, 2] }\n");
   EXPECT_EQ(both.field, "materials[0].preset");
   EXPECT_NE(both.message.find("cannot be combined with eta"), std::string::npos) << both.message;
   // Chromium is a preset too.
@@ -46,6 +47,22 @@ TEST(MaterialPhysicsFields, ConductorIndexIsValidated) {
                 .scene.materials[0]
                 .preset,
             "chromium");
+}
+
+TEST(MaterialPhysicsFields, TransmittanceIsValidated) {
+  const LoadedScene loaded = load(
+      "materials:\n  - { name: g, type: glass, transmittance: [0.9, 0.5, 0.2], "
+      "transmittance_distance: 2 }\n");
+  EXPECT_EQ(loaded.scene.materials[0].transmittance, glm::dvec3(0.9, 0.5, 0.2));
+  EXPECT_EQ(loaded.scene.materials[0].transmittance_distance, 2.0);
+  EXPECT_EQ(load_error("materials:\n  - { name: g, type: glass, transmittance: 0 }\n").field,
+            "materials[0].transmittance");
+  EXPECT_EQ(
+      load_error("materials:\n  - { name: g, type: glass, transmittance: [1, 1.5, 1] }\n").field,
+      "materials[0].transmittance");
+  EXPECT_EQ(
+      load_error("materials:\n  - { name: g, type: glass, transmittance_distance: 0 }\n").field,
+      "materials[0].transmittance_distance");
 }
 
 TEST(MaterialPhysicsFields, DielectricIsGlass) {

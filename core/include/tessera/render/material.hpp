@@ -33,6 +33,12 @@ struct Material {
   bool complex_fresnel = false;
   vec3 eta{1.0f};
   vec3 k{0.0f};
+  // Glass: absorption coefficient per unit length inside (Beer's law); 0 = clear.
+  vec3 absorption{0.0f};
+
+  TESSERA_HD bool absorbs() const {
+    return absorption.x > 0.0f || absorption.y > 0.0f || absorption.z > 0.0f;
+  }
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;

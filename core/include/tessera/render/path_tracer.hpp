@@ -194,6 +194,9 @@ struct PathHit {
                          const T& tracer) const {
     const SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
     const Material& material = scene.materials[si.material];
+    // Leaving absorbing glass: the segment just traced ran inside it (closed, not nested).
+    if (!si.front_face && material.kind == BsdfKind::kDielectric && material.absorbs())
+      payload.throughput *= glm::exp(-material.absorption * (hit.t * glm::length(ray.direction)));
     if constexpr (kFeatures.aovs) {
       if (payload.depth == 0) {
         payload.aov.albedo = material.albedo;

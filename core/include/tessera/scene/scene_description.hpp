@@ -61,6 +61,9 @@ struct MaterialDesc {
   std::string preset;   // conductors: named measured metal (its eta and k)
   glm::dvec3 eta{0.0};  // conductors: complex index eta + i k per RGB; 0 = unset
   glm::dvec3 k{0.0};
+  // glass: Beer's law, the share of light left after `transmittance_distance` inside.
+  glm::dvec3 transmittance{1.0};
+  double transmittance_distance = 1.0;
   double film_thickness = 0.0;  // thin_film, nanometres
   double film_ior = 1.33;
 

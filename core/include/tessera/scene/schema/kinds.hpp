@@ -181,6 +181,16 @@ struct MaterialKind {
        .member = &Desc::k,
        .rule = kNonNegativeComponents,
        .doc = "conductors: extinction coefficient per RGB (with eta)"},
+      {.name = "transmittance",
+       .member = &Desc::transmittance,
+       .rule = kNonNegativeComponents,
+       .doc = "glass: share of light left after transmittance_distance inside (Beer's law), "
+              "each in (0, 1]",
+       .grey_scalar = true},
+      {.name = "transmittance_distance",
+       .member = &Desc::transmittance_distance,
+       .rule = kPositive,
+       .doc = "glass: the distance transmittance is measured over, scene units"},
       {.name = "film_thickness",
        .member = &Desc::film_thickness,
        .rule = kInRange,
@@ -209,6 +219,9 @@ struct MaterialKind {
       check.fail("eta", "is required with k (the complex index is eta + i k)");
     if (has_eta && (material.eta.x <= 0.0 || material.eta.y <= 0.0 || material.eta.z <= 0.0))
       check.fail("eta", "must be > 0 in every channel");
+    const glm::dvec3& t = material.transmittance;
+    if (!(t.x > 0.0 && t.y > 0.0 && t.z > 0.0 && t.x <= 1.0 && t.y <= 1.0 && t.z <= 1.0))
+      check.fail("transmittance", "must be in (0, 1] in every channel");
     if (has_eta && !material.preset.empty())
       check.fail("preset", "cannot be combined with eta and k (both give the metal's index)");
   }
