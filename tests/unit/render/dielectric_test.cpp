@@ -190,7 +190,7 @@ TEST(Dielectric, RoughGlassLosesOnlyItsSingleScatteringEnergy) {
           cap.axis = glm::dvec3(axis);
           // Refraction narrows the transmitted lobe (by about (eta - 1) / eta from outside):
           // fine rows so the midpoint rule resolves its peak.
-          const CapHistogram histogram(cap, alpha < 0.2f ? 800 : 160, 48);
+          const CapHistogram histogram(cap, alpha < 0.2f ? 500 : 120, 48);
           for (double v : histogram.integrate([&](const glm::dvec3& w) {
                  const vec3 wi(w);
                  if ((wi.z > 0.0f) != (axis.z > 0.0f)) return 0.0;
