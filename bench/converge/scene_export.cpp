@@ -51,6 +51,11 @@ json material_json(const MaterialDesc& m) {
           {"albedo", vec(mapped.albedo)},
           {"emission", vec(mapped.emission)},
           {"roughness", mapped.roughness},
+          {"alpha_x", mapped.alpha_x},  // GGX roughness of conductors and glass
+          {"alpha_y", mapped.alpha_y},
+          {"complex_fresnel", mapped.complex_fresnel},
+          {"eta", vec(mapped.eta)},  // conductors with complex_fresnel: eta + i k per RGB
+          {"k", vec(mapped.k)},
           {"ior", mapped.ior},
           {"metallic", m.metallic},
           {"transmission", m.transmission},

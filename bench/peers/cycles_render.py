@@ -163,13 +163,6 @@ def emission_node(nodes, emission):
     return node
 
 
-def glossy_roughness(fuzz):
-    # Tessera's conductor perturbs the mirror direction by fuzz * (a point in the unit
-    # ball): a lobe about fuzz / 2 wide in slope, which GGX gives at alpha ~ fuzz / 2,
-    # i.e. Blender roughness sqrt(fuzz / 2). Approximate; the two lobes differ in shape.
-    return math.sqrt(max(fuzz, 0.0) * 0.5)
-
-
 def make_material(m):
     mat = bpy.data.materials.new(m["name"] or "material")
     mat.use_nodes = True
@@ -188,24 +181,55 @@ def make_material(m):
         surface.inputs["Color"].default_value = albedo
         surface.inputs["Roughness"].default_value = 0.0
     elif bsdf == "conductor":
-        surface = nodes.new("ShaderNodeBsdfGlossy")
-        surface.distribution = "GGX" if m["roughness"] > 0.0 else "SHARP"
-        surface.inputs["Color"].default_value = albedo
-        surface.inputs["Roughness"].default_value = glossy_roughness(m["roughness"])
+        # Tessera: GGX (single scattering) with alpha_x, alpha_y; Fresnel = albedo, or
+        # albedo times the exact conductor term of eta + i k. Cycles: Metallic BSDF with the
+        # physical-conductor Fresnel, or Glossy BSDF (colour = albedo, no Fresnel); Blender
+        # roughness is sqrt(alpha).
+        alpha_x, alpha_y = m["alpha_x"], m["alpha_y"]
+        smooth = max(alpha_x, alpha_y) < 1e-3
+        if m["complex_fresnel"]:
+            surface = nodes.new("ShaderNodeBsdfMetallic")
+            surface.fresnel_type = "PHYSICAL_CONDUCTOR"
+            surface.inputs["IOR"].default_value = m["eta"]
+            surface.inputs["Extinction"].default_value = m["k"]
+            if min(m["albedo"]) < 1.0:
+                warn(f"material {m['name']}: albedo tint of a measured metal not exported")
+        else:
+            surface = nodes.new("ShaderNodeBsdfGlossy")
+            surface.inputs["Color"].default_value = albedo
+        surface.distribution = "GGX"
+        surface.inputs["Roughness"].default_value = 0.0 if smooth else math.sqrt(
+            math.sqrt(alpha_x * alpha_y))
+        if abs(alpha_x - alpha_y) > 1e-6:
+            # Tessera's tangent is cross(+y, n) in world space, Cycles' the object's
+            # radial tangent: the highlight's direction may differ.
+            warn(f"material {m['name']}: anisotropy approximated (tangent frames differ)")
+            # Both use Disney's stretch: alpha / aspect along the tangent, alpha * aspect
+            # across, aspect = sqrt(1 - 0.9 anisotropy); a wider lobe across the tangent is
+            # the same lobe turned a quarter.
+            ratio = min(alpha_x, alpha_y) / max(alpha_x, alpha_y)
+            surface.inputs["Anisotropy"].default_value = (1.0 - ratio) / 0.9
+            if alpha_y > alpha_x:
+                surface.inputs["Rotation"].default_value = 0.25
     elif bsdf == "dielectric":
+        # Tessera: exact Fresnel, smooth or GGX (Walter et al. 2007) with alpha = roughness^2;
+        # the albedo tints light entering the glass (Cycles tints every transmission).
         surface = nodes.new("ShaderNodeBsdfGlass")
-        surface.distribution = "SHARP"
+        alpha = m["alpha_x"]
+        surface.distribution = "GGX" if alpha >= 1e-3 else "SHARP"
+        surface.inputs["Roughness"].default_value = math.sqrt(alpha) if alpha >= 1e-3 else 0.0
         surface.inputs["Color"].default_value = albedo
         surface.inputs["IOR"].default_value = m["ior"]
     elif bsdf == "coated":
-        # Tessera: a Fresnel (Schlick) choice between a fuzzy white mirror and the diffuse
-        # base. Cycles: the same mix by its exact Fresnel term.
+        # Tessera: an exact-Fresnel choice between a white GGX lobe and the diffuse base.
+        # Cycles: the same mix by its Fresnel node (which uses the shading normal's angle).
         warn(f"material {m['name']}: clear coat approximated (Fresnel mix of glossy and diffuse)")
         diffuse = nodes.new("ShaderNodeBsdfDiffuse")
         diffuse.inputs["Color"].default_value = albedo
         glossy = nodes.new("ShaderNodeBsdfGlossy")
-        glossy.distribution = "GGX" if m["roughness"] > 0.0 else "SHARP"
-        glossy.inputs["Roughness"].default_value = glossy_roughness(m["roughness"])
+        alpha = m["alpha_x"]
+        glossy.distribution = "GGX" if alpha >= 1e-3 else "SHARP"
+        glossy.inputs["Roughness"].default_value = math.sqrt(alpha) if alpha >= 1e-3 else 0.0
         fresnel = nodes.new("ShaderNodeFresnel")
         fresnel.inputs["IOR"].default_value = m["ior"]
         surface = nodes.new("ShaderNodeMixShader")

@@ -85,18 +85,12 @@ using TriangleShape = EmitterShape<Triangle>;
 // (+z the shading normal on the arriving side). `front_face` says which side was hit,
 // which decides the relative index of refraction as Bsdf::of does.
 
-constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
-
 float relative_eta(float ior, bool front_face) {
   return front_face ? ior : 1.0f / ior;
 }
 // The coat and thin shells face air on both sides.
 float eta_outside(float eta) {
   return eta >= 1.0f ? eta : 1.0f / eta;
-}
-
-float fuzzy_pdf(const vec3& wo, const vec3& wi, float roughness) {
-  return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
 }
 
 class BsdfModel {
@@ -111,6 +105,10 @@ class BsdfModel {
   // False when sample() ignores u_lobe, so the (lobe, light pick) pair is drawn only for
   // light sampling.
   virtual bool uses_lobe_sample() const = 0;
+  // True when the lobe needs the surface's tangent (anisotropy_tangent, bsdf.hpp).
+  virtual bool anisotropic() const { return false; }
+  // True when eval and pdf can be non-zero below the surface (rough glass).
+  virtual bool has_glossy_transmission() const { return false; }
 };
 
 class LambertianBsdf final : public BsdfModel {
@@ -141,109 +139,64 @@ class LambertianBsdf final : public BsdfModel {
   vec3 albedo_;
 };
 
+// The GGX conductor: the same microfacet code as Bsdf (bsdf.hpp, microfacet.hpp), reached
+// through this class's virtual calls.
 class ConductorBsdf final : public BsdfModel {
  public:
-  ConductorBsdf(const vec3& albedo, float roughness) : albedo_(albedo), roughness_(roughness) {}
+  explicit ConductorBsdf(const Material& m) : ggx_(Bsdf::of(m, true)) {}
   BsdfSample sample(const vec3& wo, bool, float u_lobe, float u1, float u2) const override {
-    if (wo.z <= 0.0f) return BsdfSample{};
-    BsdfSample s = sample_fuzzy_reflection(wo, roughness_, u_lobe, u1, u2);
-    s.f *= albedo_;
-    return s;
+    return ggx_.sample(wo, u_lobe, u1, u2);
   }
-  vec3 eval(const vec3& wo, const vec3& wi, bool) const override {
-    if (wo.z <= 0.0f || wi.z <= 0.0f || roughness_ <= 0.0f) return vec3(0.0f);
-    return albedo_ * (fuzzy_pdf(wo, wi, roughness_) / wi.z);
-  }
-  float pdf(const vec3& wo, const vec3& wi, bool) const override {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    return roughness_ > 0.0f ? fuzzy_pdf(wo, wi, roughness_) : 0.0f;
-  }
-  bool has_non_specular() const override { return roughness_ > 0.0f; }
+  vec3 eval(const vec3& wo, const vec3& wi, bool) const override { return ggx_.eval(wo, wi); }
+  float pdf(const vec3& wo, const vec3& wi, bool) const override { return ggx_.pdf(wo, wi); }
+  bool has_non_specular() const override { return ggx_.has_non_specular(); }
+  // The GGX lobe ignores u_lobe, but the specialised path tracer draws the pair for every
+  // kind but diffuse: drawing it too keeps both on the same sample dimensions.
   bool uses_lobe_sample() const override { return true; }
+  bool anisotropic() const override { return ggx_.anisotropic(); }
 
  private:
-  vec3 albedo_;
-  float roughness_;
+  Bsdf ggx_;
 };
 
-// A clear fuzzy coat over a Lambertian base; Schlick's reflectance picks the lobe.
+// A clear coat (exact Fresnel, GGX) over a Lambertian base: Bsdf's code (bsdf.hpp).
 class CoatedBsdf final : public BsdfModel {
  public:
-  CoatedBsdf(const vec3& albedo, float roughness, float ior)
-      : albedo_(albedo), roughness_(roughness), ior_(ior) {}
-  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float u1,
-                    float u2) const override {
-    BsdfSample s;
-    if (wo.z <= 0.0f) return s;
-    const float coat = coat_weight(wo, front_face);
-    if (u_lobe < coat) {
-      s = sample_fuzzy_reflection(wo, roughness_, glm::min(u_lobe / coat, kOneMinusEpsilon), u1,
-                                  u2);
-      if (!s.valid()) return s;
-      if (s.specular()) {
-        s.pdf *= coat;
-        s.f *= coat;
-        return s;
-      }
-    } else {
-      s.wi = sample_cosine_hemisphere(u1, u2);
-      if (s.wi.z <= 0.0f) return BsdfSample{};
-      s.lobe = kLobeReflection | kLobeDiffuse;
-    }
-    // A rough coat and the base are both continuous: f and pdf are the mixtures.
-    s.f = eval(wo, s.wi, front_face);
-    s.pdf = pdf(wo, s.wi, front_face);
-    if (!(s.pdf > 0.0f)) return BsdfSample{};
-    return s;
+  explicit CoatedBsdf(const Material& m) : coated_(Bsdf::of(m, true)) {}
+  BsdfSample sample(const vec3& wo, bool, float u_lobe, float u1, float u2) const override {
+    return coated_.sample(wo, u_lobe, u1, u2);
   }
-  vec3 eval(const vec3& wo, const vec3& wi, bool front_face) const override {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
-    const float coat = coat_weight(wo, front_face);
-    vec3 f = (1.0f - coat) * kInvPi * albedo_;
-    if (roughness_ > 0.0f) f += vec3(coat * fuzzy_pdf(wo, wi, roughness_) / wi.z);
-    return f;
-  }
-  float pdf(const vec3& wo, const vec3& wi, bool front_face) const override {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-    const float coat = coat_weight(wo, front_face);
-    float p = (1.0f - coat) * wi.z * kInvPi;
-    if (roughness_ > 0.0f) p += coat * fuzzy_pdf(wo, wi, roughness_);
-    return p;
-  }
+  vec3 eval(const vec3& wo, const vec3& wi, bool) const override { return coated_.eval(wo, wi); }
+  float pdf(const vec3& wo, const vec3& wi, bool) const override { return coated_.pdf(wo, wi); }
   bool has_non_specular() const override { return true; }
   bool uses_lobe_sample() const override { return true; }
 
  private:
-  float coat_weight(const vec3& wo, bool front_face) const {
-    return schlick_reflectance(wo.z, 1.0f / eta_outside(relative_eta(ior_, front_face)));
-  }
-
-  vec3 albedo_;
-  float roughness_;
-  float ior_;
+  Bsdf coated_;  // the coat faces air on both sides: the same whichever side is hit
 };
 
-// Smooth glass: Fresnel chooses reflection or refraction, the albedo tints both.
+// Glass, smooth or rough: Bsdf's code for the side that was hit (bsdf.hpp).
 class DielectricBsdf final : public BsdfModel {
  public:
-  DielectricBsdf(const vec3& albedo, float ior) : albedo_(albedo), ior_(ior) {}
-  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float, float) const override {
-    BsdfSample s;
-    if (wo.z <= 0.0f) return s;
-    const float inv_eta = 1.0f / relative_eta(ior_, front_face);
-    vec3 refracted(0.0f);
-    const bool can_refract = refract(-wo, vec3(0.0f, 0.0f, 1.0f), inv_eta, refracted);
-    const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
-    return sample_specular_pair(wo, r, refracted, albedo_, u_lobe);
+  explicit DielectricBsdf(const Material& m)
+      : front_(Bsdf::of(m, true)), back_(Bsdf::of(m, false)) {}
+  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float u1,
+                    float u2) const override {
+    return side(front_face).sample(wo, u_lobe, u1, u2);
   }
-  vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
-  float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }
-  bool has_non_specular() const override { return false; }
+  vec3 eval(const vec3& wo, const vec3& wi, bool front_face) const override {
+    return side(front_face).eval(wo, wi);
+  }
+  float pdf(const vec3& wo, const vec3& wi, bool front_face) const override {
+    return side(front_face).pdf(wo, wi);
+  }
+  bool has_non_specular() const override { return front_.has_non_specular(); }
+  bool has_glossy_transmission() const override { return front_.has_glossy_transmission(); }
   bool uses_lobe_sample() const override { return true; }
 
  private:
-  vec3 albedo_;
-  float ior_;
+  const Bsdf& side(bool front_face) const { return front_face ? front_ : back_; }
+  Bsdf front_, back_;
 };
 
 // A thin shell: reflection R' = 2R / (1 + R), else straight through. (The renderer's thin film
@@ -272,11 +225,11 @@ std::unique_ptr<BsdfModel> make_bsdf(const Material& m) {
     case BsdfKind::kDiffuse:
       return std::make_unique<LambertianBsdf>(m.albedo);
     case BsdfKind::kConductor:
-      return std::make_unique<ConductorBsdf>(m.albedo, m.roughness);
+      return std::make_unique<ConductorBsdf>(m);
     case BsdfKind::kCoated:
-      return std::make_unique<CoatedBsdf>(m.albedo, m.roughness, m.ior);
+      return std::make_unique<CoatedBsdf>(m);
     case BsdfKind::kDielectric:
-      return std::make_unique<DielectricBsdf>(m.albedo, m.ior);
+      return std::make_unique<DielectricBsdf>(m);
     case BsdfKind::kThinDielectric:
       return std::make_unique<ThinDielectricBsdf>(m.ior);
     case BsdfKind::kEmitter:
@@ -372,14 +325,17 @@ class VirtualScene {
     if (!light.shape->sample_light(si.position, light.area, u.light_u1, u.light_u2, ls))
       return vec3(0.0f);
     ls.radiance = materials[light.shape->material()].emission;
-    if (glm::dot(ls.wi, si.geometric_normal) <= 0.0f) return vec3(0.0f);
+    const float side = glm::dot(ls.wi, si.geometric_normal);
+    if (side <= 0.0f && !bsdf.has_glossy_transmission()) return vec3(0.0f);
     const vec3 wi = frame.to_local(ls.wi);
+    if ((wi.z > 0.0f) != (side > 0.0f)) return vec3(0.0f);
     const vec3 f = bsdf.eval(wo, wi, si.front_face) * std::fabs(wi.z);
     if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
     const float pdf = pick.pmf * ls.pdf;
     if (!(pdf > 0.0f)) return vec3(0.0f);
     ++rays;
-    const vec3 origin = offset_ray_origin(si.position, si.geometric_normal);
+    const vec3 origin =
+        offset_ray_origin(si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal);
     const vec3 to_light = si.position + ls.distance * ls.wi - origin;
     const float length = glm::length(to_light);
     if (occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)})) return vec3(0.0f);
@@ -424,7 +380,10 @@ class VirtualScene {
     const BsdfModel& bsdf = *material.bsdf;
 
     const vec3 ng = si.geometric_normal;
-    const Frame frame = Frame::from_normal(si.shading_normal);
+    const Frame frame = bsdf.anisotropic()
+                            ? Frame::from_normal_and_tangent(si.shading_normal,
+                                                             anisotropy_tangent(si.shading_normal))
+                            : Frame::from_normal(si.shading_normal);
     const vec3 wo = frame.to_local(-ray.direction);
     BounceSamples u;
     const bool sample_lights = !lights.empty() && bsdf.has_non_specular();

@@ -8,13 +8,48 @@ namespace tessera {
 
 namespace {
 
-// Normal-incidence colours of RayON's metal presets.
-vec3 metal_preset_color(const std::string& preset, const vec3& fallback) {
-  if (preset == "silver") return vec3(0.97f, 0.96f, 0.91f);
-  if (preset == "gold") return vec3(1.00f, 0.78f, 0.34f);
-  if (preset == "copper") return vec3(0.95f, 0.64f, 0.54f);
-  if (preset == "aluminium" || preset == "aluminum") return vec3(0.91f, 0.92f, 0.92f);
-  return fallback;
+struct ComplexIndex {
+  vec3 eta;
+  vec3 k;
+};
+
+// Measured complex indices of refraction (n + i k) of RayON's metal presets, per RGB channel
+// read at the tabulated wavelengths nearest 650, 550 and 450 nm (652.5, 551.0 and 450.9 nm).
+// Gold, silver, copper and aluminium: the spectra pbrt ships (src/pbrt/util/spectrum.cpp,
+// metal-Au/Ag/Cu/Al-eta and -k, from Palik's Handbook of Optical Constants of Solids).
+// Chromium: Palik's data as Mitsuba ships it (data/ior/Cr.eta.spd, Cr.k.spd), linearly
+// interpolated to 650, 550 and 450 nm.
+bool metal_preset(const std::string& preset, ComplexIndex& out) {
+  if (preset == "gold") {
+    out = {vec3(0.166f, 0.3455f, 1.5021f), vec3(3.150f, 2.7306f, 1.8759f)};
+  } else if (preset == "silver") {
+    out = {vec3(0.140f, 0.1244f, 0.1511f), vec3(4.150f, 3.3481f, 2.4788f)};
+  } else if (preset == "copper") {
+    out = {vec3(0.214f, 0.9504f, 1.1653f), vec3(3.670f, 2.5765f, 2.3976f)};
+  } else if (preset == "aluminium" || preset == "aluminum") {
+    out = {vec3(1.490f, 0.9630f, 0.6203f), vec3(7.820f, 6.7000f, 5.4800f)};
+  } else if (preset == "chromium") {
+    out = {vec3(3.638f, 3.116f, 1.928f), vec3(4.364f, 4.423f, 4.168f)};
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The conductor's GGX roughness. RayON's anisotropic_metal is GGX already: alpha =
+// roughness^2, stretched by aspect = sqrt(1 - 0.9 anisotropy) to alpha / aspect along the
+// tangent and alpha * aspect along the bitangent (as RayON's renderer does, so a brushed
+// metal keeps its highlight). RayON's metal and rough_mirror perturb the mirror by roughness
+// times a point in the unit ball; GGX with alpha = roughness / 2 has about that lobe width
+// (the half vector moves half as far as the reflected direction), and is the mapping
+// bench/peers gives Cycles for the same materials.
+void conductor_roughness(const MaterialDesc& desc, Material& m) {
+  const float r = static_cast<float>(desc.roughness);
+  const float alpha = desc.type == MaterialType::kAnisotropicMetal ? r * r : 0.5f * r;
+  const float aspect =
+      std::sqrt(std::max(1e-4f, 1.0f - 0.9f * static_cast<float>(desc.anisotropy)));
+  m.alpha_x = alpha / aspect;
+  m.alpha_y = alpha * aspect;
 }
 
 }  // namespace
@@ -34,16 +69,31 @@ Material make_material(const MaterialDesc& desc) {
       break;
     case MaterialType::kMetal:
     case MaterialType::kRoughMirror:
+    case MaterialType::kAnisotropicMetal: {
+      // Fresnel: the measured index of a preset or of eta and k, tinted by the albedo;
+      // without either, the albedo alone at every angle, as RayON renders its metals.
       m.kind = BsdfKind::kConductor;
+      conductor_roughness(desc, m);
+      ComplexIndex index{};
+      if (metal_preset(desc.preset, index)) {
+        m.complex_fresnel = true;
+        m.eta = index.eta;
+        m.k = index.k;
+      } else if (desc.eta != glm::dvec3(0.0)) {
+        m.complex_fresnel = true;
+        m.eta = vec3(desc.eta);
+        m.k = vec3(desc.k);
+      }
       break;
-    case MaterialType::kAnisotropicMetal:
-      // Anisotropy is approximated as isotropic roughness for now.
-      m.kind = BsdfKind::kConductor;
-      m.albedo = metal_preset_color(desc.preset, m.albedo);
-      break;
-    case MaterialType::kGlass:
+    }
+    case MaterialType::kGlass: {
+      // Rough glass is GGX with alpha = roughness^2 (Cycles' and Disney's convention).
       m.kind = BsdfKind::kDielectric;
+      m.alpha_x = m.alpha_y = m.roughness * m.roughness;
+      // Beer's law: T = exp(-sigma d) for the given share T left after distance d.
+      m.absorption = vec3(-glm::log(desc.transmittance) / desc.transmittance_distance);
       break;
+    }
     case MaterialType::kThinFilm:
       // RayON's thin_film: refractive_index is the medium around the film.
       m.kind = BsdfKind::kThinDielectric;
@@ -52,7 +102,9 @@ Material make_material(const MaterialDesc& desc) {
       m.film_thickness_nm = static_cast<float>(desc.film_thickness);
       break;
     case MaterialType::kClearCoat:
+      // RayON's coat perturbs its mirror like rough_mirror: the same alpha = roughness / 2.
       m.kind = BsdfKind::kCoated;
+      m.alpha_x = m.alpha_y = 0.5f * m.roughness;
       break;
     case MaterialType::kMirror:
       // RayON's mirror: the reflection direction, tinted by albedo, whatever the roughness.

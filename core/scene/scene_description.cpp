@@ -57,6 +57,8 @@ const char* to_string(MaterialType type) {
 }
 
 std::optional<MaterialType> material_type_from_string(const std::string& name) {
+  // RayON's other spellings of a type (YAML only: protobuf has one enum value per type).
+  if (name == "dielectric") return MaterialType::kGlass;
   return from_name<MaterialType>(kMaterialTypeNames, name);
 }
 
@@ -65,11 +67,19 @@ std::span<const std::string_view> material_type_names() {
 }
 
 void apply_type_defaults(MaterialDesc& material) {
-  if (material.type == MaterialType::kLight) material.albedo = glm::dvec3(1.0);
-  // RayON's thin film: 400 nm thick, in air (refractive_index is the medium around it).
-  if (material.type == MaterialType::kThinFilm) {
-    material.film_thickness = 400.0;
-    material.refractive_index = 1.0;
+  switch (material.type) {
+    case MaterialType::kLight:
+    case MaterialType::kGlass:
+    case MaterialType::kAnisotropicMetal:
+      material.albedo = glm::dvec3(1.0);
+      break;
+    case MaterialType::kThinFilm:
+      // RayON's thin film: 400 nm thick, in air (refractive_index is the medium around it).
+      material.film_thickness = 400.0;
+      material.refractive_index = 1.0;
+      break;
+    default:
+      break;
   }
 }
 

@@ -125,7 +125,7 @@ TEST(SchemaYaml, DefaultsAndRulesComeFromTheDeclaration) {
             "must be >= 0, got -1");
   EXPECT_EQ(
       load_error("materials:\n  - { name: a, type: anisotropic_metal, preset: bronze }\n").message,
-      "unknown preset 'bronze' (expected one of silver,gold,copper,aluminium,aluminum)");
+      "unknown preset 'bronze' (expected one of silver,gold,copper,aluminium,aluminum,chromium)");
 }
 
 TEST(SchemaYaml, ClosestMatchNeedsAPlausibleTypo) {

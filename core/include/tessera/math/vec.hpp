@@ -29,6 +29,12 @@ struct Frame {
     return Frame{vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x),
                  vec3(b, sign + n.y * n.y * a, -n.y), n};
   }
+  // A basis whose tangent is `t` made orthogonal to the unit normal `n` (t must not be
+  // parallel to n).
+  TESSERA_HD static Frame from_normal_and_tangent(const vec3& n, const vec3& t) {
+    const vec3 tangent = glm::normalize(t - n * glm::dot(t, n));
+    return Frame{tangent, glm::cross(n, tangent), n};
+  }
   TESSERA_HD vec3 to_world(const vec3& local) const {
     return tangent * local.x + bitangent * local.y + normal * local.z;
   }

@@ -8,7 +8,9 @@
 
 #include "tessera/math/sampling.hpp"
 #include "tessera/math/vec.hpp"
+#include "tessera/render/fresnel.hpp"
 #include "tessera/render/material.hpp"
+#include "tessera/render/microfacet.hpp"
 #include "tessera/render/thin_film.hpp"
 
 namespace tessera {
@@ -32,25 +34,6 @@ TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, 
   return true;
 }
 
-// The solid-angle density of RayON's fuzzy-metal direction (sample_fuzzy_reflection) about the unit
-// mirror direction `r` (before the below-surface cut): the direction of r + f b with b uniform in
-// the unit ball. Along direction w the ball of radius f centred at r covers t in [t1, t2] with t^2
-// - 2 t cos + 1 - f^2 = 0, and the density is the ball's volume along that ray, (t2^3 - t1^3) / 3,
-// over the ball's volume. sin^2 comes from a cross product, not 1 - cos^2, so a narrow lobe keeps
-// its precision.
-TESSERA_HD TESSERA_INLINE float fuzzy_reflection_pdf(const vec3& r, const vec3& w, float f) {
-  const float cos_theta = glm::dot(r, w);
-  const vec3 c = glm::cross(r, w);
-  const float disc = f * f - glm::dot(c, c);
-  if (!(disc > 0.0f)) return 0.0f;
-  const float root = std::sqrt(disc);
-  const float t2 = cos_theta + root;
-  if (!(t2 > 0.0f)) return 0.0f;
-  const float t1 = glm::max(cos_theta - root, 0.0f);
-  const float cubes = (t2 - t1) * (t2 * t2 + t2 * t1 + t1 * t1);
-  return cubes / (4.0f * kPi * f * f * f);
-}
-
 enum BsdfLobe : std::uint32_t {
   kLobeNone = 0,
   kLobeReflection = 1u << 0,
@@ -72,34 +55,6 @@ struct BsdfSample {
   TESSERA_HD vec3 weight() const { return f * (std::fabs(wi.z) / pdf); }
 };
 
-// White fuzzy reflection (RayON's metal lobe) in the shading frame: the mirror direction
-// plus `roughness` times a point in the unit ball (u3 its radius, u1 and u2 its direction);
-// directions the perturbation sends below the surface are absorbed, as RayON does, so the
-// lobe loses that energy. Roughness 0 is a perfect mirror.
-TESSERA_HD inline BsdfSample sample_fuzzy_reflection(const vec3& wo, float roughness, float u3,
-                                                     float u1, float u2) {
-  BsdfSample s;
-  const vec3 mirror(-wo.x, -wo.y, wo.z);
-  if (roughness <= 0.0f) {
-    s.wi = mirror;
-    s.pdf = 1.0f;
-    s.f = vec3(1.0f / mirror.z);
-    s.lobe = kLobeReflection | kLobeSpecular;
-    return s;
-  }
-  const vec3 ball = sample_uniform_sphere(u1, u2) * std::cbrt(u3);
-  const vec3 r = mirror + roughness * ball;
-  const float len2 = glm::dot(r, r);
-  if (!(len2 > 0.0f)) return s;
-  s.wi = r / std::sqrt(len2);
-  if (s.wi.z <= 0.0f) return BsdfSample{};
-  s.pdf = fuzzy_reflection_pdf(mirror, s.wi, roughness);
-  if (!(s.pdf > 0.0f)) return BsdfSample{};
-  s.f = vec3(s.pdf / s.wi.z);
-  s.lobe = kLobeReflection | kLobeGlossy;
-  return s;
-}
-
 // A specular pair: the mirror reflection with probability `r` (u below it), else the
 // `transmitted` direction, each tinted by `tint` (glass; the virtual baseline's thin shell).
 TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const vec3& transmitted,
@@ -118,27 +73,50 @@ TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const
   return s;
 }
 
+// The tangent an anisotropic lobe's alpha_x runs along: cross(+y, n), around the world's +y
+// axis (the circles of latitude of a sphere whose pole is +y; along x on a surface facing
+// +z), so brushing is continuous over spheres and consistent over meshes, which carry no
+// tangents. Where the normal is +-y itself, along x.
+TESSERA_HD TESSERA_INLINE vec3 anisotropy_tangent(const vec3& n) {
+  const vec3 t(n.z, 0.0f, -n.x);  // cross(+y, n)
+  if (t.x * t.x + t.z * t.z < 1e-8f) return vec3(1.0f, 0.0f, 0.0f);
+  return t;
+}
+
 // One material's scattering at one hit. `eta` is the relative index of refraction
 // n_transmitted / n_incident for the side the path arrives from.
 struct Bsdf {
   BsdfKind kind = BsdfKind::kDiffuse;
   vec3 albedo{0.0f};
-  float roughness = 0.0f;
   float eta = 1.5f;
   // Thin films (kThinDielectric): the same on both faces.
   float film_ior = 1.33f;
   float exterior_ior = 1.0f;
   float film_thickness_nm = 0.0f;
+  GgxDistribution ggx{};
+  bool complex_fresnel = false;
+  vec3 conductor_eta{1.0f};
+  vec3 conductor_k{0.0f};
 
   TESSERA_HD static Bsdf of(const Material& m, bool front_face) {
+    return of(m, front_face, m.albedo);
+  }
+  // `albedo_here`: the material's albedo at the hit (a pattern varies it).
+  TESSERA_HD static Bsdf of(const Material& m, bool front_face, const vec3& albedo_here) {
     Bsdf b;
     b.kind = m.kind;
-    b.albedo = m.albedo;
-    b.roughness = m.roughness;
+    b.albedo = albedo_here;
     b.eta = front_face ? m.ior : 1.0f / m.ior;
     b.film_ior = m.ior;
     b.exterior_ior = m.exterior_ior;
     b.film_thickness_nm = m.film_thickness_nm;
+    b.ggx = GgxDistribution{m.alpha_x, m.alpha_y};
+    b.complex_fresnel = m.complex_fresnel;
+    b.conductor_eta = m.eta;
+    b.conductor_k = m.k;
+    // Glass tints what it lets in, once per entry, so a closed object is tinted once per
+    // pass and a white one is lossless; leaving, and reflecting, it tints nothing.
+    if (m.kind == BsdfKind::kDielectric && !front_face) b.albedo = vec3(1.0f);
     return b;
   }
 
@@ -149,10 +127,23 @@ struct Bsdf {
       case BsdfKind::kCoated:
         return true;
       case BsdfKind::kConductor:
-        return roughness > 0.0f;
+        return !ggx.effectively_smooth();
+      case BsdfKind::kDielectric:
+        return rough_dielectric();
       default:
         return false;
     }
+  }
+
+  // True when eval and pdf can be non-zero for directions below the surface.
+  TESSERA_HD bool has_glossy_transmission() const {
+    return kind == BsdfKind::kDielectric && rough_dielectric();
+  }
+
+  // True when the lobe depends on the tangent's direction: the shading frame's tangent must
+  // then be the surface's (anisotropic_tangent), not an arbitrary one.
+  TESSERA_HD bool anisotropic() const {
+    return kind == BsdfKind::kConductor && ggx.alpha_x != ggx.alpha_y;
   }
 
   TESSERA_HD BsdfSample sample(const vec3& wo, float u_lobe, float u1, float u2) const {
@@ -162,15 +153,12 @@ struct Bsdf {
       case BsdfKind::kDiffuse:
         return sample_diffuse(u1, u2, albedo);
       case BsdfKind::kConductor:
-        s = sample_fuzzy(wo, u_lobe, u1, u2);
-        s.f *= albedo;
-        return s;
+        return sample_conductor(wo, u1, u2);
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
-        // u_lobe picks the coat with probability `coat`, then is stretched back to [0, 1)
-        // so the fuzzy lobe can use it.
+        const float coat = coat_reflectance(wo);
+        // u_lobe picks the coat with probability `coat`.
         if (u_lobe < coat) {
-          s = sample_fuzzy(wo, glm::min(u_lobe / coat, kOneMinusEpsilon), u1, u2);
+          s = sample_white_ggx(wo, u1, u2);
           if (!s.valid()) return s;
           if (s.specular()) {
             s.pdf *= coat;
@@ -189,15 +177,15 @@ struct Bsdf {
         return s;
       }
       case BsdfKind::kDielectric: {
-        // eta is n_t / n_i; refract() and Schlick take n_i / n_t.
-        const float inv_eta = 1.0f / eta;
-        const vec3 d = -wo;
+        if (rough_dielectric()) return sample_rough_dielectric(wo, u_lobe, u1, u2);
+        // eta is n_t / n_i; refract() takes n_i / n_t.
         const vec3 n(0.0f, 0.0f, 1.0f);
-        vec3 refracted(0.0f);  // unused on total internal reflection
-        const bool can_refract = refract(d, n, inv_eta, refracted);
-        const float r = can_refract ? schlick_reflectance(wo.z, inv_eta) : 1.0f;
-        // RayON's glass: the albedo tints both, Fresnel only chooses between them.
-        return sample_specular_pair(wo, r, refracted, albedo, u_lobe);
+        vec3 refracted(0.0f);  // unused on total internal reflection (r = 1)
+        refract(-wo, n, 1.0f / eta, refracted);
+        const float r = fresnel_dielectric(wo.z, eta);
+        s = sample_specular_pair(wo, r, refracted, vec3(1.0f), u_lobe);
+        if ((s.lobe & kLobeTransmission) != 0) s.f *= albedo;
+        return s;
       }
       case BsdfKind::kThinDielectric:
         return sample_thin_film(wo, u_lobe);
@@ -210,17 +198,23 @@ struct Bsdf {
   }
 
   TESSERA_HD vec3 eval(const vec3& wo, const vec3& wi) const {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return vec3(0.0f);
+    if (wo.z <= 0.0f) return vec3(0.0f);
+    if (kind == BsdfKind::kDielectric) return eval_rough_dielectric(wo, wi);
+    if (wi.z <= 0.0f) return vec3(0.0f);
     switch (kind) {
       case BsdfKind::kDiffuse:
         return albedo * kInvPi;
-      case BsdfKind::kConductor:
-        if (roughness <= 0.0f) return vec3(0.0f);
-        return albedo * (fuzzy_pdf(wo, wi) / wi.z);
+      case BsdfKind::kConductor: {
+        vec3 m;
+        if (ggx.effectively_smooth() || !reflection_half_vector(wo, wi, m)) return vec3(0.0f);
+        return conductor_fresnel(glm::dot(wo, m)) * white_ggx_f(wo, wi, m);
+      }
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
+        const float coat = coat_reflectance(wo);
         vec3 f = (1.0f - coat) * kInvPi * albedo;
-        if (roughness > 0.0f) f += vec3(coat * fuzzy_pdf(wo, wi) / wi.z);
+        vec3 m;
+        if (!ggx.effectively_smooth() && reflection_half_vector(wo, wi, m))
+          f += vec3(coat * white_ggx_f(wo, wi, m));
         return f;
       }
       default:
@@ -229,16 +223,23 @@ struct Bsdf {
   }
 
   TESSERA_HD float pdf(const vec3& wo, const vec3& wi) const {
-    if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
+    if (wo.z <= 0.0f) return 0.0f;
+    if (kind == BsdfKind::kDielectric) return pdf_rough_dielectric(wo, wi);
+    if (wi.z <= 0.0f) return 0.0f;
     switch (kind) {
       case BsdfKind::kDiffuse:
         return wi.z * kInvPi;
-      case BsdfKind::kConductor:
-        return roughness > 0.0f ? fuzzy_pdf(wo, wi) : 0.0f;
+      case BsdfKind::kConductor: {
+        vec3 m;
+        if (ggx.effectively_smooth() || !reflection_half_vector(wo, wi, m)) return 0.0f;
+        return white_ggx_pdf(wo, m);
+      }
       case BsdfKind::kCoated: {
-        const float coat = schlick_reflectance(wo.z, 1.0f / eta_outside());
+        const float coat = coat_reflectance(wo);
         float p = (1.0f - coat) * wi.z * kInvPi;
-        if (roughness > 0.0f) p += coat * fuzzy_pdf(wo, wi);
+        vec3 m;
+        if (!ggx.effectively_smooth() && reflection_half_vector(wo, wi, m))
+          p += coat * white_ggx_pdf(wo, m);
         return p;
       }
       default:
@@ -247,8 +248,6 @@ struct Bsdf {
   }
 
  private:
-  static constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
-
   // The coat faces air on both sides: its Fresnel term uses the material's index whichever
   // side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
@@ -284,12 +283,146 @@ struct Bsdf {
     return s;
   }
 
-  TESSERA_HD float fuzzy_pdf(const vec3& wo, const vec3& wi) const {
-    return fuzzy_reflection_pdf(vec3(-wo.x, -wo.y, wo.z), wi, roughness);
+  // Glass with a GGX lobe; an index of 1 is no interface at all, so it stays smooth (a
+  // straight pass-through, which the generalised half vector cannot express).
+  TESSERA_HD bool rough_dielectric() const { return !ggx.effectively_smooth() && eta != 1.0f; }
+
+  // The conductor's reflectance at a microfacet seen at cos_i: the albedo alone, or the
+  // albedo times the complex-index Fresnel term.
+  TESSERA_HD vec3 conductor_fresnel(float cos_i) const {
+    if (!complex_fresnel) return albedo;
+    return albedo * fresnel_conductor(cos_i, conductor_eta, conductor_k);
   }
 
-  TESSERA_HD BsdfSample sample_fuzzy(const vec3& wo, float u3, float u1, float u2) const {
-    return sample_fuzzy_reflection(wo, roughness, u3, u1, u2);
+  // White GGX reflection (Fresnel 1): a visible normal, the mirror direction about it; the
+  // weight f cos / pdf is G2 / G1(wo) <= 1. Smooth: a mirror with weight 1. The conductor
+  // multiplies it by its Fresnel term, the coat picks it with its own.
+  TESSERA_HD BsdfSample sample_white_ggx(const vec3& wo, float u1, float u2) const {
+    BsdfSample s;
+    if (ggx.effectively_smooth()) {
+      s.wi = vec3(-wo.x, -wo.y, wo.z);
+      s.pdf = 1.0f;
+      s.f = vec3(1.0f / wo.z);
+      s.lobe = kLobeReflection | kLobeSpecular;
+      return s;
+    }
+    const vec3 m = ggx.sample_visible(wo, u1, u2);
+    const float cos_om = glm::dot(wo, m);
+    if (!(cos_om > 0.0f)) return s;
+    s.wi = reflect_about(wo, m);
+    if (s.wi.z <= 0.0f) return BsdfSample{};
+    s.pdf = white_ggx_pdf(wo, m);
+    if (!(s.pdf > 0.0f)) return BsdfSample{};
+    s.f = vec3(white_ggx_f(wo, s.wi, m));
+    s.lobe = kLobeReflection | kLobeGlossy;
+    return s;
+  }
+
+  // D G2 / (4 cos_o cos_i) and the reflection's density D_visible / (4 wo.m), for the
+  // half vector m of wo and wi (both above the surface).
+  TESSERA_HD float white_ggx_f(const vec3& wo, const vec3& wi, const vec3& m) const {
+    return ggx.d(m) * ggx.g2(wo, wi) / (4.0f * wo.z * wi.z);
+  }
+  TESSERA_HD float white_ggx_pdf(const vec3& wo, const vec3& m) const {
+    return ggx.visible_d(wo, m) / (4.0f * glm::dot(wo, m));
+  }
+  TESSERA_HD static bool reflection_half_vector(const vec3& wo, const vec3& wi, vec3& m) {
+    const vec3 h = wo + wi;
+    const float len2 = glm::dot(h, h);
+    if (!(len2 > 0.0f)) return false;
+    m = h / std::sqrt(len2);
+    return true;
+  }
+
+  // GGX conductor: white GGX reflection times the Fresnel term at the sampled microfacet
+  // (at the macro normal when smooth).
+  TESSERA_HD BsdfSample sample_conductor(const vec3& wo, float u1, float u2) const {
+    BsdfSample s = sample_white_ggx(wo, u1, u2);
+    if (!s.valid()) return s;
+    const float cos_om = s.specular() ? wo.z : glm::dot(wo, glm::normalize(wo + s.wi));
+    s.f *= conductor_fresnel(cos_om);
+    return s;
+  }
+
+  // The clear coat's share: the exact Fresnel reflectance of its interface (air on both
+  // sides of a coat, whichever side is hit) at the macro normal. The base receives the
+  // rest; a coat lobe of albedo <= 1 and a base of albedo <= 1 mix to <= 1.
+  TESSERA_HD float coat_reflectance(const vec3& wo) const {
+    return fresnel_dielectric(wo.z, eta_outside());
+  }
+
+  // Rough glass (Walter et al. 2007, sampled through the visible normals): a microfacet
+  // normal m, then reflection about it with probability F(wo.m), else refraction through
+  // it. Each lobe's weight f |cos| / pdf is G2 / G1(wo) (times the tint on entry), so the
+  // lobe never returns more than it receives. Like the smooth glass, the transmitted
+  // radiance is not scaled by 1 / eta^2: on a closed object the factors of entry and exit
+  // cancel.
+  TESSERA_HD BsdfSample sample_rough_dielectric(const vec3& wo, float u_lobe, float u1,
+                                                float u2) const {
+    BsdfSample s;
+    const vec3 m = ggx.sample_visible(wo, u1, u2);
+    const float cos_om = glm::dot(wo, m);
+    if (!(cos_om > 0.0f)) return s;
+    const float r = fresnel_dielectric(cos_om, eta);
+    if (u_lobe < r) {
+      s.wi = reflect_about(wo, m);
+      if (s.wi.z <= 0.0f) return BsdfSample{};
+      s.lobe = kLobeReflection | kLobeGlossy;
+    } else {
+      vec3 refracted(0.0f);
+      if (!refract(-wo, m, 1.0f / eta, refracted)) return s;  // r = 1 there: not reached
+      s.wi = refracted;
+      if (s.wi.z >= 0.0f) return BsdfSample{};
+      s.lobe = kLobeTransmission | kLobeGlossy;
+    }
+    s.f = eval_rough_dielectric(wo, s.wi);
+    s.pdf = pdf_rough_dielectric(wo, s.wi);
+    if (!(s.pdf > 0.0f)) return BsdfSample{};
+    return s;
+  }
+
+  // The microfacet normal a pair of directions shares: the half vector for a reflection,
+  // the generalised half vector wo + eta wi for a refraction, on the +z side. False when
+  // the pair cannot be connected by one microfacet facing both.
+  TESSERA_HD bool dielectric_half_vector(const vec3& wo, const vec3& wi, vec3& m) const {
+    const bool reflection = wi.z > 0.0f;
+    vec3 h = reflection ? wo + wi : wo + eta * wi;
+    const float len2 = glm::dot(h, h);
+    if (!(len2 > 0.0f)) return false;
+    h /= std::sqrt(len2);
+    if (h.z < 0.0f) h = -h;
+    // Both directions must see the microfacet from the side their macro side says.
+    if (glm::dot(h, wo) <= 0.0f) return false;
+    if (reflection ? glm::dot(h, wi) <= 0.0f : glm::dot(h, wi) >= 0.0f) return false;
+    m = h;
+    return true;
+  }
+
+  TESSERA_HD vec3 eval_rough_dielectric(const vec3& wo, const vec3& wi) const {
+    if (!rough_dielectric() || wi.z == 0.0f) return vec3(0.0f);
+    vec3 m;
+    if (!dielectric_half_vector(wo, wi, m)) return vec3(0.0f);
+    const float cos_om = glm::dot(wo, m);
+    const float cos_im = glm::dot(wi, m);
+    const float r = fresnel_dielectric(cos_om, eta);
+    const float dg = ggx.d(m) * ggx.g2(wo, wi);  // Lambda depends on wi.z^2 only
+    if (wi.z > 0.0f) return vec3(r * dg / (4.0f * wo.z * wi.z));
+    const float denom = cos_im + cos_om / eta;
+    const float t = (1.0f - r) * dg * std::fabs(cos_im * cos_om / (wo.z * wi.z * denom * denom));
+    return albedo * t;
+  }
+
+  TESSERA_HD float pdf_rough_dielectric(const vec3& wo, const vec3& wi) const {
+    if (!rough_dielectric() || wi.z == 0.0f) return 0.0f;
+    vec3 m;
+    if (!dielectric_half_vector(wo, wi, m)) return 0.0f;
+    const float cos_om = glm::dot(wo, m);
+    const float r = fresnel_dielectric(cos_om, eta);
+    const float visible = ggx.visible_d(wo, m);
+    if (wi.z > 0.0f) return r * visible / (4.0f * cos_om);
+    const float cos_im = glm::dot(wi, m);
+    const float denom = cos_im + cos_om / eta;
+    return (1.0f - r) * visible * std::fabs(cos_im) / (denom * denom);
   }
 };
 

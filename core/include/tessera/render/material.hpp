@@ -10,10 +10,10 @@ namespace tessera {
 // make_material() for the mapping and what each approximates.
 enum class BsdfKind : std::uint32_t {
   kDiffuse = 0,         // Lambertian
-  kConductor = 1,       // mirror with roughness-scaled perturbation of the reflection
-  kDielectric = 2,      // smooth glass: Fresnel-weighted reflection or refraction
+  kConductor = 1,       // GGX microfacet conductor (a mirror when smooth)
+  kDielectric = 2,      // glass: smooth, or rough (GGX, Walter et al. 2007)
   kThinDielectric = 3,  // thin film (soap bubble): Airy reflectance or straight transmission
-  kCoated = 4,          // clear coat over a diffuse base
+  kCoated = 4,          // clear coat (exact Fresnel, GGX) over a diffuse base
   kEmitter = 5,         // emits, does not scatter
   // Unlit (RayON's debugging materials): the path ends at the surface and returns a colour
   // that no light affects. Not lights: nothing samples them, but a path that hits one sees
@@ -34,6 +34,22 @@ struct Material {
   float film_thickness_nm = 0.0f;
   float exterior_ior = 1.0f;
   MaterialPattern pattern;  // varies the albedo over the surface (RayON's pattern)
+  // GGX roughness along the shading frame's tangent and bitangent (conductors, glass and
+  // clear coats);
+  // make_material maps the scene's roughness and anisotropy onto them.
+  float alpha_x = 0.0f;
+  float alpha_y = 0.0f;
+  // Conductors: Fresnel from the complex index eta + i k per channel (times albedo) when
+  // set, else the albedo alone (RayON's metal and rough_mirror).
+  bool complex_fresnel = false;
+  vec3 eta{1.0f};
+  vec3 k{0.0f};
+  // Glass: absorption coefficient per unit length inside (Beer's law); 0 = clear.
+  vec3 absorption{0.0f};
+
+  TESSERA_HD bool absorbs() const {
+    return absorption.x > 0.0f || absorption.y > 0.0f || absorption.z > 0.0f;
+  }
 
   TESSERA_HD bool emissive() const {
     return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f;

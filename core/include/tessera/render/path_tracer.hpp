@@ -138,15 +138,20 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
   LightSample ls;
   if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls)) return vec3(0.0f);
-  // Shading normals must not let light through the geometric surface.
-  if (glm::dot(ls.wi, si.geometric_normal) <= 0.0f) return vec3(0.0f);
+  // Shading normals must not let light through the geometric surface: the light must be on
+  // the side the shading frame puts it, and behind the surface only for a BSDF that
+  // transmits (rough glass).
+  const float side = glm::dot(ls.wi, si.geometric_normal);
+  if (side <= 0.0f && !bsdf.has_glossy_transmission()) return vec3(0.0f);
   const vec3 wi = frame.to_local(ls.wi);
+  if ((wi.z > 0.0f) != (side > 0.0f)) return vec3(0.0f);
   const vec3 f = bsdf.eval(wo, wi) * std::fabs(wi.z);
   if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
   const float pdf = pick.pmf * ls.pdf;
   if (!(pdf > 0.0f)) return vec3(0.0f);
   ++rays;
-  const vec3 origin = offset_ray_origin(si.position, si.geometric_normal);
+  const vec3 origin =
+      offset_ray_origin(si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal);
   // Stop just short of the light so the shadow ray cannot hit the light itself, measured
   // from the offset origin: with ls.wi and ls.distance (measured from si.position) the
   // segment's end, moved by the offset, lies inside a sphere light wherever the sample is
@@ -190,6 +195,9 @@ struct PathHit {
     const SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
     const Material& material = scene.materials[si.material];
     const vec3 albedo = albedo_at(scene, material, hit.primitive, si.position);
+    // Leaving absorbing glass: the segment just traced ran inside it (closed, not nested).
+    if (!si.front_face && material.kind == BsdfKind::kDielectric && material.absorbs())
+      payload.throughput *= glm::exp(-material.absorption * (hit.t * glm::length(ray.direction)));
     if constexpr (kFeatures.aovs) {
       if (payload.depth == 0) {
         payload.aov.albedo = albedo;
@@ -210,10 +218,12 @@ struct PathHit {
     if (payload.depth + 1 >= max_depth) return;
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
-    const Frame frame = Frame::from_normal(si.shading_normal);
+    Bsdf bsdf = Bsdf::of(material, si.front_face, albedo);
+    const Frame frame = bsdf.anisotropic()
+                            ? Frame::from_normal_and_tangent(si.shading_normal,
+                                                             anisotropy_tangent(si.shading_normal))
+                            : Frame::from_normal(si.shading_normal);
     const vec3 wo = frame.to_local(-ray.direction);
-    Bsdf bsdf = Bsdf::of(material, si.front_face);
-    bsdf.albedo = albedo;
     // Variants without specular materials compile the Lambertian case alone.
     if constexpr (!kFeatures.specular) bsdf.kind = BsdfKind::kDiffuse;
     BounceSamples u;

@@ -74,7 +74,12 @@ struct MaterialDesc {
   double metallic = 0.0;
   double transmission = 0.0;
   double anisotropy = 0.0;
-  std::string preset;           // anisotropic_metal: named metal colour
+  std::string preset;   // conductors: named measured metal (its eta and k)
+  glm::dvec3 eta{0.0};  // conductors: complex index eta + i k per RGB; 0 = unset
+  glm::dvec3 k{0.0};
+  // glass: Beer's law, the share of light left after `transmittance_distance` inside.
+  glm::dvec3 transmittance{1.0};
+  double transmittance_distance = 1.0;
   double film_thickness = 0.0;  // thin_film, nanometres (400 for thin_film by default)
   double film_ior = 1.33;
   // RayON's emission shorthand: emitted radiance color * emission_intensity, instead of
@@ -90,8 +95,9 @@ struct MaterialDesc {
 };
 
 // Defaults that depend on the type, applied before the fields are read: a light's albedo
-// is 1 (its emission is what it shows); a thin film is 400 nm thick and in air
-// (refractive_index 1), as in RayON.
+// is 1 (its emission is what it shows); so is glass's (lossless unless tinted) and an
+// anisotropic metal's (its colour comes from its preset or eta and k); a thin film is
+// 400 nm thick and in air (refractive_index 1), as in RayON.
 void apply_type_defaults(MaterialDesc& material);
 
 // Placement of one geometry entry: p -> translate + rotate(scale * p), i.e. scale first,

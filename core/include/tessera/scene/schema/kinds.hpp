@@ -176,20 +176,27 @@ struct MaterialKind {
        .doc = "unique; geometry refers to it"},
       {.name = "type",
        .presence = kRequired,
-       .doc = "lambertian, light, metal, rough_mirror, glass, anisotropic_metal, clear_coat, "
-              "thin_film, mirror, constant (unlit albedo), show_normals (the normal as a "
-              "colour)"},
+       .doc = "lambertian, light, metal, rough_mirror, glass (alias dielectric), "
+              "anisotropic_metal, clear_coat, thin_film, mirror, constant (unlit albedo), "
+              "show_normals (the normal as a colour)"},
       {.name = "albedo",
        .member = &Desc::albedo,
        .rule = kNonNegativeComponents,
-       .doc = "reflectance, linear RGB (lights: 1)",
+       .doc = "reflectance, linear RGB (lights, glass, anisotropic_metal: 1); glass: the "
+              "tint of light entering it",
        .grey_scalar = true},
       {.name = "emission",
        .member = &Desc::emission,
        .rule = kNonNegativeComponents,
        .doc = "emitted radiance (required for lights)",
        .grey_scalar = true},
-      {.name = "roughness", .member = &Desc::roughness, .rule = kInRange, .lo = 0.0, .hi = 1.0},
+      {.name = "roughness",
+       .member = &Desc::roughness,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1.0,
+       .doc = "GGX alpha = roughness / 2 (metal, rough_mirror, clear_coat), roughness^2 "
+              "(anisotropic_metal, glass); 0: mirror, smooth glass"},
       {.name = "refractive_index",
        .member = &Desc::refractive_index,
        .rule = kInRange,
@@ -211,12 +218,36 @@ struct MaterialKind {
        .hi = 1.0,
        .doc = "the transparency view's opacity is 1 - transmission; the path tracer, like "
               "RayON, ignores it"},
-      {.name = "anisotropy", .member = &Desc::anisotropy, .rule = kInRange, .lo = -1.0, .hi = 1.0},
+      {.name = "anisotropy",
+       .member = &Desc::anisotropy,
+       .rule = kInRange,
+       .lo = -1.0,
+       .hi = 1.0,
+       .doc = "conductors: alpha / a along the tangent cross(+y, n), alpha * a across, "
+              "a = sqrt(1 - 0.9 anisotropy)"},
       {.name = "preset",
        .member = &Desc::preset,
        .rule = kOneOf,
-       .doc = "anisotropic_metal colour",
-       .choices = "silver|gold|copper|aluminium|aluminum"},
+       .doc = "conductors: measured eta and k of this metal",
+       .choices = "silver|gold|copper|aluminium|aluminum|chromium"},
+      {.name = "eta",
+       .member = &Desc::eta,
+       .rule = kNonNegativeComponents,
+       .doc = "conductors: real part of the complex index per RGB (with k; 0: unset)"},
+      {.name = "k",
+       .member = &Desc::k,
+       .rule = kNonNegativeComponents,
+       .doc = "conductors: extinction coefficient per RGB (with eta)"},
+      {.name = "transmittance",
+       .member = &Desc::transmittance,
+       .rule = kNonNegativeComponents,
+       .doc = "glass: share of light left after transmittance_distance inside (Beer's law), "
+              "each in (0, 1]",
+       .grey_scalar = true},
+      {.name = "transmittance_distance",
+       .member = &Desc::transmittance_distance,
+       .rule = kPositive,
+       .doc = "glass: the distance transmittance is measured over, scene units"},
       {.name = "film_thickness",
        .member = &Desc::film_thickness,
        .rule = kInRange,
@@ -240,10 +271,7 @@ struct MaterialKind {
        .doc = "scales color into emission; not with emission"},
       {.name = "pattern", .doc = "{ type, color, dot_count, dot_radius }: see below"},
   };
-  static constexpr IgnoredKey ignored[] = {
-      {"eta", "explicit conductor constants are not supported yet; use preset"},
-      {"k", "explicit conductor constants are not supported yet; use preset"},
-  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
   // A light without emission would be black: RayON requires it too. The shorthand and
   // `emission` together would be ambiguous (RayON silently drops `emission`).
   static void check(const Desc& material, Checks& check) {
@@ -256,6 +284,17 @@ struct MaterialKind {
       check.fail("emission",
                  "is required for a light material (and must not be zero): write emission, or "
                  "color and emission_intensity");
+    // A complex index needs its real part: eta = 0 reflects everything whatever k says.
+    const bool has_eta = material.eta != glm::dvec3(0.0);
+    if (material.k != glm::dvec3(0.0) && !has_eta)
+      check.fail("eta", "is required with k (the complex index is eta + i k)");
+    if (has_eta && (material.eta.x <= 0.0 || material.eta.y <= 0.0 || material.eta.z <= 0.0))
+      check.fail("eta", "must be > 0 in every channel");
+    const glm::dvec3& t = material.transmittance;
+    if (!(t.x > 0.0 && t.y > 0.0 && t.z > 0.0 && t.x <= 1.0 && t.y <= 1.0 && t.z <= 1.0))
+      check.fail("transmittance", "must be in (0, 1] in every channel");
+    if (has_eta && !material.preset.empty())
+      check.fail("preset", "cannot be combined with eta and k (both give the metal's index)");
   }
 };
 
