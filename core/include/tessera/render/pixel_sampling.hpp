@@ -64,6 +64,7 @@ TESSERA_HD bool render_pixel(const Pipeline& pipeline, std::uint32_t x, std::uin
       if (plane)
         for (int c = 0; c < 4; ++c) plane[at + c] *= keep;
   }
+  AdaptiveStop stop;
   std::uint32_t taken = sampling.first;
   while (taken < sampling.end) {
     if (interrupted()) return false;
@@ -72,7 +73,7 @@ TESSERA_HD bool render_pixel(const Pipeline& pipeline, std::uint32_t x, std::uin
     ++taken;
     if (!track) continue;
     stats.add((rgb_at(film.beauty, at) - before) * sample_scale);
-    if (adaptive && pixel_converged(stats, sampling.min_samples, sampling.target_error)) break;
+    if (adaptive && stop.converged(stats, sampling.min_samples, sampling.target_error)) break;
   }
   if (adaptive) {
     const float inv = 1.0f / static_cast<float>(taken);

@@ -43,15 +43,29 @@ struct PixelVariance {
   }
 };
 
-// Whether a pixel with `stats` has met adaptive sampling's target. Checked every
-// kAdaptiveCheckInterval samples once min_samples are in, so the decision (and the image)
-// depends only on the pixel's own samples.
-inline constexpr std::uint32_t kAdaptiveCheckInterval = 8;
-TESSERA_HD inline bool pixel_converged(const PixelVariance& stats, std::uint32_t min_samples,
-                                       float target_error) {
-  if (stats.count < min_samples) return false;
-  if ((stats.count - min_samples) % kAdaptiveCheckInterval != 0) return false;
-  return stats.relative_error() < target_error;
-}
+// Adaptive sampling's stopping rule. A pixel is checked at min_samples * 2^k samples (Sobol
+// points are best balanced at powers of two, and each decision sees twice the samples of the
+// one before) and stops once its estimate has met the target at two checkpoints in a row: an
+// estimate from a few samples that missed a rare bright path (a caustic) underestimates the
+// variance, and a second, larger look catches most of those. The decision depends only on the
+// pixel's own samples, so the image does not depend on tiles or threads.
+struct AdaptiveStop {
+  bool met_at_last_checkpoint = false;
+
+  TESSERA_HD static bool checkpoint(std::uint32_t count, std::uint32_t min_samples) {
+    if (count < min_samples || count % min_samples != 0) return false;
+    const std::uint32_t multiple = count / min_samples;
+    return (multiple & (multiple - 1)) == 0;
+  }
+
+  TESSERA_HD bool converged(const PixelVariance& stats, std::uint32_t min_samples,
+                            float target_error) {
+    if (!checkpoint(stats.count, min_samples)) return false;
+    const bool met = stats.relative_error() < target_error;
+    const bool stop = met && met_at_last_checkpoint;
+    met_at_last_checkpoint = met;
+    return stop;
+  }
+};
 
 }  // namespace tessera
