@@ -8,10 +8,10 @@ struct AovChannels {
   std::vector<std::string> names;
 };
 const AovChannels kAovChannels[] = {
-    {{"albedo.R", "albedo.G", "albedo.B"}},
-    {{"normal.X", "normal.Y", "normal.Z"}},
+    {{"Albedo.R", "Albedo.G", "Albedo.B"}},
+    {{"Normal.X", "Normal.Y", "Normal.Z"}},
     {{"Z"}},
-    {{"primitive_id"}},
+    {{"PrimitiveID.X"}},
 };
 }  // namespace
 

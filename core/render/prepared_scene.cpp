@@ -109,8 +109,7 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                 scene->bvh_);
-  scene->camera_ = Camera::from_description(description.camera, description.render.width,
-                                            description.render.height);
+  scene->camera_ = Camera::from_description(description.camera, description.render);
   scene->background_ = vec3(description.background.color * description.background.intensity);
   scene->light_alias_ = finish_light_list(scene->lights_, scene->materials_, scene->view());
   if (options.light_tree && scene->lights_.size() >= 2)
@@ -170,9 +169,7 @@ TileStats PreparedScene::render_tile(const TileRect& tile, std::span<float> rgba
   FilmPlanes film;
   film.beauty = rgba.data();
   // AOV-enabled variants write only the planes that are present, so none are passed here.
-  const TileStats stats = variant_->render(view(), settings_, tile, film);
-  for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
-  return stats;
+  return variant_->render(view(), settings_, tile, film);
 }
 
 TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) const {
@@ -186,16 +183,13 @@ TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) c
       passes.aovs[i].clear();
       continue;
     }
-    passes.aovs[i].assign(floats, 0.0f);
+    // Depth keeps the nearest sample, so it starts infinitely far.
+    passes.aovs[i].assign(floats, &film.depth == planes[i] ? kInfinity : 0.0f);
     *planes[i] = passes.aovs[i].data();
   }
-  const TileStats stats = variant_->render(view(), settings_, tile, film);
-  const auto set_alpha = [](std::vector<float>& plane) {
-    for (std::size_t i = 3; i < plane.size(); i += 4) plane[i] = 1.0f;
-  };
-  set_alpha(passes.beauty);
-  for (auto& plane : passes.aovs) set_alpha(plane);
-  return stats;
+  // The beauty's alpha is the coverage the integrators add up; the AOV planes' fourth
+  // component carries nothing.
+  return variant_->render(view(), settings_, tile, film);
 }
 
 }  // namespace tessera

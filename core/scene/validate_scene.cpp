@@ -280,6 +280,9 @@ class SceneValidator {
     in_u32(fields[2], 1, limits_.max_samples_per_pixel);
     in_u32(fields[3], 1, limits_.max_depth);
     in_u32(fields[4], limits_.min_tile_size, limits_.max_tile_size);
+    // The declared rules of the other fields (clamp, pixel filter): the sizes above take
+    // their bounds from the limits instead.
+    schema::check_fields(r, fields, check);
     if ((r.aovs & ~kAllAovs) != 0) check.fail("aovs", "unknown AOV bits set");
     if (r.aovs != 0 && r.integrator != IntegratorKind::kPath)
       check.fail("aovs", std::string("AOVs come with the path integrator, not '") +
