@@ -17,6 +17,7 @@ using DeviceConfig = PathTracerConfig<kDeviceFeatures>;
 __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
                                         std::uint32_t samples_per_pixel, std::uint32_t max_depth,
                                         SamplerKind sampler, LightStrategy strategy,
+                                        float clamp, bool transparent_background,
                                         TileRect tile, FilmPlanes film,
                                         unsigned long long* ray_count) {
   const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
@@ -30,8 +31,9 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
       scene.bvh,
       SceneIntersection<kDeviceFeatures.shapes>{scene});
   const Pipeline<DeviceConfig> pipeline(generation, tracer,
-                                        PathHit<kDeviceFeatures>{scene, max_depth, strategy},
-                                        BackgroundMiss{scene.background});
+                                        PathHit<kDeviceFeatures>{scene, max_depth, strategy, clamp},
+                                        BackgroundMiss{scene.background, transparent_background,
+                                                       clamp});
   for (std::uint32_t s = 0; s < samples_per_pixel; ++s)
     pipeline.launch(tile.x + local_x, tile.y + local_y, s);
   atomicAdd(ray_count, static_cast<unsigned long long>(rays));
@@ -40,16 +42,21 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
 }  // namespace
 
 // Renders one tile on the current device. Every pointer in `scene` and `film` must be
-// device memory; `ray_count` too. Returns the launch status.
+// device memory; `ray_count` too. `clamp` and `transparent_background` are the render
+// settings'. The film's depth plane must start at +inf and the others at 0, as
+// PreparedScene::render_tile sets them. Returns the launch status.
 cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
                                     std::uint32_t samples_per_pixel, std::uint32_t max_depth,
-                                    SamplerKind sampler, LightStrategy strategy,
-                                    const TileRect& tile, const FilmPlanes& film,
-                                    unsigned long long* ray_count, cudaStream_t stream) {
+                                    SamplerKind sampler, LightStrategy strategy, float clamp,
+                                    bool transparent_background, const TileRect& tile,
+                                    const FilmPlanes& film, unsigned long long* ray_count,
+                                    cudaStream_t stream) {
   const dim3 block(8, 8);
   const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
   path_tracer_tile_kernel<<<grid, block, 0, stream>>>(scene, seed, samples_per_pixel, max_depth,
-                                                      sampler, strategy, tile, film, ray_count);
+                                                      sampler, strategy, clamp,
+                                                      transparent_background, tile, film,
+                                                      ray_count);
   return cudaGetLastError();
 }
 
