@@ -103,6 +103,18 @@ class OverrideOptions {
   CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_;
 };
 
+// The PNG preview's exposure and tone curve (the EXR keeps the linear radiance).
+void add_preview_options(CLI::App& command, CliCommand& cmd) {
+  command
+      .add_option("--exposure", cmd.preview_exposure,
+                  "PNG preview exposure in stops (radiance times 2^stops)")
+      ->check(CLI::Range(-32.0, 32.0));
+  command
+      .add_option("--tone", cmd.preview_tone,
+                  "PNG preview tone curve: clamp (default) or aces (filmic highlight roll-off)")
+      ->check(CLI::IsMember({"clamp", "aces"}));
+}
+
 }  // namespace
 
 ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
@@ -119,6 +131,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".exr"));
   render->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
       ->check(extension_validator(".png"));
+  add_preview_options(*render, cmd);
   OverrideOptions render_overrides(*render);
   CLI::Option* local =
       render->add_flag("--local", cmd.local, "render in this process instead of on a server");
@@ -152,6 +165,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".exr"));
   watch->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
       ->check(extension_validator(".png"));
+  add_preview_options(*watch, cmd);
   add_server_option(*watch, cmd.server);
 
   CLI::App* list = app.add_subcommand("list", "list the server's jobs, newest first");
@@ -179,6 +193,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".exr"));
   denoise->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG of the denoised pass")
       ->check(extension_validator(".png"));
+  add_preview_options(*denoise, cmd);
 
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {

@@ -24,11 +24,13 @@ struct RenderOverrides {
 struct CliCommand {
   CommandKind kind = CommandKind::kList;
   std::string server = kDefaultServer;
-  std::string scene_path;   // render, submit
-  std::string job_id;       // watch, status, cancel, delete
-  std::string input_exr;    // denoise
-  std::string output_exr;   // render, watch, denoise
-  std::string preview_png;  // render, watch; empty: none
+  std::string scene_path;              // render, submit
+  std::string job_id;                  // watch, status, cancel, delete
+  std::string input_exr;               // denoise
+  std::string output_exr;              // render, watch, denoise
+  std::string preview_png;             // render, watch, denoise; empty: none
+  double preview_exposure = 0.0;       // stops, applied to the PNG preview only
+  std::string preview_tone = "clamp";  // the PNG preview's tone curve: clamp or aces
   RenderOverrides overrides;
   bool local = false;    // render in-process instead of through a server
   unsigned threads = 0;  // --local worker threads; 0: all hardware threads

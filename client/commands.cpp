@@ -21,6 +21,7 @@
 #include "client/tile_assembler.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/image/exr.hpp"
+#include "tessera/render/camera.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
@@ -236,14 +237,53 @@ void discard_output(TileAssembler& assembler, const CliCommand& cmd) {
   std::filesystem::remove(cmd.output_exr, ec);
 }
 
-// Closes the EXR, writes the PNG preview and prints the summary line; the time reported runs
-// from `start` until both files are written.
+// The EXR header of a render: what made it, from which scene and job, and the camera
+// (`scene` is null when only the job is known, as for `tessera watch`).
+ImageMetadata output_metadata(const std::string& scene_name, const std::string& job_id,
+                              std::uint32_t samples_per_pixel, const SceneDescription* scene) {
+  ImageMetadata metadata;
+  metadata.software = std::string("Tessera ") + TESSERA_VERSION;
+  metadata.scene_name = scene_name;
+  metadata.job_id = job_id;
+  metadata.samples_per_pixel = samples_per_pixel;
+  if (scene) {
+    const CameraMatrices m =
+        camera_matrices(scene->camera, scene->render.width, scene->render.height);
+    // glm's column-major memory is Imath's row-vector matrix, as OpenEXR stores it.
+    const auto as_exr = [](const glm::dmat4& matrix) {
+      std::array<float, 16> out{};
+      for (int column = 0; column < 4; ++column)
+        for (int row = 0; row < 4; ++row)
+          out[static_cast<std::size_t>(column * 4 + row)] = static_cast<float>(matrix[column][row]);
+      return out;
+    };
+    metadata.world_to_camera = as_exr(m.world_to_camera);
+    metadata.world_to_screen = as_exr(m.world_to_screen);
+    metadata.world_to_ndc = as_exr(m.world_to_ndc);
+  }
+  return metadata;
+}
+
+PreviewOptions preview_options(const CliCommand& cmd) {
+  PreviewOptions options;
+  options.exposure = static_cast<float>(cmd.preview_exposure);
+  options.curve = cmd.preview_tone == "aces" ? ToneCurve::kAces : ToneCurve::kClamp;
+  return options;
+}
+
+// Closes the EXR (rewritten with `metadata` and the render time), writes the PNG preview
+// and prints the summary line; the time reported runs from `start` until both files are
+// written.
 void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::string& what,
-                   Clock::time_point start, double rays_per_second, std::ostream& out) {
+                   Clock::time_point start, double rays_per_second, std::ostream& out,
+                   ImageMetadata metadata) {
   try {
-    assembler.finish();
-    if (!cmd.preview_png.empty()) write_image(cmd.preview_png, assembler.image());
-    if (cmd.denoise) denoise_exr_file(cmd.output_exr, cmd.output_exr, cmd.preview_png);
+    metadata.render_seconds = seconds_since(start);
+    assembler.finish(metadata);
+    if (!cmd.preview_png.empty())
+      write_image(cmd.preview_png, assembler.image(), preview_options(cmd));
+    if (cmd.denoise)
+      denoise_exr_file(cmd.output_exr, cmd.output_exr, cmd.preview_png, preview_options(cmd));
   } catch (const std::exception& e) {
     discard_output(assembler, cmd);
     throw CommandFailure{kExitFailed, e.what()};
@@ -283,9 +323,11 @@ void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
 
 // Streams `job`'s tiles into the output until the job ends. `start`: when the user's wait
 // began, for the summary.
+// `scene`: the scene submitted, for the camera in the EXR header; null when unknown.
 int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
                std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
-               Clock::time_point start, const CommandOutput& io) {
+               Clock::time_point start, const CommandOutput& io,
+               const SceneDescription* scene = nullptr) {
   const v1::RenderSettings& s = job.settings();
   const std::uint32_t aovs = aov_mask_from_proto(s);
   // The output was opened from the scene's settings; the server's are the ones that count.
@@ -334,7 +376,8 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
           ? static_cast<double>(last.rays_traced()) / last.elapsed_seconds()
           : 0.0;
   finish_output(*assembler, cmd, settings_summary(s.width(), s.height(), s.samples_per_pixel()),
-                start, rays_per_second, io.out);
+                start, rays_per_second, io.out,
+                output_metadata(job.name(), job.id(), s.samples_per_pixel(), scene));
   return kExitOk;
 }
 
@@ -359,7 +402,7 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
                              job.settings().samples_per_pixel())
          << ", " << job.progress().tiles_total() << " tiles)\n"
          << std::flush;
-  return stream_job(client, job, cmd, std::move(assembler), true, start, io);
+  return stream_job(client, job, cmd, std::move(assembler), true, start, io, &scene);
 }
 
 int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
@@ -420,7 +463,8 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   finish_output(
       *assembler, cmd,
       settings_summary(scene.render.width, scene.render.height, scene.render.samples_per_pixel),
-      start, rays_per_second, io.out);
+      start, rays_per_second, io.out,
+      output_metadata(job_name(cmd), "", scene.render.samples_per_pixel, &scene));
   return kExitOk;
 }
 
@@ -542,7 +586,7 @@ int denoise_file(const CliCommand& cmd, const CommandOutput& io) {
   create_parent_directory(cmd.output_exr);
   if (!cmd.preview_png.empty()) create_parent_directory(cmd.preview_png);
   try {
-    denoise_exr_file(cmd.input_exr, cmd.output_exr, cmd.preview_png);
+    denoise_exr_file(cmd.input_exr, cmd.output_exr, cmd.preview_png, preview_options(cmd));
   } catch (const std::exception& e) {
     throw CommandFailure{kExitFailed, e.what()};
   }

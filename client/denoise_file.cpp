@@ -1,10 +1,14 @@
 #include "client/denoise_file.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tessera/image/denoise.hpp"
@@ -35,10 +39,46 @@ std::vector<float> plane(const ChannelImage& image, const std::vector<std::strin
   return three.pixels;
 }
 
+bool same_name(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) ==
+                  std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+// The header attributes Tessera writes, read back so the rewritten file keeps them.
+ImageMetadata metadata_of(const std::filesystem::path& path) {
+  const ImageHeader header = read_image_header(path);
+  const auto find = [&](std::string_view name) -> const ImageHeader::Attribute* {
+    for (const ImageHeader::Attribute& a : header.attributes)
+      if (same_name(a.name, name)) return &a;
+    return nullptr;
+  };
+  ImageMetadata m;
+  if (const auto* a = find("Software")) m.software = a->value;
+  if (const auto* a = find("tessera/scene")) m.scene_name = a->value;
+  if (const auto* a = find("tessera/jobId")) m.job_id = a->value;
+  if (const auto* a = find("tessera/samplesPerPixel"); a && !a->numbers.empty())
+    m.samples_per_pixel = static_cast<std::uint32_t>(a->numbers[0]);
+  if (const auto* a = find("tessera/renderSeconds"); a && !a->numbers.empty())
+    m.render_seconds = a->numbers[0];
+  const auto matrix = [&](std::string_view name, std::optional<std::array<float, 16>>& out) {
+    const auto* a = find(name);
+    if (!a || a->numbers.size() != 16) return;
+    std::array<float, 16> values{};
+    for (std::size_t i = 0; i < 16; ++i) values[i] = static_cast<float>(a->numbers[i]);
+    out = values;
+  };
+  matrix("worldToCamera", m.world_to_camera);
+  matrix("worldToScreen", m.world_to_screen);
+  matrix("worldToNDC", m.world_to_ndc);
+  return m;
+}
+
 }  // namespace
 
 void denoise_exr_file(const std::filesystem::path& input, const std::filesystem::path& output,
-                      const std::filesystem::path& preview_png) {
+                      const std::filesystem::path& preview_png, const PreviewOptions& preview) {
   ChannelImage image;
   try {
     image = decode_exr_channels(read_bytes(input));
@@ -82,22 +122,16 @@ void denoise_exr_file(const std::filesystem::path& input, const std::filesystem:
                base.pixels.begin() + (p + 1) * kept.size());
     out.insert(out.end(), clean.begin() + p * 3, clean.begin() + p * 3 + 3);
   }
-  const std::vector<std::uint8_t> bytes =
-      encode_exr(out, image.width, image.height, channels, 0, 0);
-  {
-    const std::filesystem::path temporary = output.string() + ".part";
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file.write(reinterpret_cast<const char*>(bytes.data()),
-               static_cast<std::streamsize>(bytes.size()));
-    if (!file.flush()) throw std::runtime_error("cannot write " + temporary.string());
-    file.close();
-    std::filesystem::rename(temporary, output);
-  }
+  const ImageMetadata metadata = metadata_of(input);
+  const std::filesystem::path temporary = output.string() + ".part";
+  write_exr(temporary, ChannelImage{image.width, image.height, channels, std::move(out)}, 64,
+            metadata);
+  std::filesystem::rename(temporary, output);
   if (!preview_png.empty()) {
-    RgbaImage preview{image.width, image.height, std::vector<float>(pixels * 4, 1.0f)};
+    RgbaImage image_of_denoised{image.width, image.height, std::vector<float>(pixels * 4, 1.0f)};
     for (std::size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c) preview.pixels[p * 4 + c] = clean[p * 3 + c];
-    write_image(preview_png, preview);
+      for (int c = 0; c < 3; ++c) image_of_denoised.pixels[p * 4 + c] = clean[p * 3 + c];
+    write_image(preview_png, image_of_denoised, preview);
   }
 }
 

@@ -30,6 +30,13 @@ TileAssembler::TileAssembler(std::uint32_t width, std::uint32_t height, std::uin
   image_.width = width;
   image_.height = height;
   image_.pixels.assign(static_cast<std::size_t>(width) * height * 4, 0.0f);
+  exr_path_ = exr_path;
+  if (exr_path) {
+    all_channels_.width = width;
+    all_channels_.height = height;
+    all_channels_.channels = channels_;
+    all_channels_.pixels.assign(static_cast<std::size_t>(width) * height * channels_.size(), 0.0f);
+  }
   if (exr_path)
     writer_ = std::make_unique<TiledExrWriter>(*exr_path, width, height, tile_size, channels_);
 }
@@ -59,17 +66,33 @@ void TileAssembler::add_tile(const TileRect& tile, std::span<const float> pixels
           pixels.begin() + static_cast<std::ptrdiff_t>((row * tile.width + col) * stride), 4,
           image_.pixels.begin() +
               (static_cast<std::ptrdiff_t>(tile.y + row) * image_.width + tile.x + col) * 4);
-  if (writer_) writer_->write_tile(tile, pixels);
+  if (writer_) {
+    writer_->write_tile(tile, pixels);
+    const std::size_t row_floats = tile.width * stride;
+    for (std::uint32_t row = 0; row < tile.height; ++row)
+      std::copy_n(
+          pixels.begin() + static_cast<std::ptrdiff_t>(row * row_floats), row_floats,
+          all_channels_.pixels.begin() +
+              static_cast<std::ptrdiff_t>(
+                  ((static_cast<std::size_t>(tile.y) + row) * image_.width + tile.x) * stride));
+  }
 }
 
-void TileAssembler::finish() {
+void TileAssembler::finish(const ImageMetadata& metadata) {
   const auto missing = std::find(received_.begin(), received_.end(), false);
   if (missing != received_.end())
     throw std::runtime_error("the stream ended without " +
                              describe(grid_[missing - received_.begin()]) + " (" +
                              std::to_string(received_count_) + " of " +
                              std::to_string(grid_.size()) + " tiles received)");
-  if (writer_) writer_->close();
+  if (!writer_) return;
+  writer_->close();
+  writer_.reset();
+  // Written beside the partial file and renamed over it, so a failure leaves that intact.
+  std::filesystem::path complete = *exr_path_;
+  complete += ".tmp.exr";
+  write_exr(complete, all_channels_, tile_size_, metadata);
+  std::filesystem::rename(complete, *exr_path_);
 }
 
 void TileAssembler::abandon() {

@@ -14,8 +14,9 @@ namespace tessera {
 
 // Puts finished tiles together, in whatever order they arrive: each tile is written to the
 // tiled EXR at once (so a long render leaves a usable partial file) and copied into the whole
-// image kept for the PNG preview. Checks that every tile matches the job's tile grid and
-// arrives exactly once, because the output is only right if the stream was.
+// image, which finish() writes again with the complete header (render time and all: an
+// OpenEXR header cannot change once the first tile is written). Checks that every tile matches the
+// job's tile grid and arrives exactly once, because the output is only right if the stream was.
 class TileAssembler {
  public:
   // `exr_path` empty: keep the image in memory only.
@@ -37,8 +38,9 @@ class TileAssembler {
   std::uint32_t tiles_total() const { return static_cast<std::uint32_t>(grid_.size()); }
   bool complete() const { return received_count_ == grid_.size(); }
 
-  // Closes the EXR. Throws std::runtime_error naming the first missing tile, if any.
-  void finish();
+  // Closes the EXR and rewrites it whole with `metadata` in its header. Throws
+  // std::runtime_error naming the first missing tile, if any.
+  void finish(const ImageMetadata& metadata = {});
   // Closes the EXR without checking; for giving up on a failed job.
   void abandon();
 
@@ -52,6 +54,8 @@ class TileAssembler {
   std::vector<bool> received_;
   std::uint32_t received_count_ = 0;
   RgbaImage image_;
+  ChannelImage all_channels_;
+  std::optional<std::filesystem::path> exr_path_;
   std::unique_ptr<TiledExrWriter> writer_;
 };
 

@@ -22,7 +22,8 @@ struct NeverInterrupted {
 
 __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, PixelSampling sampling,
                                         std::uint32_t max_depth, SamplerKind sampler,
-                                        LightStrategy strategy, TileRect tile, FilmPlanes film,
+                                        LightStrategy strategy, float clamp,
+                                        bool transparent_background, TileRect tile, FilmPlanes film,
                                         unsigned long long* ray_count) {
   const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
   const std::uint32_t local_y = blockIdx.y * blockDim.y + threadIdx.y;
@@ -32,9 +33,9 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, Pix
       scene.camera, seed, tile, sampling.sample_weight(), film, &rays, sampler};
   const BvhTracer<SceneIntersection<kDeviceFeatures.shapes>> tracer(
       scene.bvh, SceneIntersection<kDeviceFeatures.shapes>{scene});
-  const Pipeline<DeviceConfig> pipeline(generation, tracer,
-                                        PathHit<kDeviceFeatures>{scene, max_depth, strategy},
-                                        BackgroundMiss{scene.background});
+  const Pipeline<DeviceConfig> pipeline(
+      generation, tracer, PathHit<kDeviceFeatures>{scene, max_depth, strategy, clamp},
+      BackgroundMiss{scene.background, transparent_background, clamp});
   NeverInterrupted interrupted;
   render_pixel(pipeline, tile.x + local_x, tile.y + local_y, tile, film, sampling, interrupted);
   atomicAdd(ray_count, static_cast<unsigned long long>(rays));
@@ -44,16 +45,20 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, Pix
 
 // Renders one tile on the current device, each pixel as the CPU does (render_pixel:
 // adaptive sampling and refinement included). Every pointer in `scene` and `film` must be
-// device memory; `ray_count` too. Returns the launch status.
+// device memory; `ray_count` too. `clamp` and `transparent_background` are the render
+// settings'. The film's depth plane must start at +inf and the others at 0, as
+// PreparedScene::render_tile sets them. Returns the launch status.
 cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
                                     const PixelSampling& sampling, std::uint32_t max_depth,
-                                    SamplerKind sampler, LightStrategy strategy,
-                                    const TileRect& tile, const FilmPlanes& film,
-                                    unsigned long long* ray_count, cudaStream_t stream) {
+                                    SamplerKind sampler, LightStrategy strategy, float clamp,
+                                    bool transparent_background, const TileRect& tile,
+                                    const FilmPlanes& film, unsigned long long* ray_count,
+                                    cudaStream_t stream) {
   const dim3 block(8, 8);
   const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
   path_tracer_tile_kernel<<<grid, block, 0, stream>>>(scene, seed, sampling, max_depth, sampler,
-                                                      strategy, tile, film, ray_count);
+                                                      strategy, clamp, transparent_background, tile,
+                                                      film, ray_count);
   return cudaGetLastError();
 }
 

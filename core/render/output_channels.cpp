@@ -8,12 +8,12 @@ struct AovChannels {
   std::vector<std::string> names;
 };
 const AovChannels kAovChannels[] = {
-    {{"albedo.R", "albedo.G", "albedo.B"}},
-    {{"normal.X", "normal.Y", "normal.Z"}},
+    {{"Albedo.R", "Albedo.G", "Albedo.B"}},
+    {{"Normal.X", "Normal.Y", "Normal.Z"}},
     {{"Z"}},
-    {{"primitive_id"}},
-    {{"variance.R", "variance.G", "variance.B"}},
-    {{"sample_count"}},
+    {{"PrimitiveID.X"}},
+    {{"Variance.R", "Variance.G", "Variance.B"}},
+    {{"SampleCount.X"}},
 };
 static_assert(std::size(kAovChannels) == kAovCount);
 }  // namespace

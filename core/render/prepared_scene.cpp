@@ -110,8 +110,7 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                 scene->bvh_);
-  scene->camera_ = Camera::from_description(description.camera, description.render.width,
-                                            description.render.height);
+  scene->camera_ = Camera::from_description(description.camera, description.render);
   scene->background_ = vec3(description.background.color * description.background.intensity);
   scene->light_alias_ = finish_light_list(scene->lights_, scene->materials_, scene->view());
   if (options.light_tree && scene->lights_.size() >= 2)
@@ -171,9 +170,7 @@ TileStats PreparedScene::render_tile(const TileRect& tile, std::span<float> rgba
   FilmPlanes film;
   film.beauty = rgba.data();
   // AOV-enabled variants write only the planes that are present, so none are passed here.
-  const TileStats stats = variant_->render(view(), settings_, tile, film);
-  for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
-  return stats;
+  return variant_->render(view(), settings_, tile, film);
 }
 
 TileStats PreparedScene::render_tile(const TileRect& tile, TilePasses& passes) const {
@@ -211,13 +208,9 @@ TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, s
   }
   RenderSettings settings = settings_;
   settings.samples_per_pixel = end;
-  const TileStats stats = variant_->render(view(), settings, tile, film);
-  const auto set_alpha = [](std::vector<float>& plane) {
-    for (std::size_t i = 3; i < plane.size(); i += 4) plane[i] = 1.0f;
-  };
-  set_alpha(passes.beauty);
-  for (auto& plane : passes.aovs) set_alpha(plane);
-  return stats;
+  // The beauty's alpha is the coverage the integrators add up; the AOV planes' fourth
+  // component carries nothing.
+  return variant_->render(view(), settings, tile, film);
 }
 
 }  // namespace tessera

@@ -285,11 +285,17 @@ class SceneValidator {
     in_u32(fields[2], 1, limits_.max_samples_per_pixel);
     in_u32(fields[3], 1, limits_.max_depth);
     in_u32(fields[4], limits_.min_tile_size, limits_.max_tile_size);
+    // The declared rules of the other fields (clamp, pixel filter, target error): the sizes
+    // above take their bounds from the limits instead.
     schema::check_fields(r, fields, check);
-    if (r.adaptive() && r.min_samples_per_pixel > r.samples_per_pixel)
-      check.fail(fields[11].key(check.yaml()), "must not exceed samples_per_pixel (" +
-                                                   std::to_string(r.samples_per_pixel) + "), got " +
-                                                   std::to_string(r.min_samples_per_pixel));
+    if (r.adaptive() && r.min_samples_per_pixel > r.samples_per_pixel) {
+      const auto min_spp = std::find_if(std::begin(fields), std::end(fields), [](const auto& f) {
+        return f.name == std::string_view("min_samples_per_pixel");
+      });
+      check.fail(min_spp->key(check.yaml()), "must not exceed samples_per_pixel (" +
+                                                 std::to_string(r.samples_per_pixel) + "), got " +
+                                                 std::to_string(r.min_samples_per_pixel));
+    }
     if ((r.aovs & ~kAllAovs) != 0) check.fail("aovs", "unknown AOV bits set");
     if (r.aovs != 0 && r.integrator != IntegratorKind::kPath)
       check.fail("aovs", std::string("AOVs come with the path integrator, not '") +

@@ -73,23 +73,26 @@ TileStats render_path(const SceneView& scene, const RenderSettings& settings, co
                       const FilmPlanes& film) {
   return render_camera_pipeline<PathTracerConfig<kFeatures>>(
       scene, settings, tile, film,
-      PathHit<kFeatures>{scene, settings.max_depth, settings.light_strategy},
-      BackgroundMiss{scene.background});
+      PathHit<kFeatures>{scene, settings.max_depth, settings.light_strategy,
+                         static_cast<float>(settings.clamp)},
+      BackgroundMiss{scene.background, settings.transparent_background,
+                     static_cast<float>(settings.clamp)});
 }
 
 template <unsigned kShapes>
 TileStats render_shadow(const SceneView& scene, const RenderSettings& settings,
                         const TileRect& tile, const FilmPlanes& film) {
   return render_camera_pipeline<ShadowConfig<kShapes>>(
-      scene, settings, tile, film, ShadowHit<kShapes>{scene}, BackgroundMiss{scene.background});
+      scene, settings, tile, film, ShadowHit<kShapes>{scene},
+      BackgroundMiss{scene.background, settings.transparent_background});
 }
 
 template <unsigned kShapes>
 TileStats render_transparency(const SceneView& scene, const RenderSettings& settings,
                               const TileRect& tile, const FilmPlanes& film) {
-  return render_camera_pipeline<TransparencyConfig<kShapes>>(scene, settings, tile, film,
-                                                             TransparencyHit<kShapes>{scene},
-                                                             BackgroundMiss{scene.background});
+  return render_camera_pipeline<TransparencyConfig<kShapes>>(
+      scene, settings, tile, film, TransparencyHit<kShapes>{scene, settings.transparent_background},
+      BackgroundMiss{scene.background, settings.transparent_background});
 }
 
 template <unsigned kShapes, FirstHitOutput kOutput>

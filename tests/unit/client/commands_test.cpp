@@ -15,6 +15,7 @@
 #include "client/commands.hpp"
 #include "tessera/image/denoise.hpp"
 #include "tessera/image/exr.hpp"
+#include "tessera/render/camera.hpp"
 #include "tessera/render/output_channels.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/render/render_image.hpp"
@@ -172,7 +173,7 @@ TEST_F(CommandsTest, LocalRenderWritesAovChannels) {
                                         std::istreambuf_iterator<char>());
   const ChannelImage file = decode_exr_channels(bytes);
   EXPECT_EQ(std::set<std::string>(file.channels.begin(), file.channels.end()),
-            (std::set<std::string>{"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "Z"}));
+            (std::set<std::string>{"R", "G", "B", "A", "Albedo.R", "Albedo.G", "Albedo.B", "Z"}));
   const ChannelImage written = select_channels(file, output_channels(kAovAlbedo | kAovDepth));
   const auto prepared = PreparedScene::build(load_scene_file(scene).scene);
   for (const TileRect& tile : make_tiles(16, 12, 8)) {
@@ -249,6 +250,102 @@ TEST_F(CommandsTest, UnwritableOutputFailsBeforeRendering) {
   EXPECT_EQ(r.exit_code, kExitFailed);
   EXPECT_EQ(r.err.rfind("tessera: ", 0), 0u) << r.err;
   EXPECT_NE(r.err.find("file"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace tessera
+
+namespace tessera {
+namespace {
+
+// The EXR a render writes carries its provenance and camera in OpenEXR's standard
+// attributes, read back through OpenImageIO, and its primitive IDs as a UINT channel.
+// worldToNDC maps look_at to the image centre and the point a corner pixel's ray reaches
+// to that corner.
+TEST_F(CommandsTest, LocalRenderWritesTheHeaderAPipelineNeeds) {
+  const std::filesystem::path scene = dir_ / "header.yaml";
+  std::ofstream(scene)
+      << "camera: { position: [1, 2, 6], look_at: [0.5, 0.5, 0], fov: 35 }\n"
+         "materials:\n  - { name: m, type: lambertian, albedo: 0.5 }\ngeometry:\n"
+         "  - { type: sphere, material: m, center: [0.5, 0.5, 0], radius: 1 }\n"
+         "render: { width: 24, height: 16, spp: 2, tile_size: 8, aovs: [depth, primitive_id] }\n";
+  CliCommand command;
+  command.kind = CommandKind::kRender;
+  command.local = true;
+  command.scene_path = scene.string();
+  command.output_exr = (dir_ / "header.exr").string();
+  command.preview_png = (dir_ / "header.png").string();
+  command.preview_tone = "aces";
+  command.preview_exposure = 1.0;
+  const CommandRun r = run(command);
+  ASSERT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(command.preview_png));
+  EXPECT_FALSE(std::filesystem::exists(command.output_exr + ".tmp.exr"));
+
+  // The attribute names and types as OpenEXR stores them, in the file's bytes.
+  std::ifstream in(command.output_exr, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const std::string& attribute :
+       {std::string("worldToCamera\0m44f\0", 19), std::string("worldToNDC\0m44f\0", 16),
+        std::string("chromaticities\0chromaticities\0", 30)})
+    EXPECT_NE(bytes.find(attribute), std::string::npos) << attribute.c_str();
+
+  const ImageHeader header = read_image_header(command.output_exr);
+  const auto text = [&](const char* name) {
+    const ImageHeader::Attribute* a = header.find(name);
+    return a ? a->value : std::string("(missing)");
+  };
+  EXPECT_EQ(text("Software"), std::string("Tessera ") + TESSERA_VERSION);
+  EXPECT_EQ(text("tessera/scene"), "header");
+  EXPECT_EQ(text("tessera/samplesPerPixel"), "2");
+  ASSERT_NE(header.find("tessera/renderSeconds"), nullptr);
+  EXPECT_GT(header.find("tessera/renderSeconds")->numbers.at(0), 0.0);
+  const ImageHeader::Attribute* chromaticities = header.find("chromaticities");
+  ASSERT_NE(chromaticities, nullptr);
+  ASSERT_EQ(chromaticities->numbers.size(), 8u);
+  EXPECT_NEAR(chromaticities->numbers[0], 0.64, 1e-6);    // red x
+  EXPECT_NEAR(chromaticities->numbers[6], 0.3127, 1e-6);  // white x
+
+  // Imath's convention: row vectors, p' = p * M.
+  const auto transform = [](const ImageHeader::Attribute* m, const glm::dvec3& p) {
+    glm::dvec4 out(0.0);
+    const double in4[4] = {p.x, p.y, p.z, 1.0};
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) out[j] += in4[i] * m->numbers.at(4 * i + j);
+    return out;
+  };
+  const auto project = [&](const char* name, const glm::dvec3& p) {
+    const ImageHeader::Attribute* m = header.find(name);
+    EXPECT_NE(m, nullptr) << name;
+    if (!m) return glm::dvec2(-99.0);
+    const glm::dvec4 clip = transform(m, p);
+    return glm::dvec2(clip.x / clip.w, clip.y / clip.w);
+  };
+  const SceneDescription desc = load_scene_file(scene).scene;
+  const Ray corner_ray = Camera::from_description(desc.camera, 24, 16).generate(0.0f, 0.0f);
+  const glm::dvec3 corner_point =
+      glm::dvec3(corner_ray.origin) + 5.0 * glm::dvec3(corner_ray.direction);
+  // NDC: [0, 1] from the top-left corner; screen: [-1, 1], +Y up.
+  EXPECT_NEAR(glm::length(project("worldToNDC", {0.5, 0.5, 0.0}) - glm::dvec2(0.5, 0.5)), 0.0,
+              1e-5);
+  EXPECT_NEAR(glm::length(project("worldToNDC", corner_point) - glm::dvec2(0.0, 0.0)), 0.0, 1e-4);
+  EXPECT_NEAR(glm::length(project("worldToScreen", {0.5, 0.5, 0.0})), 0.0, 1e-5);
+  EXPECT_NEAR(glm::length(project("worldToScreen", corner_point) - glm::dvec2(-1.0, 1.0)), 0.0,
+              1e-4);
+  // worldToCamera takes the eye to the origin and look_at onto -Z.
+  const ImageHeader::Attribute* to_camera = header.find("worldToCamera");
+  ASSERT_NE(to_camera, nullptr);
+  EXPECT_NEAR(glm::length(glm::dvec3(transform(to_camera, {1.0, 2.0, 6.0}))), 0.0, 1e-5);
+  const glm::dvec4 target = transform(to_camera, {0.5, 0.5, 0.0});
+  EXPECT_NEAR(target.x, 0.0, 1e-5);
+  EXPECT_NEAR(target.y, 0.0, 1e-5);
+  EXPECT_NEAR(target.z, -std::sqrt(0.25 + 2.25 + 36.0), 1e-4);
+
+  // Channels: float colour and depth, UINT IDs.
+  for (std::size_t c = 0; c < header.channel_names.size(); ++c)
+    EXPECT_EQ(header.channel_types[c],
+              header.channel_names[c] == "PrimitiveID.X" ? "uint" : "float")
+        << header.channel_names[c];
 }
 
 }  // namespace

@@ -117,13 +117,32 @@ TEST(Specialisation, AovsAreComputedOnlyWhenAsked) {
   PreparedScene::build(scene)->render_tile(tile, beauty_only);
   EXPECT_EQ(beauty_only, passes.beauty);
   // The depth and albedo planes equal what the depth and albedo integrators render: the
-  // same camera rays (same sample streams), recorded at the first hit.
+  // same camera rays (same sample streams), recorded at the first hit. With one sample per
+  // pixel, because the depth plane keeps the nearest sample (+inf for a miss) where the
+  // preview averages (0 for a miss); R, G and B only: the planes' fourth component is
+  // unused, the preview's is its coverage. The image shows the box and, beside it, nothing.
+  const TileRect edge{0, 0, 0, 24, 18};  // the whole image
+  scene.render.samples_per_pixel = 1;
+  scene.render.aovs = kAovAlbedo | kAovDepth;
+  PreparedScene::build(scene)->render_tile(edge, passes);
   for (auto [integrator, aov] :
        {std::pair{IntegratorKind::kDepth, 2}, std::pair{IntegratorKind::kAlbedo, 0}}) {
     scene.render.integrator = integrator;
-    std::vector<float> reference(8 * 8 * 4);
-    PreparedScene::build(scene)->render_tile(tile, reference);
-    EXPECT_EQ(reference, passes.aovs[aov]) << to_string(integrator);
+    scene.render.aovs = 0;
+    std::vector<float> reference(edge.pixel_count() * 4);
+    PreparedScene::build(scene)->render_tile(edge, reference);
+    int misses = 0;
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      if (i % 4 == 3) continue;
+      const bool missed = reference[i - i % 4 + 3] == 0.0f;
+      misses += missed ? 1 : 0;
+      if (aov == 2 && missed)
+        EXPECT_TRUE(std::isinf(passes.aovs[aov][i])) << i;
+      else
+        EXPECT_EQ(reference[i], passes.aovs[aov][i]) << to_string(integrator) << " " << i;
+    }
+    EXPECT_GT(misses, 0);
+    EXPECT_LT(misses, static_cast<int>(edge.pixel_count() * 3));
   }
 }
 

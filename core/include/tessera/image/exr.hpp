@@ -1,9 +1,12 @@
 #pragma once
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tessera/render/tile.hpp"
@@ -17,8 +20,9 @@ struct RgbaImage {
   std::vector<float> pixels;  // width * height * 4
 };
 
-// Float image with named channels (R, G, B, A, then AOVs such as albedo.R or depth.Z),
-// interleaved per pixel, rows top to bottom.
+// Float image with named channels (R, G, B, A, then AOVs such as Albedo.R or Z),
+// interleaved per pixel, rows top to bottom. ID channels (is_id_channel) hold 32-bit
+// unsigned integers whose bits sit in the float slots (id_as_float in render/film.hpp).
 struct ChannelImage {
   std::uint32_t width = 0;
   std::uint32_t height = 0;
@@ -31,6 +35,26 @@ inline const std::vector<std::string>& rgba_channels() {
   return names;
 }
 
+// Channels whose layer name ends in "ID" (PrimitiveID.X) are written as EXR UINT channels:
+// an ID must read back exactly, and a float keeps integers exact only up to 2^24. In memory
+// they travel as the integer's bits in a float slot, which every copy here preserves.
+bool is_id_channel(std::string_view name);
+
+// Header attributes of a rendered image. OpenEXR's standard attributes where one exists
+// (worldToCamera, worldToNDC, chromaticities), "software", and Tessera's own under
+// "tessera/". Matrices are Imath's M44f as stored: row vectors (p' = p * M), which is
+// glm's column-major memory of the same transform.
+struct ImageMetadata {
+  std::string software;                  // "software": name and version
+  std::string scene_name;                // "tessera/scene"
+  std::string job_id;                    // "tessera/jobId"; empty for a local render
+  std::uint32_t samples_per_pixel = 0;   // "tessera/samplesPerPixel"
+  std::optional<double> render_seconds;  // "tessera/renderSeconds", wall time
+  // See CameraMatrices (render/camera.hpp) for the spaces.
+  std::optional<std::array<float, 16>> world_to_camera;  // "worldToCamera"
+  std::optional<std::array<float, 16>> world_to_screen;  // "worldToScreen": [-1, 1], +Y up
+  std::optional<std::array<float, 16>> world_to_ndc;     // "worldToNDC": [0, 1], +Y down
+};
 // Encodes a float buffer with the named channels as a complete EXR file in memory.
 std::vector<std::uint8_t> encode_exr(std::span<const float> pixels, std::uint32_t width,
                                      std::uint32_t height, const std::vector<std::string>& channels,
@@ -60,7 +84,8 @@ class TiledExrWriter {
  public:
   TiledExrWriter(const std::filesystem::path& path, std::uint32_t width, std::uint32_t height,
                  std::uint32_t tile_size,
-                 const std::vector<std::string>& channels = rgba_channels());
+                 const std::vector<std::string>& channels = rgba_channels(),
+                 const ImageMetadata& metadata = {});
   ~TiledExrWriter();
   TiledExrWriter(const TiledExrWriter&) = delete;
   TiledExrWriter& operator=(const TiledExrWriter&) = delete;
@@ -74,8 +99,43 @@ class TiledExrWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-// Writes a whole image to EXR, or to 8-bit PNG (sRGB-encoded, clamped) for previews, by extension.
-void write_image(const std::filesystem::path& path, const RgbaImage& image);
+// An image file's header as OpenImageIO reads it, for inspection and tests: attributes by
+// the names OpenImageIO gives them (the camera matrices keep OpenEXR's, worldToNDC;
+// software reads as "Software"), their values as text and, for numeric ones, every
+// number; and each channel's pixel type.
+struct ImageHeader {
+  struct Attribute {
+    std::string name;
+    std::string value;
+    std::vector<double> numbers;
+  };
+  std::vector<Attribute> attributes;
+  std::vector<std::string> channel_names;
+  std::vector<std::string> channel_types;  // "float", "uint", "half", ...
+  const Attribute* find(std::string_view name) const;
+};
+ImageHeader read_image_header(const std::filesystem::path& path);
+
+// Writes a whole channel image as a tiled EXR with the given header attributes.
+void write_exr(const std::filesystem::path& path, const ChannelImage& image,
+               std::uint32_t tile_size, const ImageMetadata& metadata);
+
+// How a preview maps linear radiance to display values before the sRGB encoding.
+enum class ToneCurve {
+  kClamp,  // clip at 1
+  kAces,   // Narkowicz's fit of the ACES filmic curve (2015): rolls highlights off smoothly
+};
+struct PreviewOptions {
+  float exposure = 0.0f;  // stops: radiance is multiplied by 2^exposure first
+  ToneCurve curve = ToneCurve::kClamp;
+};
+// The display value in [0, 1] of linear radiance `c` (before the sRGB encoding).
+float tone_map(float c, const PreviewOptions& options);
+
+// Writes a whole image to EXR, or to 8-bit PNG (exposure, tone curve, sRGB-encoded) for
+// previews, by extension.
+void write_image(const std::filesystem::path& path, const RgbaImage& image,
+                 const PreviewOptions& preview = {});
 RgbaImage read_image(const std::filesystem::path& path);
 
 }  // namespace tessera

@@ -1,6 +1,8 @@
 #pragma once
 #include <cstdint>
+#include <cstring>
 
+#include "tessera/geometry/ray.hpp"
 #include "tessera/math/vec.hpp"
 #include "tessera/render/tile.hpp"
 #include "tessera/scene/scene_description.hpp"
@@ -9,11 +11,17 @@ namespace tessera {
 
 // The tile's output planes, each tile.width * tile.height RGBA floats; null when not asked for.
 struct FilmPlanes {
-  float* beauty = nullptr;
+  float* beauty = nullptr;  // A: coverage, the share of samples whose camera ray hit a surface
   float* albedo = nullptr;
   float* normal = nullptr;
-  float* depth = nullptr;         // distance along the camera ray, in R, G and B
-  float* primitive_id = nullptr;  // first sample's primitive index + 1 (0 = background)
+  // Distance along the camera ray to the nearest surface any sample saw, in R, G and B;
+  // +inf where none hit (starts at +inf: depth is a minimum, not an average, because an
+  // average of a foreground and a background distance is a surface that is not there).
+  float* depth = nullptr;
+  // First sample's primitive reference + 1 (0 = background) as a 32-bit unsigned integer:
+  // the float slot carries the integer's bits (id_as_float), so it survives unrounded to
+  // the EXR's UINT channel. A float holds integers exactly only up to 2^24.
+  float* primitive_id = nullptr;
   float* variance = nullptr;      // variance of the pixel's mean, per channel
   float* sample_count = nullptr;  // samples the pixel took, in R, G and B
   // Progressive refinement: the planes already hold the image of samples [0, first_sample),
@@ -28,13 +36,28 @@ struct FilmPlanes {
     plane[at + 1] += value.y * weight;
     plane[at + 2] += value.z * weight;
   }
+  TESSERA_HD static void keep_nearest(float* plane, std::size_t at, float depth) {
+    if (depth < plane[at]) plane[at] = plane[at + 1] = plane[at + 2] = depth;
+  }
 };
+
+// A 32-bit integer carried in a float's bits (and back), for ID planes.
+TESSERA_HD inline float id_as_float(std::uint32_t id) {
+  float bits;
+  std::memcpy(&bits, &id, sizeof bits);
+  return bits;
+}
+TESSERA_HD inline std::uint32_t float_as_id(float bits) {
+  std::uint32_t id;
+  std::memcpy(&id, &bits, sizeof id);
+  return id;
+}
 
 // First-hit data recorded for the AOV planes.
 struct FirstHitAovs {
   vec3 albedo{0.0f};
   vec3 normal{0.0f};
-  float depth = 0.0f;
+  float depth = kInfinity;  // a miss is infinitely far
   std::uint32_t primitive = 0xffffffffU;
 };
 

@@ -11,6 +11,7 @@ enum class FirstHitOutput { kNormals, kAlbedo, kDepth };
 
 struct FirstHitPayload {
   vec3 value{0.0f};
+  float coverage = 1.0f;  // 0 when the camera ray missed
   SampleStream samples{0, 0, 0, 0};
   bool has_next_ray = false;
   Ray next_ray;
@@ -29,14 +30,14 @@ struct FirstHitRayGeneration {
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                           Payload& payload) const {
     payload.samples = SampleStream(seed, x, y, sample, sampler);
-    float jx, jy;
-    payload.samples.next_2d(jx, jy);
-    return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+    return camera.generate_sample(x, y, payload.samples);
   }
   TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t,
                             const Payload& payload) const {
     ++*ray_count;
-    FilmPlanes::add(film.beauty, FilmPlanes::offset(tile, x, y), payload.value, sample_weight);
+    const std::size_t at = FilmPlanes::offset(tile, x, y);
+    FilmPlanes::add(film.beauty, at, payload.value, sample_weight);
+    film.beauty[at + 3] += payload.coverage * sample_weight;
   }
 };
 
@@ -63,6 +64,7 @@ struct FirstHitShade {
 struct BlackMiss {
   TESSERA_HD void on_miss(const Ray&, FirstHitPayload& payload) const {
     payload.value = vec3(0.0f);
+    payload.coverage = 0.0f;
   }
 };
 

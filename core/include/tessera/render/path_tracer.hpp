@@ -36,10 +36,14 @@ struct PathPayload {
   vec3 previous_normal{0.0f};  // geometric, on the side the path arrived from
   bool has_next_ray = false;
   Ray next_ray;
+  // The sample's share of the pixel's alpha: 1 when the camera ray hit a surface, 0 when it
+  // missed (BackgroundMiss), the composited opacity for the transparency preview.
+  float coverage = 1.0f;
   [[no_unique_address]] std::conditional_t<kAovs, FirstHitAovs, NoAovs> aov;
 };
 
-// Camera rays through jittered pixel positions; averages samples into the film.
+// Camera rays through pixel positions drawn from the pixel filter (Camera::generate_sample);
+// averages samples into the film.
 template <bool kAovs>
 struct PathRayGeneration {
   using Payload = PathPayload<kAovs>;
@@ -57,10 +61,8 @@ struct PathRayGeneration {
   }
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t, Payload& payload) const {
-    float jx, jy;
-    payload.samples.next_2d(jx, jy);
     payload.rays = 1;
-    return camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+    return camera.generate_sample(x, y, payload.samples);
   }
 
   TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
@@ -70,11 +72,11 @@ struct PathRayGeneration {
     if constexpr (kAovs) {
       if (film.albedo) FilmPlanes::add(film.albedo, at, payload.aov.albedo, sample_weight);
       if (film.normal) FilmPlanes::add(film.normal, at, payload.aov.normal, sample_weight);
-      if (film.depth) FilmPlanes::add(film.depth, at, vec3(payload.aov.depth), sample_weight);
+      if (film.depth) FilmPlanes::keep_nearest(film.depth, at, payload.aov.depth);
       if (film.primitive_id && sample == 0)
-        FilmPlanes::add(film.primitive_id, at, vec3(static_cast<float>(payload.aov.primitive + 1u)),
-                        1.0f);
+        film.primitive_id[at] = id_as_float(payload.aov.primitive + 1u);
     }
+    film.beauty[at + 3] += payload.coverage * sample_weight;
     const vec3 l = payload.radiance;
     // A NaN or infinite sample would poison the pixel forever; drop it instead.
     if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) return;
@@ -82,16 +84,39 @@ struct PathRayGeneration {
   }
 };
 
+// Cycles' indirect light clamp: light that reaches the camera after two or more bounces
+// (its path's vertex count past the first surface, `depth`, is 2 or more for emission and
+// misses, 1 or more for next-event estimation at a later vertex) is scaled down, hue kept,
+// until its largest component is at most `limit`. Direct light (emitters and background
+// seen by the camera or lighting the first surface) is never clamped. 0 = off.
+TESSERA_HD TESSERA_INLINE vec3 clamp_indirect(const vec3& contribution, float limit,
+                                              bool indirect) {
+  if (!indirect || !(limit > 0.0f)) return contribution;
+  const float largest = max_component(contribution);
+  return largest > limit ? contribution * (limit / largest) : contribution;
+}
+
+// A camera ray that misses leaves the sample uncovered (alpha 0); with
+// `transparent_background` it adds no background either, so the pixel composites over
+// another plate (RGB premultiplied by alpha). Rays after a bounce always see the
+// background: it still lights the scene.
 struct BackgroundMiss {
   vec3 background;
+  bool transparent_background = false;
+  float clamp = 0.0f;  // RenderSettings::clamp
 
   template <typename Payload>
   TESSERA_HD void on_miss(const Ray&, Payload& payload) const {
-    payload.radiance += payload.throughput * background;
+    if (payload.depth == 0) {
+      payload.coverage = 0.0f;
+      if (transparent_background) return;
+    }
+    payload.radiance += clamp_indirect(payload.throughput * background, clamp, payload.depth >= 2);
   }
 };
 
-// Random dimensions: the camera takes the first kCameraDimensions, each bounce a block
+// Random dimensions: the camera takes the first kCameraDimensions (the position in the
+// pixel; a thin lens draws from kLensDimension, far past these), each bounce a block
 // of kBounceDimensions, so a dimension means the same decision in every sample of a pixel
 // and the low-discrepancy sampler stratifies it. A block is three 2D pairs: the BSDF
 // direction, the point on the light, and (lobe, light pick). Each pair is drawn only when
@@ -188,6 +213,7 @@ struct PathHit {
   SceneView scene;
   std::uint32_t max_depth;
   LightStrategy strategy = LightStrategy::kMis;
+  float clamp = 0.0f;  // RenderSettings::clamp, see clamp_indirect
 
   template <typename T>
   TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload<kFeatures.aovs>& payload,
@@ -207,8 +233,9 @@ struct PathHit {
       }
     }
     if (material.emissive())
-      payload.radiance +=
-          payload.throughput * material.emission * emission_weight(ray, hit, si, payload);
+      payload.radiance += clamp_indirect(
+          payload.throughput * material.emission * emission_weight(ray, hit, si, payload), clamp,
+          payload.depth >= 2);
     if (material.kind == BsdfKind::kEmitter) return;
     // Unlit materials end the path with their colour, at any depth, as RayON's do.
     if (material.unlit()) {
@@ -235,8 +262,10 @@ struct PathHit {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
     if (sample_lights) {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
-      payload.radiance += payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
-                                                               strategy, tracer, payload.rays);
+      payload.radiance +=
+          clamp_indirect(payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
+                                                              strategy, tracer, payload.rays),
+                         clamp, payload.depth >= 1);
     }
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
 

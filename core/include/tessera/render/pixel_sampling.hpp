@@ -46,7 +46,8 @@ TESSERA_HD bool render_pixel(const Pipeline& pipeline, std::uint32_t x, std::uin
   const bool track = adaptive || film.variance != nullptr;
   // A sample's value from the change it made: non-adaptive samples land at 1 / end.
   const float sample_scale = adaptive ? 1.0f : static_cast<float>(sampling.end);
-  float* const averaged[4] = {film.beauty, film.albedo, film.normal, film.depth};
+  // Depth is the nearest hit, not an average: it is neither rescaled nor divided.
+  float* const averaged[3] = {film.beauty, film.albedo, film.normal};
   const std::size_t at = FilmPlanes::offset(tile, x, y);
   PixelVariance stats;
   if (sampling.first > 0) {

@@ -14,6 +14,7 @@ inline constexpr int kTransparencyMaxHits = 16;
 template <unsigned kShapes>
 struct TransparencyHit {
   SceneView scene;
+  bool transparent_background = false;  // composite over nothing: alpha is the coverage
 
   template <typename T>
   TESSERA_HD void on_hits(const Ray& ray, const HitRecord* hits, int count,
@@ -33,7 +34,8 @@ struct TransparencyHit {
       color += weight * surface;
       alpha += weight;
     }
-    payload.radiance = color + (1.0f - alpha) * scene.background;
+    payload.coverage = alpha;
+    payload.radiance = transparent_background ? color : color + (1.0f - alpha) * scene.background;
   }
 };
 

@@ -21,7 +21,12 @@ struct CameraDesc {
   glm::dvec3 position{0.0, 0.0, 5.0};
   glm::dvec3 look_at{0.0, 0.0, 0.0};
   glm::dvec3 up{0.0, 1.0, 0.0};
-  double fov_degrees = 40.0;  // vertical field of view
+  double fov_degrees = 40.0;     // vertical field of view
+  std::string projection;        // "perspective" (also when empty) or "orthographic"
+  double ortho_height = 0.0;     // orthographic: the image's height in world units; 0: the
+                                 // perspective view's height at look_at
+  double aperture_radius = 0.0;  // thin lens radius, world units; 0: pinhole
+  double focus_distance = 0.0;   // sharp plane's distance along the view; 0: at look_at
 
   friend bool operator==(const CameraDesc&, const CameraDesc&) = default;
 };
@@ -385,6 +390,14 @@ struct RenderSettings {
   std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
   SamplerKind sampler = SamplerKind::kSobol;
   LightStrategy light_strategy = LightStrategy::kMis;
+  // Camera rays that miss leave RGB 0 as well as alpha 0 (Cycles' "transparent film"), so
+  // the image composites over a plate; the background still lights the scene.
+  bool transparent_background = false;
+  // Cycles' indirect light clamp: the largest value any colour component of one sample's
+  // indirect light (everything after the first bounce) may add; 0 = off.
+  double clamp = 0.0;
+  std::string pixel_filter;   // "box" (also when empty), "gaussian" or "blackman_harris"
+  double filter_width = 0.0;  // pixels; 0: the filter's default (box 1, others 3)
   // Adaptive sampling: 0 renders samples_per_pixel everywhere; otherwise a pixel stops once
   // the relative standard error of its mean luminance is below this (samples_per_pixel is
   // then the most a pixel takes).

@@ -45,6 +45,23 @@ struct CameraKind {
        .doc = "vertical field of view, degrees",
        .yaml_name = "fov",
        .zero_means_default = true},
+      {.name = "projection",
+       .member = &Desc::projection,
+       .rule = kOneOf,
+       .doc = "perspective (default) or orthographic (parallel rays)",
+       .choices = "perspective|orthographic"},
+      {.name = "ortho_height",
+       .member = &Desc::ortho_height,
+       .rule = kNonNegative,
+       .doc = "orthographic: image height, world units (0: the perspective view's at look_at)"},
+      {.name = "aperture_radius",
+       .member = &Desc::aperture_radius,
+       .rule = kNonNegative,
+       .doc = "thin lens radius, world units (0: pinhole, all sharp)"},
+      {.name = "focus_distance",
+       .member = &Desc::focus_distance,
+       .rule = kNonNegative,
+       .doc = "distance of the sharp plane along the view (0: through look_at)"},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
   static void check(const Desc& camera, Checks& check) {
@@ -52,6 +69,9 @@ struct CameraKind {
       check.fail("look_at", "must differ from camera.position");
     else if (glm::length(glm::cross(camera.look_at - camera.position, camera.up)) == 0.0)
       check.fail("up", "must not be parallel to the viewing direction");
+    if (camera.projection == "orthographic" && camera.aperture_radius > 0.0)
+      check.fail("aperture_radius",
+                 "must be 0 for an orthographic camera (depth of field needs perspective)");
   }
 };
 
@@ -115,6 +135,27 @@ struct RenderKind {
        .doc = "extra outputs: albedo, normal, depth, primitive_id, variance, sample_count"},
       {.name = "sampler", .doc = "sobol (default) or independent"},
       {.name = "light_strategy", .doc = "direct light: mis (default), light or bsdf"},
+      {.name = "transparent_background",
+       .member = &Desc::transparent_background,
+       .doc = "camera rays that miss leave RGB and alpha 0 (the background still lights the "
+              "scene)"},
+      {.name = "clamp",
+       .member = &Desc::clamp,
+       .rule = kNonNegative,
+       .doc = "largest colour component one indirect light contribution of a sample may add; "
+              "0 = off"},
+      {.name = "pixel_filter",
+       .member = &Desc::pixel_filter,
+       .rule = kOneOf,
+       .doc = "box (default), gaussian or blackman_harris, by filter importance sampling",
+       .choices = "box|gaussian|blackman_harris"},
+      {.name = "filter_width",
+       .member = &Desc::filter_width,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 16.0,
+       .doc = "pixel filter's full width, pixels (0: box 1, gaussian 3 with sigma = width / 6, "
+              "blackman_harris 3)"},
       {.name = "target_error",
        .member = &Desc::target_error,
        .rule = kInRange,
