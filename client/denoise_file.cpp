@@ -123,7 +123,9 @@ void denoise_exr_file(const std::filesystem::path& input, const std::filesystem:
     out.insert(out.end(), clean.begin() + p * 3, clean.begin() + p * 3 + 3);
   }
   const ImageMetadata metadata = metadata_of(input);
-  const std::filesystem::path temporary = output.string() + ".part";
+  // Written beside the output, then renamed over it, so a failure leaves the input whole;
+  // OpenImageIO picks the writer by extension.
+  const std::filesystem::path temporary = output.string() + ".part.exr";
   write_exr(temporary, ChannelImage{image.width, image.height, channels, std::move(out)}, 64,
             metadata);
   std::filesystem::rename(temporary, output);

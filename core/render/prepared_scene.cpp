@@ -190,21 +190,22 @@ TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, s
   float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
                       &film.primitive_id, &film.variance, &film.sample_count};
   static_assert(std::size(planes) == kAovCount);
-  const auto prepare = [&](std::vector<float>& plane) {
+  // Depth keeps the nearest sample, so it starts infinitely far; the rest are sums.
+  const auto prepare = [&](std::vector<float>& plane, float start) {
     if (first == 0) {
-      plane.assign(floats, 0.0f);
+      plane.assign(floats, start);
     } else if (plane.size() != floats) {
       throw std::invalid_argument("refine_tile: the passes do not hold this tile");
     }
     return plane.data();
   };
-  film.beauty = prepare(passes.beauty);
+  film.beauty = prepare(passes.beauty, 0.0f);
   for (std::size_t i = 0; i < passes.aovs.size(); ++i) {
     if ((settings_.aovs & (1u << i)) == 0) {
       passes.aovs[i].clear();
       continue;
     }
-    *planes[i] = prepare(passes.aovs[i]);
+    *planes[i] = prepare(passes.aovs[i], planes[i] == &film.depth ? kInfinity : 0.0f);
   }
   RenderSettings settings = settings_;
   settings.samples_per_pixel = end;

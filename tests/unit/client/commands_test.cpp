@@ -223,6 +223,10 @@ TEST_F(CommandsTest, DenoiseAddsADenoisedPassAndNamesMissingGuides) {
   const std::vector<float> expected = denoise({16, 12, beauty, albedo, normal, variance});
   EXPECT_EQ(plane({"denoised.R", "denoised.G", "denoised.B"}), expected);
   EXPECT_NE(expected, beauty);
+  // The rewritten file keeps the header a pipeline needs.
+  const ImageHeader header = read_image_header(command.output_exr);
+  EXPECT_NE(header.find("worldToNDC"), nullptr);
+  EXPECT_NE(header.find("tessera/samplesPerPixel"), nullptr);
 
   const std::filesystem::path plain = dir_ / "plain.exr";
   command.denoise = false;
