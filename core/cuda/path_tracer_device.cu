@@ -31,7 +31,7 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed,
       SceneIntersection<kDeviceFeatures.shapes>{scene});
   const Pipeline<DeviceConfig> pipeline(generation, tracer,
                                         PathHit<kDeviceFeatures>{scene, max_depth, strategy},
-                                        BackgroundMiss{scene.background});
+                                        PathMiss<kDeviceFeatures>{scene, strategy});
   for (std::uint32_t s = 0; s < samples_per_pixel; ++s)
     pipeline.launch(tile.x + local_x, tile.y + local_y, s);
   atomicAdd(ray_count, static_cast<unsigned long long>(rays));

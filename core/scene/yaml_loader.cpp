@@ -166,11 +166,21 @@ class SceneBuilder {
   SceneDescription build(const YAML::Node& root) {
     if (!root.IsMap())
       in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
-    static constexpr std::string_view kSections[] = {"camera",   "settings", "materials",
-                                                     "geometry", "render",   "geometries"};
+    static constexpr std::string_view kSections[] = {"camera", "settings",  "environment",
+                                                     "lights", "materials", "geometry",
+                                                     "render", "geometries"};
     in_.check_keys(root, "", kSections);
     if (root["camera"]) section<schema::CameraKind>(root["camera"], scene_.camera);
     if (root["settings"]) section<schema::BackgroundKind>(root["settings"], scene_.background);
+    if (root["environment"]) {
+      section<schema::EnvironmentKind>(root["environment"], scene_.environment.emplace());
+    } else if (root["settings"]) {
+      // RayON's settings: its renderer draws a sky gradient times background_intensity
+      // and does not use background_color, so its scenes render that way here too.
+      scene_.environment =
+          EnvironmentDesc{"gradient", glm::dvec3(1.0), scene_.background.intensity};
+    }
+    if (root["lights"]) read_lights(root["lights"]);
     if (root["materials"]) read_materials(root["materials"]);
     const char* geometry_key = root["geometry"] ? "geometry" : "geometries";  // RayON accepts both
     if (root["geometry"] && root["geometries"])
@@ -271,6 +281,20 @@ class SceneBuilder {
       if (!material_index_.emplace(mat.name, scene_.materials.size()).second)
         in_.fail(m["name"], path + ".name", "duplicate material name '" + mat.name + "'");
       scene_.materials.push_back(std::move(mat));
+    }
+  }
+
+  void read_lights(const YAML::Node& node) {
+    if (!node.IsSequence())
+      in_.fail(node, "lights", std::string("must be a list, got a ") + YamlReader::kind(node));
+    static const std::vector<std::string_view> kKeys = yaml_keys(schema::LightKind::fields);
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "lights[" + std::to_string(i) + "]";
+      const YAML::Node l = map_at(node[i], path);
+      in_.check_keys(l, path, kKeys, schema::LightKind::ignored);
+      LightDesc light;
+      read_fields(l, schema::LightKind::fields, light, path);
+      scene_.lights.push_back(std::move(light));
     }
   }
 

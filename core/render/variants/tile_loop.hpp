@@ -61,7 +61,7 @@ TileStats render_path(const SceneView& scene, const RenderSettings& settings, co
   return render_camera_pipeline<PathTracerConfig<kFeatures>>(
       scene, settings, tile, film,
       PathHit<kFeatures>{scene, settings.max_depth, settings.light_strategy},
-      BackgroundMiss{scene.background});
+      PathMiss<kFeatures>{scene, settings.light_strategy});
 }
 
 template <unsigned kShapes>

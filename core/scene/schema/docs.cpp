@@ -139,6 +139,8 @@ std::string section_table_markdown() {
   };
   rows(CameraKind{});
   rows(BackgroundKind{});
+  rows(EnvironmentKind{});
+  rows(LightKind{});
   rows(RenderKind{});
   return out.str();
 }

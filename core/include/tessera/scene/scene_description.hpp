@@ -33,6 +33,35 @@ struct BackgroundDesc {
   friend bool operator==(const BackgroundDesc&, const BackgroundDesc&) = default;
 };
 
+// A light that is not a shape (YAML `lights`, protobuf `Scene.lights`). Which fields apply
+// depends on the type: point (position, intensity), spot (position, direction, intensity,
+// cone_angle_degrees, cone_falloff_degrees), directional or its alias sun (direction,
+// irradiance, angular_radius_degrees). Colours multiply intensity and irradiance.
+struct LightDesc {
+  std::string type = "point";  // point, spot, directional, sun
+  glm::dvec3 position{0.0};
+  glm::dvec3 direction{0.0, -1.0, 0.0};  // spot: where it shines; directional: where light travels
+  glm::dvec3 color{1.0};
+  double intensity = 1.0;               // point, spot: radiant intensity, W/sr (times color)
+  double irradiance = 1.0;              // directional: W/m^2 on a surface facing it (times color)
+  double cone_angle_degrees = 30.0;     // spot: half-angle where the light ends
+  double cone_falloff_degrees = 5.0;    // spot: width of the smooth edge, inside the cone
+  double angular_radius_degrees = 0.0;  // directional: 0 = a delta direction; the sun ~0.27
+
+  friend bool operator==(const LightDesc&, const LightDesc&) = default;
+};
+
+// What an escaping ray sees (YAML and protobuf `environment`). Absent, the background is
+// the constant environment. `gradient` is RayON's sky: white below to (0.5, 0.7, 1.0) above,
+// times intensity (color is not used).
+struct EnvironmentDesc {
+  std::string type = "constant";  // constant, gradient
+  glm::dvec3 color{1.0};
+  double intensity = 1.0;
+
+  friend bool operator==(const EnvironmentDesc&, const EnvironmentDesc&) = default;
+};
+
 enum class MaterialType {
   kLambertian,
   kLight,
@@ -356,6 +385,8 @@ struct RenderSettings {
 struct SceneDescription {
   CameraDesc camera;
   BackgroundDesc background;
+  std::optional<EnvironmentDesc> environment;  // set: replaces the background
+  std::vector<LightDesc> lights;
   std::vector<MaterialDesc> materials;
   std::vector<SphereDesc> spheres;
   std::vector<QuadDesc> quads;

@@ -82,6 +82,99 @@ struct BackgroundKind {
   static void check(const Desc&, Checks&) {}
 };
 
+// The environment (YAML and protobuf `environment`); when given it replaces the background.
+// RayON's `settings` block becomes a gradient environment of its background_intensity (RayON
+// draws that sky and ignores background_color), unless the scene gives `environment`.
+struct EnvironmentKind {
+  using Desc = EnvironmentDesc;
+  static constexpr std::string_view yaml_section = "environment";
+  static constexpr std::string_view proto_section = "environment";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "type",
+       .member = &Desc::type,
+       .rule = kOneOf,
+       .doc = "constant, or gradient (RayON's sky: white below to (0.5, 0.7, 1.0) above)",
+       .choices = "constant|gradient"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "constant: radiance, linear RGB (times intensity)",
+       .grey_scalar = true},
+      {.name = "intensity",
+       .member = &Desc::intensity,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e6,
+       .doc = "multiplies the environment"},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc&, Checks&) {}
+};
+
+// One entry of the top-level `lights` list (protobuf `Scene.lights`): lights that are not
+// shapes. Fields that do not apply to the type are not used.
+struct LightKind {
+  using Desc = LightDesc;
+  static constexpr std::string_view yaml_section = "lights[i]";
+  static constexpr std::string_view proto_section = "lights[i]";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "type",
+       .member = &Desc::type,
+       .presence = kRequired,
+       .rule = kOneOf,
+       .doc = "point, spot, directional (alias sun)",
+       .choices = "point|spot|directional|sun"},
+      {.name = "position", .member = &Desc::position, .doc = "point, spot: where the light is"},
+      {.name = "direction",
+       .member = &Desc::direction,
+       .rule = kNonZeroVector,
+       .doc = "spot: the axis it shines along; directional: the way its light travels"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "linear RGB, multiplies intensity or irradiance",
+       .grey_scalar = true},
+      {.name = "intensity",
+       .member = &Desc::intensity,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e12,
+       .doc = "point, spot: radiant intensity, W/sr"},
+      {.name = "irradiance",
+       .member = &Desc::irradiance,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e12,
+       .doc = "directional: W/m^2 on a surface facing it"},
+      {.name = "cone_angle_degrees",
+       .member = &Desc::cone_angle_degrees,
+       .rule = kInRange,
+       .lo = 1e-3,
+       .hi = 180.0,
+       .doc = "spot: half-angle of the cone, where the light ends"},
+      {.name = "cone_falloff_degrees",
+       .member = &Desc::cone_falloff_degrees,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 180.0,
+       .doc = "spot: width of the smooth edge inside the cone (smoothstep in cos)"},
+      {.name = "angular_radius_degrees",
+       .member = &Desc::angular_radius_degrees,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 90.0,
+       .doc = "directional: 0 is a delta direction; the sun is about 0.27"},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc& light, Checks& check) {
+    if (light.type.empty()) check.fail("type", "must be set: point, spot, directional or sun");
+    if (light.type == "spot" && light.cone_falloff_degrees > light.cone_angle_degrees)
+      check.fail("cone_falloff_degrees", "must not exceed cone_angle_degrees (" +
+                                             Checks::format(light.cone_angle_degrees) + "), got " +
+                                             Checks::format(light.cone_falloff_degrees));
+  }
+};
+
 // The render section (YAML `render`, protobuf RenderSettings, which travels beside the
 // Scene as `settings`). The width, height, spp, depth and tile-size bounds come from
 // SceneLimits (a server configures them), so their checks are the kind's own rules.
