@@ -56,6 +56,7 @@ AnalyticLightSet make_analytic_lights(const SceneDescription& description) {
     set.environment.scale = set.environment.kind == EnvironmentKind::kGradient
                                 ? vec3(static_cast<float>(e.intensity))
                                 : vec3(e.color * e.intensity);
+    if (e.type == "image") build_environment_map(e, set.environment, set.environment_tables);
   } else {
     set.environment.scale = vec3(description.background.color * description.background.intensity);
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "environment_map.hpp"
 #include "tessera/render/analytic_light.hpp"
 #include "tessera/render/environment.hpp"
 #include "tessera/scene/scene_description.hpp"
@@ -17,6 +18,7 @@ struct AnalyticLightSet {
   std::vector<AnalyticLight> lights;
   std::uint32_t first_infinite = 0;  // index of the first distant light or environment
   Environment environment;
+  EnvironmentMapTables environment_tables;  // what an image environment points into
 };
 
 AnalyticLightSet make_analytic_lights(const SceneDescription& description);

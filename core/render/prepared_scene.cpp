@@ -115,6 +115,10 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
                                             description.render.height);
   AnalyticLightSet analytic = make_analytic_lights(description);
   scene->environment_ = analytic.environment;
+  // Moved, the tables keep the addresses environment_ holds.
+  scene->environment_pixels_ = std::move(analytic.environment_tables.pixels);
+  scene->environment_marginal_ = std::move(analytic.environment_tables.marginal_cdf);
+  scene->environment_conditional_ = std::move(analytic.environment_tables.conditional_cdf);
   // The preview integrators show one colour on a miss: the environment's average.
   scene->background_ = analytic.environment.average_radiance();
   scene->analytic_lights_ = std::move(analytic.lights);

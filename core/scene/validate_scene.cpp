@@ -43,7 +43,16 @@ class SceneValidator {
   void run() {
     section<schema::CameraKind>(scene_.camera);
     section<schema::BackgroundKind>(scene_.background);
-    if (scene_.environment) section<schema::EnvironmentKind>(*scene_.environment);
+    if (scene_.environment) {
+      section<schema::EnvironmentKind>(*scene_.environment);
+      const std::size_t pixels =
+          std::size_t{scene_.environment->image_width} * scene_.environment->image_height;
+      if (pixels > limits_.max_environment_pixels)
+        at("environment")
+            .fail(style_ == PathStyle::kYaml ? "file" : "image_width",
+                  "the image has " + std::to_string(pixels) + " pixels, more than the " +
+                      std::to_string(limits_.max_environment_pixels) + " allowed");
+    }
     if (scene_.lights.size() > limits_.max_shapes_per_type)
       at("").fail("lights", "at most " + std::to_string(limits_.max_shapes_per_type) +
                                 " lights, got " + std::to_string(scene_.lights.size()));

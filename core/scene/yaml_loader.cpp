@@ -12,6 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "tessera/image/environment_image.hpp"
 #include "tessera/scene/mesh_loader.hpp"
 #include "tessera/scene/schema/kinds.hpp"
 #include "tessera/scene/schema/suggest.hpp"
@@ -173,7 +174,9 @@ class SceneBuilder {
     if (root["camera"]) section<schema::CameraKind>(root["camera"], scene_.camera);
     if (root["settings"]) section<schema::BackgroundKind>(root["settings"], scene_.background);
     if (root["environment"]) {
-      section<schema::EnvironmentKind>(root["environment"], scene_.environment.emplace());
+      EnvironmentDesc& env = scene_.environment.emplace();
+      section<schema::EnvironmentKind>(root["environment"], env);
+      if (env.type == "image") load_environment_image(root["environment"], env);
     } else if (root["settings"]) {
       // RayON's settings: its renderer draws a sky gradient times background_intensity
       // and does not use background_color, so its scenes render that way here too.
@@ -611,12 +614,37 @@ class SceneBuilder {
     return loops;
   }
 
-  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,
-                             const std::string& file) {
+  // A file a scene names (a mesh, an environment image): relative to the scene's directory,
+  // and only inside the allowed roots when the loader has them.
+  std::filesystem::path scene_file(const YAML::Node& node, const std::string& field,
+                                   const std::string& file) {
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_directory_ / path;
     if (!options_.allowed_roots.empty() && !path_is_within(path, options_.allowed_roots))
       in_.fail(node, field, "'" + file + "' is outside the directories this server may read");
+    return path;
+  }
+
+  void load_environment_image(const YAML::Node& section_node, EnvironmentDesc& env) {
+    const std::string field = "environment.file";
+    const YAML::Node node = section_node["file"];
+    if (!node.IsDefined() || env.file.empty())
+      in_.fail(section_node, field, "is required for an image environment");
+    const std::filesystem::path path = scene_file(node, field, env.file);
+    try {
+      EnvironmentImage image = read_environment_image(path, options_.limits.max_environment_pixels);
+      env.image_width = image.width;
+      env.image_height = image.height;
+      env.image_pixels = std::move(image.rgb);
+    } catch (const std::runtime_error& e) {
+      in_.fail(node, field,
+               "cannot load image '" + path.lexically_normal().string() + "': " + e.what());
+    }
+  }
+
+  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,
+                             const std::string& file) {
+    const std::filesystem::path path = scene_file(node, field, file);
     // Each file is parsed once per scene: entries that place it again copy the cached mesh
     // (the renderer then shares one structure between them, prepared_scene.cpp).
     std::error_code ec;

@@ -28,6 +28,18 @@ lights:
   EXPECT_EQ(back.scene->lights, loaded.scene.lights);
   EXPECT_EQ(back.scene->environment, loaded.scene.environment);
 
+  // An image environment travels with its pixels.
+  SceneDescription imaged;
+  imaged.environment = EnvironmentDesc{.type = "image",
+                                       .rotation_degrees = 45.0,
+                                       .image_width = 2,
+                                       .image_height = 1,
+                                       .image_pixels = {1, 2, 3, 4, 5, 6}};
+  SceneConversion imaged_back =
+      scene_from_proto(scene_to_proto(imaged), settings_to_proto(imaged.render));
+  ASSERT_TRUE(imaged_back.ok()) << describe_issues(imaged_back.issues);
+  EXPECT_EQ(imaged_back.scene->environment, imaged.environment);
+
   // No environment in the description: none in the request, and none back.
   SceneDescription plain;
   const v1::Scene plain_proto = scene_to_proto(plain);
@@ -45,6 +57,15 @@ TEST(LightsProto, ErrorsNameTheFieldInProtobufTerms) {
   spot->set_type("spot");
   spot->set_cone_angle_degrees(200.0);
   scene.mutable_environment()->set_type("hdri");
+  v1::Scene imaged;
+  imaged.mutable_environment()->set_type("image");
+  imaged.mutable_environment()->set_image_width(2);
+  imaged.mutable_environment()->set_image_height(2);
+  imaged.mutable_environment()->add_image_pixels(1.0f);
+  const SceneConversion short_pixels = scene_from_proto(imaged, v1::RenderSettings{});
+  ASSERT_FALSE(short_pixels.ok());
+  EXPECT_EQ(short_pixels.issues[0].field, "environment.image_pixels")
+      << describe_issues(short_pixels.issues);
   const SceneConversion conversion = scene_from_proto(scene, v1::RenderSettings{});
   ASSERT_FALSE(conversion.ok());
   std::vector<std::string> fields;

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "scene_error_of.hpp"
+#include "tessera/image/exr.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera {
@@ -90,6 +92,55 @@ TEST(YamlLights, RayonSettingsBecomeItsGradientSkyUnlessAnEnvironmentIsGiven) {
   EXPECT_EQ(own.scene.environment->type, "constant");
   EXPECT_EQ(own.scene.environment->color, glm::dvec3(0.2, 0.3, 0.4));
   EXPECT_DOUBLE_EQ(own.scene.environment->intensity, 2.0);
+}
+
+// An image environment is read when the scene loads, from a path relative to the scene and
+// under the same allowed-directory rule as mesh files; errors name environment.file.
+TEST(YamlLights, ImageEnvironmentIsReadIntoTheDescription) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "tessera_yaml_environment_test";
+  std::filesystem::create_directories(dir / "inside");
+  RgbaImage sky{4, 2, {}};
+  for (int i = 0; i < 8; ++i) sky.pixels.insert(sky.pixels.end(), {float(i), 0.5f, 0.25f, 1.0f});
+  write_image(dir / "inside" / "sky.exr", sky);
+  std::ofstream(dir / "inside" / "broken.exr") << "not an image";
+
+  const std::string scene =
+      "environment: { type: image, file: inside/sky.exr, intensity: 2, rotation_degrees: 30 }\n";
+  const LoadedScene loaded = load_scene_yaml(scene, "scene.yaml", dir);
+  ASSERT_TRUE(loaded.scene.environment.has_value());
+  const EnvironmentDesc& env = *loaded.scene.environment;
+  EXPECT_EQ(env.image_width, 4u);
+  EXPECT_EQ(env.image_height, 2u);
+  ASSERT_EQ(env.image_pixels.size(), 24u);
+  EXPECT_EQ(env.image_pixels[3 * 5], 5.0f);
+  EXPECT_EQ(env.image_pixels[3 * 5 + 1], 0.5f);
+  EXPECT_DOUBLE_EQ(env.rotation_degrees, 30.0);
+
+  const auto error_of = [&](const std::string& text, const SceneLoadOptions& options) {
+    return test::scene_error_of([&] { load_scene_yaml(text, "scene.yaml", dir, options); }, text);
+  };
+  const SceneIssue missing = error_of("environment: { type: image, file: inside/none.exr }\n", {});
+  EXPECT_EQ(missing.field, "environment.file");
+  EXPECT_NE(missing.message.find("no such file"), std::string::npos) << missing.message;
+  const SceneIssue unreadable =
+      error_of("environment: { type: image, file: inside/broken.exr }\n", {});
+  EXPECT_EQ(unreadable.field, "environment.file");
+  EXPECT_NE(unreadable.message.find("cannot read"), std::string::npos) << unreadable.message;
+  SceneLoadOptions small;
+  small.limits.max_environment_pixels = 4;
+  const SceneIssue large = error_of(scene, small);
+  EXPECT_EQ(large.field, "environment.file");
+  EXPECT_NE(large.message.find("more than the 4 allowed"), std::string::npos) << large.message;
+  SceneLoadOptions confined;
+  confined.allowed_roots = {dir / "elsewhere"};
+  const SceneIssue outside = error_of(scene, confined);
+  EXPECT_EQ(outside.field, "environment.file");
+  EXPECT_NE(outside.message.find("outside the directories"), std::string::npos) << outside.message;
+  confined.allowed_roots = {dir / "inside"};
+  EXPECT_EQ(load_scene_yaml(scene, "scene.yaml", dir, confined).scene.environment->image_width, 4u);
+  EXPECT_EQ(error_of("environment: { type: image }\n", {}).field, "environment.file");
+  std::filesystem::remove_all(dir);
 }
 
 // RayON's BVH test scene: its sky is RayON's gradient at background_intensity 0.18, not the

@@ -414,10 +414,8 @@ TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const E
       return true;
     }
     case AnalyticLightKind::kEnvironment:
-      out.wi = env.sample(u1, u2);
+      out.wi = env.sample(u1, u2, out.pdf, out.radiance);
       out.distance = kInfiniteLightDistance;
-      out.pdf = env.pdf(out.wi);
-      out.radiance = env.radiance(out.wi);
       return out.pdf > 0.0f;
   }
   return false;

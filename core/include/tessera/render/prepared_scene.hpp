@@ -101,6 +101,8 @@ class PreparedScene {
   // Lights that are not shapes and the environment (SceneView says how they are laid out).
   std::vector<AnalyticLight> analytic_lights_;
   Environment environment_;
+  // An image environment's pixels and sampling tables (environment_ points into them).
+  std::vector<float> environment_pixels_, environment_marginal_, environment_conditional_;
   std::uint32_t first_analytic_light_ = 0;
   std::uint32_t first_infinite_light_ = 0;
   std::uint32_t environment_light_ = 0;

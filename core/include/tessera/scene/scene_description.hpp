@@ -53,11 +53,16 @@ struct LightDesc {
 
 // What an escaping ray sees (YAML and protobuf `environment`). Absent, the background is
 // the constant environment. `gradient` is RayON's sky: white below to (0.5, 0.7, 1.0) above,
-// times intensity (color is not used).
+// times intensity (color is not used). `image`: an equirectangular image (YAML `file`, read
+// when the scene is loaded; protobuf carries its pixels), times color and intensity.
 struct EnvironmentDesc {
-  std::string type = "constant";  // constant, gradient
+  std::string type = "constant";  // constant, gradient, image
   glm::dvec3 color{1.0};
   double intensity = 1.0;
+  std::string file{};             // YAML, image: the file it was read from
+  double rotation_degrees = 0.0;  // image: turned about +y
+  std::uint32_t image_width = 0, image_height = 0;
+  std::vector<float> image_pixels{};  // linear RGB, rows from the zenith down
 
   friend bool operator==(const EnvironmentDesc&, const EnvironmentDesc&) = default;
 };
@@ -424,6 +429,8 @@ struct SceneLimits {
   // ~650 bytes) and uv points of all trimming loops together (16 bytes each).
   std::size_t max_patch_control_points = 250'000;
   std::size_t max_trim_points = 4'000'000;
+  // Pixels of an environment image (12 bytes each as floats): 8192 x 4096.
+  std::size_t max_environment_pixels = std::size_t{8192} * 4096;
 };
 
 // Semantic checks shared by every loader, from the kind declarations (scene/schema/kinds.hpp):

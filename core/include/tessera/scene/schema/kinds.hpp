@@ -1,5 +1,7 @@
 #pragma once
 #include <array>
+#include <cmath>
+#include <string>
 #include <string_view>
 #include <tuple>
 
@@ -93,8 +95,9 @@ struct EnvironmentKind {
       {.name = "type",
        .member = &Desc::type,
        .rule = kOneOf,
-       .doc = "constant, or gradient (RayON's sky: white below to (0.5, 0.7, 1.0) above)",
-       .choices = "constant|gradient"},
+       .doc = "constant, gradient (RayON's sky: white below to (0.5, 0.7, 1.0) above) or image "
+              "(equirectangular)",
+       .choices = "constant|gradient|image"},
       {.name = "color",
        .member = &Desc::color,
        .rule = kNonNegativeComponents,
@@ -106,9 +109,45 @@ struct EnvironmentKind {
        .lo = 0.0,
        .hi = 1e6,
        .doc = "multiplies the environment"},
+      {.name = "file",
+       .member = &Desc::file,
+       .doc = "image: HDR/EXR file, read where mesh files may be",
+       .side = Side::kYaml},
+      {.name = "rotation_degrees",
+       .member = &Desc::rotation_degrees,
+       .doc = "image: turned about +y, degrees"},
+      {.name = "image_width",
+       .member = &Desc::image_width,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_height",
+       .member = &Desc::image_height,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_pixels",
+       .doc = "image: linear RGB floats, rows from the zenith down",
+       .side = Side::kProto},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
-  static void check(const Desc&, Checks&) {}
+  static void check(const Desc& env, Checks& check) {
+    if (env.type != "image") return;
+    const std::size_t pixels = std::size_t{env.image_width} * env.image_height;
+    if (pixels == 0) {
+      check.fail(check.yaml() ? "file" : "image_width", "an image environment needs an image");
+    } else if (env.image_pixels.size() != 3 * pixels) {
+      check.fail(check.yaml() ? "file" : "image_pixels",
+                 "must hold 3 floats per pixel (" + std::to_string(3 * pixels) + "), got " +
+                     std::to_string(env.image_pixels.size()));
+    } else {
+      for (std::size_t i = 0; i < env.image_pixels.size(); ++i)
+        if (!(env.image_pixels[i] >= 0.0f) || !std::isfinite(env.image_pixels[i])) {
+          check.fail(check.yaml() ? "file" : "image_pixels",
+                     "pixel values must be finite and >= 0, got " +
+                         Checks::format(env.image_pixels[i]) + " at " + std::to_string(i));
+          break;
+        }
+    }
+  }
 };
 
 // One entry of the top-level `lights` list (protobuf `Scene.lights`): lights that are not
