@@ -375,6 +375,17 @@ SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& 
   if (in.has_camera()) read_section<schema::CameraKind>(in.camera(), scene.camera, check);
   if (in.has_background())
     read_section<schema::BackgroundKind>(in.background(), scene.background, check);
+  if (in.has_environment()) {
+    EnvironmentDesc& env = scene.environment.emplace();
+    read_section<schema::EnvironmentKind>(in.environment(), env, check);
+    env.image_pixels.assign(in.environment().image_pixels().begin(),
+                            in.environment().image_pixels().end());
+  }
+  for (int i = 0; i < in.lights_size(); ++i) {
+    LightDesc& light = scene.lights.emplace_back();
+    proto_fields::read(in.lights(i), schema::LightKind::fields, light,
+                       indexed("lights", static_cast<std::size_t>(i)), check);
+  }
   convert_materials(in, check, scene.materials);
   convert_geometry(in, check, scene);
   scene.render = settings_from_proto(settings);

@@ -110,6 +110,14 @@ v1::Scene scene_to_proto(const SceneDescription& scene) {
   v1::Scene out;
   proto_fields::write(scene.camera, schema::CameraKind::fields, *out.mutable_camera());
   proto_fields::write(scene.background, schema::BackgroundKind::fields, *out.mutable_background());
+  if (scene.environment) {
+    v1::Environment* env = out.mutable_environment();
+    proto_fields::write(*scene.environment, schema::EnvironmentKind::fields, *env);
+    env->mutable_image_pixels()->Assign(scene.environment->image_pixels.begin(),
+                                        scene.environment->image_pixels.end());
+  }
+  for (const LightDesc& light : scene.lights)
+    proto_fields::write(light, schema::LightKind::fields, *out.add_lights());
   for (const MaterialDesc& m : scene.materials) {
     v1::Material* material = out.add_materials();
     material->set_type(material_type_to_proto(m.type));

@@ -35,7 +35,7 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, Pix
       scene.bvh, SceneIntersection<kDeviceFeatures.shapes>{scene});
   const Pipeline<DeviceConfig> pipeline(
       generation, tracer, PathHit<kDeviceFeatures>{scene, max_depth, strategy, clamp},
-      BackgroundMiss{scene.background, transparent_background, clamp});
+      PathMiss<kDeviceFeatures>{scene, strategy, transparent_background, clamp});
   NeverInterrupted interrupted;
   render_pixel(pipeline, tile.x + local_x, tile.y + local_y, tile, film, sampling, interrupted);
   atomicAdd(ray_count, static_cast<unsigned long long>(rays));

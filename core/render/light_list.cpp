@@ -20,8 +20,16 @@ void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& ma
 
 namespace {
 
+bool analytic(const LightSource& light) {
+  return primitive_type(light.primitive) == PrimitiveType::kAnalyticLight;
+}
+
 Aabb light_bounds(const SceneView& shapes, const LightSource& light) {
   Aabb box;
+  if (analytic(light)) {
+    box.extend(shapes.analytic_lights[primitive_index(light.primitive)].position);
+    return box;
+  }
   light_detail::with_emitter(shapes, light, [&](const auto& shape) {
     box = bounds(shape);
     return true;
@@ -38,11 +46,32 @@ std::uint32_t light_material(const SceneView& shapes, const LightSource& light) 
   return material;
 }
 
-// Emitted luminance times area; an emitter whose luminance is zero (a pure colour cannot
-// be) still lights the scene, so it keeps a small share.
-double light_power(const vec3& e, float area) {
-  const double luminance = 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
-  return std::max(luminance, 1e-3 * std::max({e.x, e.y, e.z})) * area;
+double luminance(const vec3& e) {
+  const double y = 0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z;
+  // A pure colour whose luminance is zero still lights the scene: keep a small share.
+  return std::max(y, 1e-3 * std::max({e.x, e.y, e.z}));
+}
+
+// Emitted flux (finish_light_list says how each kind's is found).
+double light_power(const SceneView& shapes, std::span<const Material> materials,
+                   const LightSource& light, float scene_radius) {
+  constexpr double kPiD = 3.14159265358979323846;
+  if (!analytic(light))
+    return 2.0 * kPiD * luminance(materials[light_material(shapes, light)].emission) * light.area;
+  const AnalyticLight& a = shapes.analytic_lights[primitive_index(light.primitive)];
+  const double disk = kPiD * double(scene_radius) * scene_radius;
+  switch (a.kind) {
+    case AnalyticLightKind::kPoint:
+      return 4.0 * kPiD * luminance(a.emission);
+    case AnalyticLightKind::kSpot:
+      return 2.0 * kPiD * luminance(a.emission) *
+             (1.0 - 0.5 * (double(a.cos_inner) + double(a.cos_outer)));
+    case AnalyticLightKind::kDistant:
+      return luminance(a.emission) * disk;
+    case AnalyticLightKind::kEnvironment:
+      return 4.0 * kPiD * disk * luminance(shapes.environment.average_radiance());
+  }
+  return 0.0;
 }
 
 struct TreeBuild {
@@ -141,29 +170,52 @@ struct TreeBuild {
 std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
                                             std::span<const Material> materials,
                                             const SceneView& shapes) {
-  if (lights.empty()) return {};
+  const std::size_t bounded = std::min<std::size_t>(shapes.first_infinite_light, lights.size());
+  if (bounded == 0) return {};
   TreeBuild b{lights, {}, {}, {}, {}};
-  for (std::size_t i = 0; i < lights.size(); ++i) {
+  for (std::size_t i = 0; i < bounded; ++i) {
     b.boxes.push_back(light_bounds(shapes, lights[i]));
-    b.power.push_back(
-        light_power(materials[light_material(shapes, lights[i])].emission, lights[i].area));
+    b.power.push_back(light_power(shapes, materials, lights[i], 1.0f));
     b.order.push_back(static_cast<std::uint32_t>(i));
   }
-  b.nodes.reserve(2 * lights.size());
-  b.build(0, lights.size(), 0, 0);
+  b.nodes.reserve(2 * bounded);
+  b.build(0, bounded, 0, 0);
   return std::move(b.nodes);
+}
+
+void add_analytic_lights(std::vector<LightSource>& lights,
+                         std::span<const AnalyticLight> analytic) {
+  for (std::size_t i = 0; i < analytic.size(); ++i) {
+    const AnalyticLight& a = analytic[i];
+    const bool hit_by_rays = a.kind == AnalyticLightKind::kEnvironment || distant_with_extent(a);
+    lights.push_back(LightSource{
+        make_primitive_ref(PrimitiveType::kAnalyticLight, static_cast<std::uint32_t>(i)), 0.0f,
+        0.0f, hit_by_rays});
+  }
+}
+
+float infinite_light_share(const std::vector<LightSource>& lights,
+                           std::span<const Material> materials, const SceneView& shapes,
+                           float scene_radius) {
+  double infinite = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const double power = light_power(shapes, materials, lights[i], scene_radius);
+    total += power;
+    if (i >= shapes.first_infinite_light) infinite += power;
+  }
+  if (!(total > 0.0)) return 0.5f;
+  return static_cast<float>(std::clamp(infinite / total, 0.1, 0.9));
 }
 
 std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
-                                         const SceneView& shapes) {
+                                         const SceneView& shapes, float scene_radius) {
   std::sort(lights.begin(), lights.end(),
             [](const LightSource& a, const LightSource& b) { return a.primitive < b.primitive; });
   std::vector<double> power(lights.size());
   double total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    const vec3 e = materials[light_material(shapes, lights[i])].emission;
-    power[i] = light_power(e, lights[i].area);
+    power[i] = light_power(shapes, materials, lights[i], scene_radius);
     total += power[i];
   }
   for (std::size_t i = 0; i < lights.size(); ++i)

@@ -25,14 +25,30 @@ float sampled_light_area(PrimitiveType type, const Shape& shape) {
 void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
                             std::uint32_t primitive, float sampled_area, bool visible);
 
+// Appends every analytic light (SceneView::analytic_lights, `count` of them), after the
+// emitting shapes. The environment and suns with an extent are visible (escaping rays find
+// them); the deltas are not.
+void add_analytic_lights(std::vector<LightSource>& lights, std::span<const AnalyticLight> analytic);
+
 // Once every emitter is in: sorts the list by primitive reference (find_light searches it)
-// and gives each light its pick probability, in proportion to its power (emitted radiance's
-// luminance times area), with the alias table that draws by it.
+// and gives each light its pick probability, in proportion to its power, with the alias
+// table that draws by it. Power is emitted flux (luminance): a two-sided emitting shape
+// 2 pi L A; a point light 4 pi I; a spot 2 pi I (1 - (cos_inner + cos_outer) / 2); a distant
+// light E pi R^2 and the environment pi 4 pi R^2 L_average, where R is `scene_radius`, the
+// radius of the sphere around the scene's bounds (what reaches the scene from infinity).
 std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
-                                         const SceneView& shapes);
+                                         const SceneView& shapes, float scene_radius);
 
-// The light tree over a finished list (light_tree.hpp), recording each light's path in it.
+// The share of the lights' power at infinity (distant lights, the environment: the list's
+// tail from shapes.first_infinite_light), which pick_light gives them when it picks the
+// others by the light tree; kept within [0.1, 0.9] so neither side starves.
+float infinite_light_share(const std::vector<LightSource>& lights,
+                           std::span<const Material> materials, const SceneView& shapes,
+                           float scene_radius);
+
+// The light tree over a finished list's bounded lights (those before
+// shapes.first_infinite_light; light_tree.hpp), recording each one's path in it.
 // Split where the sum of power times bounds area of the two halves is least (the
 // orientation-free form of Conty and Kulla's cost), in 12 bins per axis; depth stays under
 // 64 because deep branches fall back to median splits.

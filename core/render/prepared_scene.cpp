@@ -6,6 +6,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "analytic_lights.hpp"
 #include "mesh_sharing.hpp"
 #include "mesh_triangles.hpp"
 #include "pooled_surfaces.hpp"
@@ -108,13 +109,37 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   for (const auto& f : description.trimmed_faces) place_trimmed_face(f, pooled, primitives);
   bind_pools(pooled);
 
+  const Aabb scene_bounds = primitives.bounds();
   primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                 scene->bvh_);
   scene->camera_ = Camera::from_description(description.camera, description.render);
-  scene->background_ = vec3(description.background.color * description.background.intensity);
-  scene->light_alias_ = finish_light_list(scene->lights_, scene->materials_, scene->view());
-  if (options.light_tree && scene->lights_.size() >= 2)
+  AnalyticLightSet analytic = make_analytic_lights(description);
+  scene->environment_ = analytic.environment;
+  // Moved, the tables keep the addresses environment_ holds.
+  scene->environment_pixels_ = std::move(analytic.environment_tables.pixels);
+  scene->environment_marginal_ = std::move(analytic.environment_tables.marginal_cdf);
+  scene->environment_conditional_ = std::move(analytic.environment_tables.conditional_cdf);
+  // The preview integrators show one colour on a miss: the environment's average.
+  scene->background_ = analytic.environment.average_radiance();
+  scene->analytic_lights_ = std::move(analytic.lights);
+  scene->first_analytic_light_ = static_cast<std::uint32_t>(scene->lights_.size());
+  scene->first_infinite_light_ = scene->first_analytic_light_ + analytic.first_infinite;
+  add_analytic_lights(scene->lights_, scene->analytic_lights_);
+  const bool has_environment = !scene->environment_.black();
+  scene->environment_light_ =
+      static_cast<std::uint32_t>(scene->lights_.size()) - (has_environment ? 1u : 0u);
+  const float scene_radius =
+      scene_bounds.empty()
+          ? 1.0f
+          : glm::max(1e-3f, 0.5f * glm::length(scene_bounds.upper - scene_bounds.lower));
+  scene->light_alias_ =
+      finish_light_list(scene->lights_, scene->materials_, scene->view(), scene_radius);
+  if (options.light_tree && scene->first_infinite_light_ >= 2) {
     scene->light_tree_ = build_light_tree(scene->lights_, scene->materials_, scene->view());
+    if (scene->first_infinite_light_ < scene->lights_.size())
+      scene->infinite_pick_ =
+          infinite_light_share(scene->lights_, scene->materials_, scene->view(), scene_radius);
+  }
   scene->features_.light_count = static_cast<std::uint32_t>(scene->lights_.size());
   const auto& f = scene->features_;
   scene->required_ = required_pipeline_features(f, description.render.integrator);
@@ -151,6 +176,13 @@ SceneView PreparedScene::view() const {
   if (!mesh_placements_.empty()) v.bvh.instances = &instance_accel_;
   v.camera = camera_;
   v.background = background_;
+  v.analytic_lights = analytic_lights_.data();
+  v.analytic_light_count = static_cast<std::uint32_t>(analytic_lights_.size());
+  v.first_analytic_light = first_analytic_light_;
+  v.first_infinite_light = first_infinite_light_;
+  v.infinite_pick = infinite_pick_;
+  v.environment = environment_;
+  v.environment_light = environment_light_;
   return v;
 }
 

@@ -40,6 +40,13 @@ class PrimitiveList {
   void build_accelerators(std::span<const Triangle> triangles, TriangleAccel& triangle_accel,
                           Bvh& bvh);
 
+  // The bounds of every visible bounded primitive (planes are not among them).
+  Aabb bounds() const {
+    Aabb box;
+    for (const Aabb& b : boxes_) box.extend(b);
+    return box;
+  }
+
  private:
   std::span<const Material> materials_;
   std::vector<LightSource>& lights_;

@@ -43,6 +43,24 @@ class SceneValidator {
   void run() {
     section<schema::CameraKind>(scene_.camera);
     section<schema::BackgroundKind>(scene_.background);
+    if (scene_.environment) {
+      section<schema::EnvironmentKind>(*scene_.environment);
+      const std::size_t pixels =
+          std::size_t{scene_.environment->image_width} * scene_.environment->image_height;
+      if (pixels > limits_.max_environment_pixels)
+        at("environment")
+            .fail(style_ == PathStyle::kYaml ? "file" : "image_width",
+                  "the image has " + std::to_string(pixels) + " pixels, more than the " +
+                      std::to_string(limits_.max_environment_pixels) + " allowed");
+    }
+    if (scene_.lights.size() > limits_.max_shapes_per_type)
+      at("").fail("lights", "at most " + std::to_string(limits_.max_shapes_per_type) +
+                                " lights, got " + std::to_string(scene_.lights.size()));
+    for (std::size_t i = 0; i < scene_.lights.size(); ++i) {
+      Checks check = at("lights[" + std::to_string(i) + "]");
+      if (schema::check_fields(scene_.lights[i], schema::LightKind::fields, check))
+        schema::LightKind::check(scene_.lights[i], check);
+    }
     materials();
     schema::for_each_kind<schema::ShapeKinds>([&](auto kind) {
       using Kind = decltype(kind);

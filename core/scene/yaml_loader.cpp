@@ -12,6 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "tessera/image/environment_image.hpp"
 #include "tessera/scene/mesh_loader.hpp"
 #include "tessera/scene/schema/kinds.hpp"
 #include "tessera/scene/schema/suggest.hpp"
@@ -166,11 +167,23 @@ class SceneBuilder {
   SceneDescription build(const YAML::Node& root) {
     if (!root.IsMap())
       in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
-    static constexpr std::string_view kSections[] = {"camera",   "settings", "materials",
-                                                     "geometry", "render",   "geometries"};
+    static constexpr std::string_view kSections[] = {"camera", "settings",  "environment",
+                                                     "lights", "materials", "geometry",
+                                                     "render", "geometries"};
     in_.check_keys(root, "", kSections);
     if (root["camera"]) section<schema::CameraKind>(root["camera"], scene_.camera);
     if (root["settings"]) section<schema::BackgroundKind>(root["settings"], scene_.background);
+    if (root["environment"]) {
+      EnvironmentDesc& env = scene_.environment.emplace();
+      section<schema::EnvironmentKind>(root["environment"], env);
+      if (env.type == "image") load_environment_image(root["environment"], env);
+    } else if (root["settings"]) {
+      // RayON's settings: its renderer draws a sky gradient times background_intensity
+      // and does not use background_color, so its scenes render that way here too.
+      scene_.environment =
+          EnvironmentDesc{"gradient", glm::dvec3(1.0), scene_.background.intensity};
+    }
+    if (root["lights"]) read_lights(root["lights"]);
     if (root["materials"]) read_materials(root["materials"]);
     const char* geometry_key = root["geometry"] ? "geometry" : "geometries";  // RayON accepts both
     if (root["geometry"] && root["geometries"])
@@ -272,6 +285,20 @@ class SceneBuilder {
       if (!material_index_.emplace(mat.name, scene_.materials.size()).second)
         in_.fail(m["name"], path + ".name", "duplicate material name '" + mat.name + "'");
       scene_.materials.push_back(std::move(mat));
+    }
+  }
+
+  void read_lights(const YAML::Node& node) {
+    if (!node.IsSequence())
+      in_.fail(node, "lights", std::string("must be a list, got a ") + YamlReader::kind(node));
+    static const std::vector<std::string_view> kKeys = yaml_keys(schema::LightKind::fields);
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "lights[" + std::to_string(i) + "]";
+      const YAML::Node l = map_at(node[i], path);
+      in_.check_keys(l, path, kKeys, schema::LightKind::ignored);
+      LightDesc light;
+      read_fields(l, schema::LightKind::fields, light, path);
+      scene_.lights.push_back(std::move(light));
     }
   }
 
@@ -602,12 +629,37 @@ class SceneBuilder {
     return loops;
   }
 
-  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,
-                             const std::string& file) {
+  // A file a scene names (a mesh, an environment image): relative to the scene's directory,
+  // and only inside the allowed roots when the loader has them.
+  std::filesystem::path scene_file(const YAML::Node& node, const std::string& field,
+                                   const std::string& file) {
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_directory_ / path;
     if (!options_.allowed_roots.empty() && !path_is_within(path, options_.allowed_roots))
       in_.fail(node, field, "'" + file + "' is outside the directories this server may read");
+    return path;
+  }
+
+  void load_environment_image(const YAML::Node& section_node, EnvironmentDesc& env) {
+    const std::string field = "environment.file";
+    const YAML::Node node = section_node["file"];
+    if (!node.IsDefined() || env.file.empty())
+      in_.fail(section_node, field, "is required for an image environment");
+    const std::filesystem::path path = scene_file(node, field, env.file);
+    try {
+      EnvironmentImage image = read_environment_image(path, options_.limits.max_environment_pixels);
+      env.image_width = image.width;
+      env.image_height = image.height;
+      env.image_pixels = std::move(image.rgb);
+    } catch (const std::runtime_error& e) {
+      in_.fail(node, field,
+               "cannot load image '" + path.lexically_normal().string() + "': " + e.what());
+    }
+  }
+
+  TriangleMeshDesc load_mesh(const YAML::Node& node, const std::string& field,
+                             const std::string& file) {
+    const std::filesystem::path path = scene_file(node, field, file);
     // Each file is parsed once per scene: entries that place it again copy the cached mesh
     // (the renderer then shares one structure between them, prepared_scene.cpp).
     std::error_code ec;

@@ -75,8 +75,8 @@ TileStats render_path(const SceneView& scene, const RenderSettings& settings, co
       scene, settings, tile, film,
       PathHit<kFeatures>{scene, settings.max_depth, settings.light_strategy,
                          static_cast<float>(settings.clamp)},
-      BackgroundMiss{scene.background, settings.transparent_background,
-                     static_cast<float>(settings.clamp)});
+      PathMiss<kFeatures>{scene, settings.light_strategy, settings.transparent_background,
+                          static_cast<float>(settings.clamp)});
 }
 
 template <unsigned kShapes>

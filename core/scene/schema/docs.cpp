@@ -136,13 +136,21 @@ std::string section_table_markdown() {
   const auto rows = [&](auto kind) {
     using Kind = decltype(kind);
     for (const auto& field : Kind::fields)
-      out << "| " << quoted(std::string(Kind::yaml_section) + "." + std::string(field.key(true)))
-          << " | " << quoted(std::string(Kind::proto_section) + "." + std::string(field.name))
+      out << "| "
+          << (field.on_yaml()
+                  ? quoted(std::string(Kind::yaml_section) + "." + std::string(field.key(true)))
+                  : std::string("—"))
+          << " | "
+          << (field.on_proto()
+                  ? quoted(std::string(Kind::proto_section) + "." + std::string(field.name))
+                  : std::string("—"))
           << " | " << default_text(field) << " | " << rule_text(field) << " | " << field.doc
           << " |\n";
   };
   rows(CameraKind{});
   rows(BackgroundKind{});
+  rows(EnvironmentKind{});
+  rows(LightKind{});
   rows(RenderKind{});
   return out.str();
 }

@@ -19,7 +19,8 @@ SceneDescription cornell() {
   return scene;
 }
 
-// Diffuse triangles under a sky, no emitters: no shadow rays, no specular code.
+// Diffuse triangles under a sky, no emitters: the sky is the one light (sampled for direct
+// light), no specular code.
 SceneDescription triangles_under_sky() {
   SceneDescription scene;
   scene.camera.position = {0, 0.5, 3};
@@ -59,9 +60,16 @@ TEST(Specialisation, PicksTheSmallestCoveringVariant) {
 
   const auto sky = PreparedScene::build(triangles_under_sky());
   EXPECT_EQ(sky->variant().features.shapes, kShapeTriangle);
-  EXPECT_FALSE(sky->variant().features.direct_lighting);
+  EXPECT_TRUE(sky->variant().features.direct_lighting);
   EXPECT_FALSE(sky->variant().features.specular);
   EXPECT_TRUE(sky->variant().features.covers(sky->required_features()));
+
+  // Under a black sky nothing lights the triangles: no shadow rays are compiled in.
+  SceneDescription dark = triangles_under_sky();
+  dark.background.color = glm::dvec3(0.0);
+  const auto unlit = PreparedScene::build(dark);
+  EXPECT_FALSE(unlit->variant().features.direct_lighting);
+  EXPECT_FALSE(unlit->variant().features.specular);
 }
 
 TEST(Specialisation, CornellBoxSameImageAsAllFeatures) {

@@ -60,7 +60,7 @@ struct StatisticsConfig {
   using RayGeneration = StatisticsRayGeneration;
   using Intersection = SceneIntersection<kStatisticsFeatures.shapes>;
   using Hit = PathHit<kStatisticsFeatures>;
-  using Miss = BackgroundMiss;
+  using Miss = PathMiss<kStatisticsFeatures>;
 };
 
 inline PixelStatistics render_statistics(const PreparedScene& prepared, LightStrategy strategy,
@@ -79,7 +79,7 @@ inline PixelStatistics render_statistics(const PreparedScene& prepared, LightStr
       generation,
       BvhTracer<StatisticsConfig::Intersection>(scene.bvh, StatisticsConfig::Intersection{scene}),
       PathHit<kStatisticsFeatures>{scene, settings.max_depth, strategy},
-      BackgroundMiss{scene.background});
+      PathMiss<kStatisticsFeatures>{scene, strategy});
   for (std::uint32_t y = 0; y < out.height; ++y)
     for (std::uint32_t x = 0; x < out.width; ++x)
       for (std::uint32_t s = 0; s < samples_per_pixel; ++s) pipeline.launch(x, y, s);

@@ -8,7 +8,8 @@
 // sphere by its cone, a rectangle by its spherical rectangle, a triangle by its spherical
 // triangle; parallelograms, disks, and rectangles and triangles too small or too grazing
 // for the spherical maps by area, converted to solid angle. Emitters are two-sided, as RayON's and
-// Cycles' mesh lights are.
+// Cycles' mesh lights are. Lights that are not shapes (point, spot, distant, environment)
+// are in the same list and sampled by sample_analytic_light.
 #include <cmath>
 #include <cstdint>
 
@@ -112,12 +113,23 @@ TESSERA_HD TESSERA_INLINE float one_minus_cos_cone(float sin2_max) {
 
 // Chooses the light to sample from point `p` on a surface facing `n` (unit; lights behind
 // it cannot contribute): by the light tree when the scene has one, else in proportion to
-// power. pmf 0 means no light can light p.
+// power. The tree holds bounded lights only; lights at infinity (the list's tail) take
+// probability infinite_pick between them, uniformly. pmf 0 means no light can light p.
 TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, const vec3& p, const vec3& n,
                                                float u) {
   if (scene.light_tree != nullptr) {
+    const std::uint32_t infinite = scene.light_count - scene.first_infinite_light;
+    if (u < scene.infinite_pick) {
+      const float share = u / scene.infinite_pick;
+      const std::uint32_t k =
+          glm::min(static_cast<std::uint32_t>(share * static_cast<float>(infinite)), infinite - 1);
+      return LightPick{scene.first_infinite_light + k,
+                       scene.infinite_pick / static_cast<float>(infinite)};
+    }
+    const float bounded = 1.0f - scene.infinite_pick;
+    u = glm::min((u - scene.infinite_pick) / bounded, 0x1.fffffep-1f);
     const TreePick t = light_tree_pick(scene.light_tree, p, n, u);
-    return LightPick{t.light, t.pmf};
+    return LightPick{t.light, t.pmf * bounded};
   }
   const std::uint32_t index = alias_pick(scene.light_alias, scene.light_count, u);
   return LightPick{index, scene.lights[index].pmf};
@@ -127,8 +139,13 @@ TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, const vec
 TESSERA_HD TESSERA_INLINE float light_pick_pmf(const SceneView& scene, const vec3& p, const vec3& n,
                                                std::uint32_t index) {
   const LightSource& light = scene.lights[index];
-  if (scene.light_tree != nullptr)
-    return light_tree_pmf(scene.light_tree, p, n, light.tree_path, light.tree_depth);
+  if (scene.light_tree != nullptr) {
+    if (index >= scene.first_infinite_light)
+      return scene.infinite_pick /
+             static_cast<float>(scene.light_count - scene.first_infinite_light);
+    return (1.0f - scene.infinite_pick) *
+           light_tree_pmf(scene.light_tree, p, n, light.tree_path, light.tree_depth);
+  }
   return light.pmf;
 }
 
@@ -351,10 +368,76 @@ TESSERA_HD inline bool with_emitter(const SceneView& scene, const LightSource& l
 
 }  // namespace light_detail
 
+// Lights at infinity are this far away for shadow rays: far beyond any scene a float can
+// place, yet its square (glm::length) stays finite.
+inline constexpr float kInfiniteLightDistance = 1e16f;
+
+// A direction from `ref` towards an analytic light (render/analytic_light.hpp), with the
+// radiance arriving along it. Delta lights (point, spot, zero-radius distant) return pdf 1
+// and their radiance already divided by it: the estimator f L cos / pdf is then theirs.
+TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const Environment& env,
+                                             const vec3& ref, float u1, float u2,
+                                             LightSample& out) {
+  switch (light.kind) {
+    case AnalyticLightKind::kPoint:
+    case AnalyticLightKind::kSpot: {
+      const vec3 d = light.position - ref;
+      const float distance2 = glm::dot(d, d);
+      if (!(distance2 > 0.0f)) return false;
+      out.distance = std::sqrt(distance2);
+      out.wi = d / out.distance;
+      out.pdf = 1.0f;
+      float falloff = 1.0f;
+      if (light.kind == AnalyticLightKind::kSpot)
+        falloff =
+            spot_falloff(-glm::dot(out.wi, light.direction), light.cos_outer, light.cos_inner);
+      out.radiance = light.emission * (falloff / distance2);
+      return falloff > 0.0f;
+    }
+    case AnalyticLightKind::kDistant: {
+      out.distance = kInfiniteLightDistance;
+      if (!distant_with_extent(light)) {
+        out.wi = light.direction;
+        out.pdf = 1.0f;
+        out.radiance = light.emission;
+        return true;
+      }
+      // Uniform in the cone about the direction (1 - cos theta uniform in [0, 1 - cos max]).
+      const float one_minus_cos = u1 * light.one_minus_cos_radius;
+      const float cos_theta = 1.0f - one_minus_cos;
+      const float sin_theta = std::sqrt(glm::max(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
+      const float phi = 2.0f * kPi * u2;
+      out.wi = Frame::from_normal(light.direction)
+                   .to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+      out.pdf = 1.0f / (2.0f * kPi * light.one_minus_cos_radius);
+      out.radiance = distant_radiance(light);
+      return true;
+    }
+    case AnalyticLightKind::kEnvironment:
+      out.wi = env.sample(u1, u2, out.pdf, out.radiance);
+      out.distance = kInfiniteLightDistance;
+      return out.pdf > 0.0f;
+  }
+  return false;
+}
+
+// The solid-angle pdf with which sample_analytic_light produces unit direction `wi` (0 for
+// delta lights, which no direction found another way can hit).
+TESSERA_HD inline float analytic_light_pdf(const AnalyticLight& light, const Environment& env,
+                                           const vec3& wi) {
+  if (light.kind == AnalyticLightKind::kEnvironment) return env.pdf(wi);
+  if (!distant_with_extent(light)) return 0.0f;
+  if (!in_distant_cone(light, wi)) return 0.0f;
+  return 1.0f / (2.0f * kPi * light.one_minus_cos_radius);
+}
+
 // A direction from `ref` towards `light`. Returns false (and no sample) when the light
 // subtends nothing from there.
 TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& light,
                                     const vec3& ref, float u1, float u2, LightSample& out) {
+  if (primitive_type(light.primitive) == PrimitiveType::kAnalyticLight)
+    return sample_analytic_light(scene.analytic_lights[primitive_index(light.primitive)],
+                                 scene.environment, ref, u1, u2, out);
   return light_detail::with_emitter(scene, light, [&](const auto& shape) {
     if (!sample_emitter(shape, light.area, ref, u1, u2, out)) return false;
     out.radiance = scene.materials[shape.material].emission;
@@ -364,9 +447,12 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
 
 // The solid-angle pdf with which sample_light(light, ref) would produce unit direction `wi`,
 // given that the ray along it first meets the light at `distance` with geometric normal
-// `light_normal`.
+// `light_normal` (for lights at infinity, both are ignored).
 TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& light, const vec3& ref,
                                   const vec3& wi, float distance, const vec3& light_normal) {
+  if (primitive_type(light.primitive) == PrimitiveType::kAnalyticLight)
+    return analytic_light_pdf(scene.analytic_lights[primitive_index(light.primitive)],
+                              scene.environment, wi);
   float pdf = 0.0f;
   light_detail::with_emitter(scene, light, [&](const auto& shape) {
     pdf = emitter_pdf(shape, light.area, ref, wi, distance, light_normal);

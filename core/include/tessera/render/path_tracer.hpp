@@ -18,8 +18,8 @@ namespace tessera {
 // The path tracer as pipeline programs: ray generation shoots camera rays and writes the
 // film, the hit program does next-event estimation with any-hit shadow rays, weighted
 // against BSDF sampling by multiple importance sampling, and samples the BSDF for the
-// continuation ray; the miss program adds the background. PipelineFeatures decide what is
-// compiled in.
+// continuation ray; the miss program adds the environment (PathMiss). PipelineFeatures decide what
+// is compiled in.
 
 struct NoAovs {};
 
@@ -331,12 +331,68 @@ struct PathHit {
   }
 };
 
+// The path tracer's miss program: an escaping ray sees the environment and any distant
+// light with an angular radius it points into. Those are in the light list too, so after a
+// BSDF sample their radiance is weighted against light sampling at the previous vertex, as
+// an emitter hit is (PathHit::emission_weight).
+template <PipelineFeatures kFeatures>
+struct PathMiss {
+  SceneView scene;
+  LightStrategy strategy = LightStrategy::kMis;
+  // Camera rays that miss add nothing (the environment still lights the scene).
+  bool transparent_background = false;
+  float clamp = 0.0f;  // RenderSettings::clamp
+
+  TESSERA_HD void on_miss(const Ray& ray, PathPayload<kFeatures.aovs>& payload) const {
+    if (payload.depth == 0) {
+      payload.coverage = 0.0f;
+      if (transparent_background) return;
+    }
+    const vec3 direction = glm::normalize(ray.direction);
+    vec3 seen =
+        scene.environment.radiance(direction) * weight(payload, scene.environment_light, direction);
+    if constexpr (kFeatures.direct_lighting) {
+      // Suns with an extent are few (each is one light); test each cone.
+      for (std::uint32_t i = 0; i < scene.analytic_light_count; ++i) {
+        const AnalyticLight& light = scene.analytic_lights[i];
+        if (!distant_with_extent(light) || !in_distant_cone(light, direction)) continue;
+        seen +=
+            distant_radiance(light) * weight(payload, scene.first_analytic_light + i, direction);
+      }
+    }
+    payload.radiance += clamp_indirect(payload.throughput * seen, clamp, payload.depth >= 2);
+  }
+
+ private:
+  TESSERA_HD float weight(const PathPayload<kFeatures.aovs>& payload, std::uint32_t index,
+                          const vec3& direction) const {
+    if constexpr (!kFeatures.direct_lighting) {
+      return 1.0f;
+    } else {
+      if (payload.count_emission || index >= scene.light_count) return 1.0f;
+      switch (strategy) {
+        case LightStrategy::kBsdf:
+          return 1.0f;
+        case LightStrategy::kLight:
+          return 0.0f;
+        case LightStrategy::kMis:
+          break;
+      }
+      const float pdf_light =
+          light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
+          light_pdf(scene, scene.lights[index], payload.previous_position, direction, 0.0f,
+                    vec3(0.0f));
+      return power_heuristic(payload.previous_pdf, pdf_light);
+    }
+  }
+};
+
 template <PipelineFeatures kFeatures>
 struct PathTracerConfig {
   using RayGeneration = PathRayGeneration<kFeatures.aovs>;
   using Intersection = SceneIntersection<kFeatures.shapes>;
   using Hit = PathHit<kFeatures>;
-  using Miss = BackgroundMiss;
+  using Miss = PathMiss<kFeatures>;
 };
 
 }  // namespace tessera

@@ -107,6 +107,15 @@ class PreparedScene {
   InstanceAccel instance_accel_;
   Camera camera_{};
   vec3 background_{0.0f};
+  // Lights that are not shapes and the environment (SceneView says how they are laid out).
+  std::vector<AnalyticLight> analytic_lights_;
+  Environment environment_;
+  // An image environment's pixels and sampling tables (environment_ points into them).
+  std::vector<float> environment_pixels_, environment_marginal_, environment_conditional_;
+  std::uint32_t first_analytic_light_ = 0;
+  std::uint32_t first_infinite_light_ = 0;
+  std::uint32_t environment_light_ = 0;
+  float infinite_pick_ = 0.0f;
   RenderSettings settings_;
   SceneFeatures features_;
   PipelineFeatures required_;

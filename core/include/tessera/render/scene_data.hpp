@@ -17,7 +17,9 @@
 #include "tessera/geometry/triangle_attributes.hpp"
 #include "tessera/geometry/trimmed_face.hpp"
 #include "tessera/math/alias_table.hpp"
+#include "tessera/render/analytic_light.hpp"
 #include "tessera/render/camera.hpp"
+#include "tessera/render/environment.hpp"
 #include "tessera/render/light_tree.hpp"
 #include "tessera/render/material.hpp"
 #include "tessera/scene/scene_features.hpp"
@@ -73,10 +75,13 @@ enum class PrimitiveType : std::uint32_t {
   // names its triangles first_id .. first_id + count - 1 (MeshPlacement), so HitRecord
   // stays one tagged reference. Traced on the CPU only, like BvhView::triangles.
   kInstancedTriangle,
+  // Not a shape and never in the BVH: a light-list entry for a light that is not a shape
+  // (render/analytic_light.hpp); the index is into SceneView::analytic_lights.
+  kAnalyticLight,
 };
 inline constexpr std::uint32_t kPrimitiveTypeShift = 27;
 inline constexpr std::uint32_t kPrimitiveIndexMask = (1u << kPrimitiveTypeShift) - 1u;
-static_assert(static_cast<std::uint32_t>(PrimitiveType::kInstancedTriangle) <
+static_assert(static_cast<std::uint32_t>(PrimitiveType::kAnalyticLight) <
                   (1u << (32 - kPrimitiveTypeShift)),
               "primitive types must fit the tag bits");
 
@@ -220,7 +225,20 @@ struct SceneView : SceneShapes {
   std::uint32_t light_count = 0;
   BvhView bvh;
   Camera camera;
-  vec3 background{0.0f};
+  vec3 background{0.0f};  // what the preview integrators show on a miss
+  // Lights that are not shapes, in the light list after every emissive shape (their
+  // references sort last): point and spot lights, then distant lights, then the
+  // environment when it is not black. Light-list index = first_analytic_light + index.
+  const AnalyticLight* analytic_lights = nullptr;
+  std::uint32_t analytic_light_count = 0;
+  std::uint32_t first_analytic_light = 0;
+  // Lights at infinity (distant lights and the environment) are the light list's tail from
+  // first_infinite_light; the light tree holds only the others, and pick_light chooses
+  // among these with probability infinite_pick (uniformly) when there is a tree.
+  std::uint32_t first_infinite_light = 0;
+  float infinite_pick = 0.0f;
+  Environment environment;
+  std::uint32_t environment_light = 0;  // its light-list index; light_count when it has none
 };
 
 namespace scene_detail {

@@ -38,6 +38,40 @@ struct BackgroundDesc {
   friend bool operator==(const BackgroundDesc&, const BackgroundDesc&) = default;
 };
 
+// A light that is not a shape (YAML `lights`, protobuf `Scene.lights`). Which fields apply
+// depends on the type: point (position, intensity), spot (position, direction, intensity,
+// cone_angle_degrees, cone_falloff_degrees), directional or its alias sun (direction,
+// irradiance, angular_radius_degrees). Colours multiply intensity and irradiance.
+struct LightDesc {
+  std::string type = "point";  // point, spot, directional, sun
+  glm::dvec3 position{0.0};
+  glm::dvec3 direction{0.0, -1.0, 0.0};  // spot: where it shines; directional: where light travels
+  glm::dvec3 color{1.0};
+  double intensity = 1.0;               // point, spot: radiant intensity, W/sr (times color)
+  double irradiance = 1.0;              // directional: W/m^2 on a surface facing it (times color)
+  double cone_angle_degrees = 30.0;     // spot: half-angle where the light ends
+  double cone_falloff_degrees = 5.0;    // spot: width of the smooth edge, inside the cone
+  double angular_radius_degrees = 0.0;  // directional: 0 = a delta direction; the sun ~0.27
+
+  friend bool operator==(const LightDesc&, const LightDesc&) = default;
+};
+
+// What an escaping ray sees (YAML and protobuf `environment`). Absent, the background is
+// the constant environment. `gradient` is RayON's sky: white below to (0.5, 0.7, 1.0) above,
+// times intensity (color is not used). `image`: an equirectangular image (YAML `file`, read
+// when the scene is loaded; protobuf carries its pixels), times color and intensity.
+struct EnvironmentDesc {
+  std::string type = "constant";  // constant, gradient, image
+  glm::dvec3 color{1.0};
+  double intensity = 1.0;
+  std::string file{};             // YAML, image: the file it was read from
+  double rotation_degrees = 0.0;  // image: turned about +y
+  std::uint32_t image_width = 0, image_height = 0;
+  std::vector<float> image_pixels{};  // linear RGB, rows from the zenith down
+
+  friend bool operator==(const EnvironmentDesc&, const EnvironmentDesc&) = default;
+};
+
 enum class MaterialType {
   kLambertian,
   kLight,
@@ -412,6 +446,8 @@ struct RenderSettings {
 struct SceneDescription {
   CameraDesc camera;
   BackgroundDesc background;
+  std::optional<EnvironmentDesc> environment;  // set: replaces the background
+  std::vector<LightDesc> lights;
   std::vector<MaterialDesc> materials;
   std::vector<SphereDesc> spheres;
   std::vector<QuadDesc> quads;
@@ -449,6 +485,8 @@ struct SceneLimits {
   // ~650 bytes) and uv points of all trimming loops together (16 bytes each).
   std::size_t max_patch_control_points = 250'000;
   std::size_t max_trim_points = 4'000'000;
+  // Pixels of an environment image (12 bytes each as floats): 8192 x 4096.
+  std::size_t max_environment_pixels = std::size_t{8192} * 4096;
 };
 
 // Semantic checks shared by every loader, from the kind declarations (scene/schema/kinds.hpp):

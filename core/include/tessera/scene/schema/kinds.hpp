@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -101,6 +102,136 @@ struct BackgroundKind {
       {"adaptive_sampling", "set render.target_error for adaptive sampling"},
   };
   static void check(const Desc&, Checks&) {}
+};
+
+// The environment (YAML and protobuf `environment`); when given it replaces the background.
+// RayON's `settings` block becomes a gradient environment of its background_intensity (RayON
+// draws that sky and ignores background_color), unless the scene gives `environment`.
+struct EnvironmentKind {
+  using Desc = EnvironmentDesc;
+  static constexpr std::string_view yaml_section = "environment";
+  static constexpr std::string_view proto_section = "environment";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "type",
+       .member = &Desc::type,
+       .rule = kOneOf,
+       .doc = "constant, gradient (RayON's sky: white below to (0.5, 0.7, 1.0) above) or image "
+              "(equirectangular)",
+       .choices = "constant|gradient|image"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "constant: radiance, linear RGB (times intensity)",
+       .grey_scalar = true},
+      {.name = "intensity",
+       .member = &Desc::intensity,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e6,
+       .doc = "multiplies the environment"},
+      {.name = "file",
+       .member = &Desc::file,
+       .doc = "image: HDR/EXR file, read where mesh files may be",
+       .side = Side::kYaml},
+      {.name = "rotation_degrees",
+       .member = &Desc::rotation_degrees,
+       .doc = "image: turned about +y, degrees"},
+      {.name = "image_width",
+       .member = &Desc::image_width,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_height",
+       .member = &Desc::image_height,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_pixels",
+       .doc = "image: linear RGB floats, rows from the zenith down",
+       .side = Side::kProto},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc& env, Checks& check) {
+    if (env.type != "image") return;
+    const std::size_t pixels = std::size_t{env.image_width} * env.image_height;
+    if (pixels == 0) {
+      check.fail(check.yaml() ? "file" : "image_width", "an image environment needs an image");
+    } else if (env.image_pixels.size() != 3 * pixels) {
+      check.fail(check.yaml() ? "file" : "image_pixels",
+                 "must hold 3 floats per pixel (" + std::to_string(3 * pixels) + "), got " +
+                     std::to_string(env.image_pixels.size()));
+    } else {
+      for (std::size_t i = 0; i < env.image_pixels.size(); ++i)
+        if (!(env.image_pixels[i] >= 0.0f) || !std::isfinite(env.image_pixels[i])) {
+          check.fail(check.yaml() ? "file" : "image_pixels",
+                     "pixel values must be finite and >= 0, got " +
+                         Checks::format(env.image_pixels[i]) + " at " + std::to_string(i));
+          break;
+        }
+    }
+  }
+};
+
+// One entry of the top-level `lights` list (protobuf `Scene.lights`): lights that are not
+// shapes. Fields that do not apply to the type are not used.
+struct LightKind {
+  using Desc = LightDesc;
+  static constexpr std::string_view yaml_section = "lights[i]";
+  static constexpr std::string_view proto_section = "lights[i]";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "type",
+       .member = &Desc::type,
+       .presence = kRequired,
+       .rule = kOneOf,
+       .doc = "point, spot, directional (alias sun)",
+       .choices = "point|spot|directional|sun"},
+      {.name = "position", .member = &Desc::position, .doc = "point, spot: where the light is"},
+      {.name = "direction",
+       .member = &Desc::direction,
+       .rule = kNonZeroVector,
+       .doc = "spot: the axis it shines along; directional: the way its light travels"},
+      {.name = "color",
+       .member = &Desc::color,
+       .rule = kNonNegativeComponents,
+       .doc = "linear RGB, multiplies intensity or irradiance",
+       .grey_scalar = true},
+      {.name = "intensity",
+       .member = &Desc::intensity,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e12,
+       .doc = "point, spot: radiant intensity, W/sr"},
+      {.name = "irradiance",
+       .member = &Desc::irradiance,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 1e12,
+       .doc = "directional: W/m^2 on a surface facing it"},
+      {.name = "cone_angle_degrees",
+       .member = &Desc::cone_angle_degrees,
+       .rule = kInRange,
+       .lo = 1e-3,
+       .hi = 180.0,
+       .doc = "spot: half-angle of the cone, where the light ends"},
+      {.name = "cone_falloff_degrees",
+       .member = &Desc::cone_falloff_degrees,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 180.0,
+       .doc = "spot: width of the smooth edge inside the cone (smoothstep in cos)"},
+      {.name = "angular_radius_degrees",
+       .member = &Desc::angular_radius_degrees,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 90.0,
+       .doc = "directional: 0 is a delta direction; the sun is about 0.27"},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc& light, Checks& check) {
+    if (light.type.empty()) check.fail("type", "must be set: point, spot, directional or sun");
+    if (light.type == "spot" && light.cone_falloff_degrees > light.cone_angle_degrees)
+      check.fail("cone_falloff_degrees", "must not exceed cone_angle_degrees (" +
+                                             Checks::format(light.cone_angle_degrees) + "), got " +
+                                             Checks::format(light.cone_falloff_degrees));
+  }
 };
 
 // The render section (YAML `render`, protobuf RenderSettings, which travels beside the
