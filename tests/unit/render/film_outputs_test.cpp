@@ -33,7 +33,7 @@ TilePasses render_whole(const SceneDescription& scene) {
 // square whose right edge, x = 0.25, runs through the middle of column 8 (x in [0, 0.5)).
 const char* kHalfCoveredScene = R"(
 camera: { position: [0, 0, 5], look_at: [0, 0, 0], projection: orthographic, ortho_height: 8 }
-settings: { background_color: [0.2, 0.4, 0.6] }
+environment: { type: constant, color: [0.2, 0.4, 0.6] }
 materials:
   - { name: white, type: lambertian, albedo: 0.5 }
   - { name: lamp, type: light, emission: 1 }
