@@ -208,6 +208,30 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
                          LightStrategy::kLight, tracer, rays);
 }
 
+// The share of light `index`'s radiance, reached by a BSDF-sampled ray in `direction`, that
+// a path counts: all of it after a camera ray or a specular bounce, or for an emitter no
+// sampler knows (index past the light list); otherwise the previous vertex also sampled that
+// light, so the two estimators are weighted as `strategy` says. `distance` and `normal`: where
+// the ray met the light (0 and 0 for lights at infinity). Emitter hits and escaping rays share it.
+template <typename Payload>
+TESSERA_HD float emitter_hit_weight(const SceneView& scene, LightStrategy strategy,
+                                    const Payload& payload, std::uint32_t index,
+                                    const vec3& direction, float distance, const vec3& normal) {
+  if (payload.count_emission || index >= scene.light_count) return 1.0f;
+  switch (strategy) {
+    case LightStrategy::kBsdf:
+      return 1.0f;
+    case LightStrategy::kLight:
+      return 0.0f;
+    case LightStrategy::kMis:
+      break;
+  }
+  const float pdf_light =
+      light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
+      light_pdf(scene, scene.lights[index], payload.previous_position, direction, distance, normal);
+  return power_heuristic(payload.previous_pdf, pdf_light);
+}
+
 template <PipelineFeatures kFeatures>
 struct PathHit {
   SceneView scene;
@@ -312,21 +336,9 @@ struct PathHit {
     } else {
       if (payload.count_emission) return 1.0f;
       const std::uint32_t index = find_light(scene, hit.primitive);
-      if (index == scene.light_count) return 1.0f;  // no sampler: only hits find it
-      switch (strategy) {
-        case LightStrategy::kBsdf:
-          return 1.0f;
-        case LightStrategy::kLight:
-          return 0.0f;
-        case LightStrategy::kMis:
-          break;
-      }
       const float distance = glm::length(si.position - payload.previous_position);
-      const float pdf_light =
-          light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
-          light_pdf(scene, scene.lights[index], payload.previous_position, ray.direction, distance,
-                    si.geometric_normal);
-      return power_heuristic(payload.previous_pdf, pdf_light);
+      return emitter_hit_weight(scene, strategy, payload, index, ray.direction, distance,
+                                si.geometric_normal);
     }
   }
 };
@@ -369,20 +381,7 @@ struct PathMiss {
     if constexpr (!kFeatures.direct_lighting) {
       return 1.0f;
     } else {
-      if (payload.count_emission || index >= scene.light_count) return 1.0f;
-      switch (strategy) {
-        case LightStrategy::kBsdf:
-          return 1.0f;
-        case LightStrategy::kLight:
-          return 0.0f;
-        case LightStrategy::kMis:
-          break;
-      }
-      const float pdf_light =
-          light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
-          light_pdf(scene, scene.lights[index], payload.previous_position, direction, 0.0f,
-                    vec3(0.0f));
-      return power_heuristic(payload.previous_pdf, pdf_light);
+      return emitter_hit_weight(scene, strategy, payload, index, direction, 0.0f, vec3(0.0f));
     }
   }
 };
