@@ -123,7 +123,7 @@ std::vector<NamedScene> specialisation_scenes(std::uint32_t width, std::uint32_t
     s.meshes.push_back(uv_sphere({0.55, 0.4, 0.35}, 0.4, 32, 64, 0));
     scenes.push_back({"mixed", s});
   }
-  {  // Diffuse meshes under a sky: no emitters, so no shadow rays at all.
+  {  // Diffuse meshes under a sky, their only light (an environment light, sampled).
     SceneDescription s = scenes.front().scene;
     s.meshes.pop_back();
     s.materials.pop_back();

@@ -12,7 +12,7 @@ struct NamedScene {
 };
 
 // Procedural scenes for the specialisation benchmark, so it needs no data files:
-// triangles only, analytic shapes only, a mix, and triangles under a sky with no lights.
+// triangles only, analytic shapes only, a mix, and triangles under a sky (an environment light, no emitters).
 std::vector<NamedScene> specialisation_scenes(std::uint32_t width, std::uint32_t height,
                                               std::uint32_t spp);
 

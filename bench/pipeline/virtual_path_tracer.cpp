@@ -513,9 +513,12 @@ TileStats VirtualPathTracer::render_tile(const TileRect& tile, std::span<float> 
         rng.next_2d(jx, jy);
         Ray ray = s.camera.generate(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
         PathState path;
+        bool covered = false;  // the camera ray hit a surface: alpha is coverage
         for (;;) {
           HitRecord hit;
-          if (!s.closest(ray, hit)) {
+          const bool hit_something = s.closest(ray, hit);
+          if (path.depth == 0) covered = hit_something;
+          if (!hit_something) {
             path.radiance += path.throughput * s.background;
             break;
           }
@@ -524,15 +527,15 @@ TileStats VirtualPathTracer::render_tile(const TileRect& tile, std::span<float> 
           ray = next;
         }
         stats.rays += path.rays;
-        const vec3 l = path.radiance;
-        if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) continue;
         float* pixel =
             &rgba[4 * ((static_cast<std::size_t>(y) - tile.y) * tile.width + (x - tile.x))];
+        if (covered) pixel[3] += weight;
+        const vec3 l = path.radiance;
+        if (!(std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z))) continue;
         pixel[0] += l.x * weight;
         pixel[1] += l.y * weight;
         pixel[2] += l.z * weight;
       }
-  for (std::size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
   return stats;
 }
 
