@@ -36,6 +36,21 @@ struct Render {
   double wall = 0.0;     // with the peer's per-render scene synchronisation
 };
 
+// Calls render_tile(tile, scratch) once for every tile, on `threads` threads, each with its
+// own Scratch (a tile buffer, kept between the thread's tiles).
+template <typename Scratch, typename RenderTile>
+void for_each_tile(const std::vector<TileRect>& tiles, unsigned threads, RenderTile render_tile) {
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    Scratch scratch;
+    for (std::size_t t = next++; t < tiles.size(); t = next++) render_tile(tiles[t], scratch);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work);
+  work();
+  for (auto& thread : pool) thread.join();
+}
+
 // Every tile on `threads` threads: the same image as any other tiling or thread count.
 Render render(const SceneDescription& description, std::uint32_t spp, unsigned threads,
               bool light_tree, double target_error = 0.0) {
@@ -48,24 +63,16 @@ Render render(const SceneDescription& description, std::uint32_t spp, unsigned t
   Render out;
   out.image = RgbaImage{s.width, s.height, std::vector<float>(std::size_t{s.width} * s.height * 4)};
   const std::vector<TileRect> tiles = make_tiles(s.width, s.height, s.tile_size);
-  std::atomic<std::size_t> next{0};
   const auto start = std::chrono::steady_clock::now();
-  const auto work = [&] {
-    std::vector<float> buffer;
-    for (std::size_t t = next++; t < tiles.size(); t = next++) {
-      const TileRect& tile = tiles[t];
-      buffer.resize(tile.pixel_count() * 4);
-      prepared->render_tile(tile, buffer);
-      for (std::uint32_t row = 0; row < tile.height; ++row)
-        std::copy_n(
-            buffer.begin() + std::ptrdiff_t{row} * tile.width * 4, tile.width * 4,
-            out.image.pixels.begin() + (std::ptrdiff_t{tile.y + row} * s.width + tile.x) * 4);
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work);
-  work();
-  for (auto& thread : pool) thread.join();
+  for_each_tile<std::vector<float>>(
+      tiles, threads, [&](const TileRect& tile, std::vector<float>& buffer) {
+        buffer.resize(tile.pixel_count() * 4);
+        prepared->render_tile(tile, buffer);
+        for (std::uint32_t row = 0; row < tile.height; ++row)
+          std::copy_n(
+              buffer.begin() + std::ptrdiff_t{row} * tile.width * 4, tile.width * 4,
+              out.image.pixels.begin() + (std::ptrdiff_t{tile.y + row} * s.width + tile.x) * 4);
+      });
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.wall = out.seconds;
   return out;
@@ -82,30 +89,21 @@ Render render_denoised(const SceneDescription& description, std::uint32_t spp, u
   const std::size_t floats = std::size_t{s.width} * s.height * 3;
   std::vector<float> beauty(floats), albedo(floats), normal(floats), variance(floats);
   const std::vector<TileRect> tiles = make_tiles(s.width, s.height, s.tile_size);
-  std::atomic<std::size_t> next{0};
   const auto start = std::chrono::steady_clock::now();
-  const auto work = [&] {
-    TilePasses passes;
-    for (std::size_t t = next++; t < tiles.size(); t = next++) {
-      const TileRect& tile = tiles[t];
-      prepared->render_tile(tile, passes);
-      const std::pair<const std::vector<float>*, std::vector<float>*> planes[] = {
-          {&passes.beauty, &beauty},
-          {&passes.aovs[0], &albedo},
-          {&passes.aovs[1], &normal},
-          {&passes.aovs[4], &variance}};
-      for (const auto& [from, to] : planes)
-        for (std::uint32_t y = 0; y < tile.height; ++y)
-          for (std::uint32_t x = 0; x < tile.width; ++x)
-            for (int c = 0; c < 3; ++c)
-              (*to)[((std::size_t{tile.y} + y) * s.width + tile.x + x) * 3 + c] =
-                  (*from)[(std::size_t{y} * tile.width + x) * 4 + c];
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(work);
-  work();
-  for (auto& thread : pool) thread.join();
+  for_each_tile<TilePasses>(tiles, threads, [&](const TileRect& tile, TilePasses& passes) {
+    prepared->render_tile(tile, passes);
+    const std::pair<const std::vector<float>*, std::vector<float>*> planes[] = {
+        {&passes.beauty, &beauty},
+        {&passes.aovs[0], &albedo},
+        {&passes.aovs[1], &normal},
+        {&passes.aovs[4], &variance}};
+    for (const auto& [from, to] : planes)
+      for (std::uint32_t y = 0; y < tile.height; ++y)
+        for (std::uint32_t x = 0; x < tile.width; ++x)
+          for (int c = 0; c < 3; ++c)
+            (*to)[((std::size_t{tile.y} + y) * s.width + tile.x + x) * 3 + c] =
+                (*from)[(std::size_t{y} * tile.width + x) * 4 + c];
+  });
   const std::vector<float> clean = denoise({s.width, s.height, beauty, albedo, normal, variance});
   Render out;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -19,6 +19,8 @@
 
 #include <glm/glm.hpp>
 
+#include "tessera/math/vec.hpp"
+
 namespace tessera::test {
 
 // Uniform floats in [0, 1) from a fixed-seed 64-bit generator (24 bits: never exactly 1).
@@ -186,6 +188,15 @@ class CapHistogram {
 // whole file's chi-square tests with probability at most 1%.
 inline double bonferroni_alpha(int count) {
   return 0.01 / count;
+}
+
+// The unit direction at polar angle theta and azimuth phi (degrees) about +z, the shading
+// normal of the BSDF tests.
+inline vec3 direction(double theta_degrees, double phi_degrees) {
+  const double t = theta_degrees * std::numbers::pi / 180.0;
+  const double p = phi_degrees * std::numbers::pi / 180.0;
+  return vec3(static_cast<float>(std::sin(t) * std::cos(p)),
+              static_cast<float>(std::sin(t) * std::sin(p)), static_cast<float>(std::cos(t)));
 }
 
 }  // namespace tessera::test

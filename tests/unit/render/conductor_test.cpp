@@ -23,12 +23,7 @@ namespace {
 using test::CapHistogram;
 using test::DirectionCap;
 
-vec3 direction(double theta_degrees, double phi_degrees) {
-  const double t = theta_degrees * std::numbers::pi / 180.0;
-  const double p = phi_degrees * std::numbers::pi / 180.0;
-  return vec3(static_cast<float>(std::sin(t) * std::cos(p)),
-              static_cast<float>(std::sin(t) * std::sin(p)), static_cast<float>(std::cos(t)));
-}
+using test::direction;
 
 // A conductor Bsdf with GGX roughness (ax, ay); gold's measured index when `complex`, else
 // the albedo alone (RayON's metal).

@@ -22,12 +22,7 @@ namespace {
 using test::CapHistogram;
 using test::DirectionCap;
 
-vec3 direction(double theta_degrees, double phi_degrees) {
-  const double t = theta_degrees * std::numbers::pi / 180.0;
-  const double p = phi_degrees * std::numbers::pi / 180.0;
-  return vec3(static_cast<float>(std::sin(t) * std::cos(p)),
-              static_cast<float>(std::sin(t) * std::sin(p)), static_cast<float>(std::cos(t)));
-}
+using test::direction;
 
 Bsdf glass(float alpha, bool front_face, vec3 albedo = vec3(1.0f), float ior = 1.5f) {
   Material m;
