@@ -82,16 +82,8 @@ using TriangleShape = EmitterShape<Triangle>;
 
 // ---------------------------------------------------------------------------------------
 // BSDFs: one class per kind, sample/eval/pdf virtual, in the shading frame of bsdf.hpp
-// (+z the shading normal on the arriving side). `front_face` says which side was hit,
-// which decides the relative index of refraction as Bsdf::of does.
-
-float relative_eta(float ior, bool front_face) {
-  return front_face ? ior : 1.0f / ior;
-}
-// The coat and thin shells face air on both sides.
-float eta_outside(float eta) {
-  return eta >= 1.0f ? eta : 1.0f / eta;
-}
+// (+z the shading normal on the arriving side). `front_face` says which side was hit; the
+// classes that need it keep Bsdf::of's result for each side.
 
 class BsdfModel {
  public:
@@ -199,16 +191,13 @@ class DielectricBsdf final : public BsdfModel {
   Bsdf front_, back_;
 };
 
-// A thin shell: reflection R' = 2R / (1 + R), else straight through. (The renderer's thin film
-// reflects its Airy interference colours instead; no benchmark scene has one.)
+// A thin film (Airy interference, reflection or straight through): Bsdf's code (bsdf.hpp,
+// thin_film.hpp); the same on both faces.
 class ThinDielectricBsdf final : public BsdfModel {
  public:
-  explicit ThinDielectricBsdf(float ior) : ior_(ior) {}
-  BsdfSample sample(const vec3& wo, bool front_face, float u_lobe, float, float) const override {
-    BsdfSample s;
-    if (wo.z <= 0.0f) return s;
-    const float r1 = schlick_reflectance(wo.z, 1.0f / eta_outside(relative_eta(ior_, front_face)));
-    return sample_specular_pair(wo, 2.0f * r1 / (1.0f + r1), -wo, vec3(1.0f), u_lobe);
+  explicit ThinDielectricBsdf(const Material& m) : film_(Bsdf::of(m, true)) {}
+  BsdfSample sample(const vec3& wo, bool, float u_lobe, float u1, float u2) const override {
+    return film_.sample(wo, u_lobe, u1, u2);
   }
   vec3 eval(const vec3&, const vec3&, bool) const override { return vec3(0.0f); }
   float pdf(const vec3&, const vec3&, bool) const override { return 0.0f; }
@@ -216,7 +205,7 @@ class ThinDielectricBsdf final : public BsdfModel {
   bool uses_lobe_sample() const override { return true; }
 
  private:
-  float ior_;
+  Bsdf film_;
 };
 
 // Null for emitters, which do not scatter.
@@ -231,7 +220,7 @@ std::unique_ptr<BsdfModel> make_bsdf(const Material& m) {
     case BsdfKind::kDielectric:
       return std::make_unique<DielectricBsdf>(m);
     case BsdfKind::kThinDielectric:
-      return std::make_unique<ThinDielectricBsdf>(m.ior);
+      return std::make_unique<ThinDielectricBsdf>(m);
     case BsdfKind::kEmitter:
     case BsdfKind::kConstant:  // unlit materials are not part of this baseline
     case BsdfKind::kShowNormals:

@@ -15,14 +15,6 @@
 
 namespace tessera {
 
-// Schlick's approximation of unpolarised Fresnel reflectance.
-TESSERA_HD TESSERA_INLINE float schlick_reflectance(float cos_theta, float eta_ratio) {
-  float r0 = (1.0f - eta_ratio) / (1.0f + eta_ratio);
-  r0 *= r0;
-  const float m = 1.0f - glm::clamp(cos_theta, 0.0f, 1.0f);
-  return r0 + (1.0f - r0) * m * m * m * m * m;
-}
-
 // Refracts unit `d` through unit `n` (facing against d) with eta = n_incident / n_transmitted.
 // Returns false on total internal reflection.
 TESSERA_HD TESSERA_INLINE bool refract(const vec3& d, const vec3& n, float eta, vec3& out) {
@@ -56,7 +48,7 @@ struct BsdfSample {
 };
 
 // A specular pair: the mirror reflection with probability `r` (u below it), else the
-// `transmitted` direction, each tinted by `tint` (glass; the virtual baseline's thin shell).
+// `transmitted` direction, each tinted by `tint` (smooth glass).
 TESSERA_HD inline BsdfSample sample_specular_pair(const vec3& wo, float r, const vec3& transmitted,
                                                   const vec3& tint, float u) {
   BsdfSample s;
