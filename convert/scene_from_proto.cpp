@@ -381,6 +381,13 @@ SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& 
     env.image_pixels.assign(in.environment().image_pixels().begin(),
                             in.environment().image_pixels().end());
   }
+  for (int i = 0; i < in.textures_size(); ++i) {
+    const v1::Texture& t = in.textures(i);
+    TextureDesc& texture = scene.textures.emplace_back();
+    proto_fields::read(t, schema::TextureKind::fields, texture,
+                       indexed("textures", static_cast<std::size_t>(i)), check);
+    texture.image_pixels.assign(t.image_pixels().begin(), t.image_pixels().end());
+  }
   for (int i = 0; i < in.lights_size(); ++i) {
     LightDesc& light = scene.lights.emplace_back();
     proto_fields::read(in.lights(i), schema::LightKind::fields, light,

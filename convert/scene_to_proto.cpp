@@ -116,6 +116,11 @@ v1::Scene scene_to_proto(const SceneDescription& scene) {
     env->mutable_image_pixels()->Assign(scene.environment->image_pixels.begin(),
                                         scene.environment->image_pixels.end());
   }
+  for (const TextureDesc& texture : scene.textures) {
+    v1::Texture* t = out.add_textures();
+    proto_fields::write(texture, schema::TextureKind::fields, *t);
+    t->mutable_image_pixels()->Assign(texture.image_pixels.begin(), texture.image_pixels.end());
+  }
   for (const LightDesc& light : scene.lights)
     proto_fields::write(light, schema::LightKind::fields, *out.add_lights());
   for (const MaterialDesc& m : scene.materials) {

@@ -44,12 +44,10 @@ bool metal_preset(const std::string& preset, ComplexIndex& out) {
 // (the half vector moves half as far as the reflected direction), and is the mapping
 // bench/peers gives Cycles for the same materials.
 void conductor_roughness(const MaterialDesc& desc, Material& m) {
-  const float r = static_cast<float>(desc.roughness);
-  const float alpha = desc.type == MaterialType::kAnisotropicMetal ? r * r : 0.5f * r;
-  const float aspect =
+  m.roughness_mapping = desc.type == MaterialType::kAnisotropicMetal ? RoughnessMapping::kSquared
+                                                                     : RoughnessMapping::kHalf;
+  m.anisotropy_aspect =
       std::sqrt(std::max(1e-4f, 1.0f - 0.9f * static_cast<float>(desc.anisotropy)));
-  m.alpha_x = alpha / aspect;
-  m.alpha_y = alpha * aspect;
 }
 
 }  // namespace
@@ -89,7 +87,7 @@ Material make_material(const MaterialDesc& desc) {
     case MaterialType::kGlass: {
       // Rough glass is GGX with alpha = roughness^2 (Cycles' and Disney's convention).
       m.kind = BsdfKind::kDielectric;
-      m.alpha_x = m.alpha_y = m.roughness * m.roughness;
+      m.roughness_mapping = RoughnessMapping::kSquared;
       // Beer's law: T = exp(-sigma d) for the given share T left after distance d.
       m.absorption = vec3(-glm::log(desc.transmittance) / desc.transmittance_distance);
       break;
@@ -104,7 +102,7 @@ Material make_material(const MaterialDesc& desc) {
     case MaterialType::kClearCoat:
       // RayON's coat perturbs its mirror like rough_mirror: the same alpha = roughness / 2.
       m.kind = BsdfKind::kCoated;
-      m.alpha_x = m.alpha_y = 0.5f * m.roughness;
+      m.roughness_mapping = RoughnessMapping::kHalf;
       break;
     case MaterialType::kMirror:
       // RayON's mirror: the reflection direction, tinted by albedo, whatever the roughness.
@@ -118,6 +116,7 @@ Material make_material(const MaterialDesc& desc) {
       m.kind = BsdfKind::kShowNormals;
       break;
   }
+  m.set_roughness(m.roughness);
   if (desc.pattern) {
     const PatternDesc& p = *desc.pattern;
     if (p.type == "fibonacci_dots") m.pattern.type = PatternType::kFibonacciDots;

@@ -13,6 +13,7 @@
 #include "primitive_list.hpp"
 #include "shape_placement.hpp"
 #include "tessera/render/material_mapping.hpp"
+#include "texture_pool.hpp"
 #include "variant_choice.hpp"
 
 namespace tessera {
@@ -27,6 +28,10 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   for (const auto& m : description.materials) scene->materials_.push_back(make_material(m));
   // A scene with no materials still needs one for shapes to refer to.
   if (scene->materials_.empty()) scene->materials_.push_back(Material{});
+  TexturePool textures = build_texture_pool(description.textures);
+  scene->textures_ = std::move(textures.textures);
+  scene->texels_ = std::move(textures.texels);
+  bind_material_textures(description.materials, description.textures, scene->materials_);
 
   // Shapes go into their flat arrays in this order, each recorded for the acceleration
   // structures and the light list; the order decides both, and so the image.
@@ -163,6 +168,8 @@ SceneView PreparedScene::view() const {
   arrays_.bind(v);
   v.triangle_attributes = triangle_attributes_.empty() ? nullptr : triangle_attributes_.data();
   v.materials = materials_.data();
+  v.textures = textures_.data();
+  v.texels = texels_.data();
   v.lights = lights_.data();
   v.light_alias = light_alias_.data();
   v.light_tree = light_tree_.empty() ? nullptr : light_tree_.data();

@@ -9,6 +9,7 @@
 #include "tessera/geometry/trimmed_face_build.hpp"
 #include "tessera/scene/scene_description.hpp"
 #include "tessera/scene/schema/kinds.hpp"
+#include "tessera/scene/schema/suggest.hpp"
 #include "tessera/scene/spline_geometry.hpp"
 
 namespace tessera {
@@ -61,6 +62,7 @@ class SceneValidator {
       if (schema::check_fields(scene_.lights[i], schema::LightKind::fields, check))
         schema::LightKind::check(scene_.lights[i], check);
     }
+    textures();
     materials();
     schema::for_each_kind<schema::ShapeKinds>([&](auto kind) {
       using Kind = decltype(kind);
@@ -87,6 +89,38 @@ class SceneValidator {
     if (schema::check_fields(desc, Kind::fields, check)) Kind::check(desc, check);
   }
 
+  void textures() {
+    if (scene_.textures.size() > limits_.max_textures)
+      at("").fail("textures", "at most " + std::to_string(limits_.max_textures) +
+                                  " textures, got " + std::to_string(scene_.textures.size()));
+    std::size_t total_pixels = 0;
+    for (std::size_t i = 0; i < scene_.textures.size(); ++i) {
+      const TextureDesc& t = scene_.textures[i];
+      Checks check = at("textures[" + std::to_string(i) + "]");
+      if (t.name.empty())
+        check.fail("name", "must not be empty");
+      else if (!texture_names_.emplace(t.name, i).second)
+        check.fail("name", "duplicate texture name '" + t.name + "'");
+      if (schema::check_fields(t, schema::TextureKind::fields, check))
+        schema::TextureKind::check(t, check);
+      total_pixels += std::size_t{t.image_width} * t.image_height;
+      if (total_pixels > limits_.max_texture_pixels) {
+        check.fail(style_ == PathStyle::kYaml ? "file" : "image_width",
+                   "the textures up to this one have " + std::to_string(total_pixels) +
+                       " pixels, more than the " + std::to_string(limits_.max_texture_pixels) +
+                       " allowed in one scene");
+        break;
+      }
+    }
+  }
+
+  void texture_reference(Checks& check, const char* field, const std::string& name) {
+    if (name.empty() || texture_names_.contains(name)) return;
+    std::vector<std::string_view> names;
+    for (const TextureDesc& t : scene_.textures) names.push_back(t.name);
+    check.fail(field, "unknown texture '" + name + "'" + schema::did_you_mean(name, names));
+  }
+
   void materials() {
     std::unordered_map<std::string_view, std::size_t> first_of_name;
     first_of_name.reserve(scene_.materials.size());
@@ -99,6 +133,8 @@ class SceneValidator {
         check.fail("name", "duplicate material name '" + m.name + "'");
       if (schema::check_fields(m, schema::MaterialKind::fields, check))
         schema::MaterialKind::check(m, check);
+      texture_reference(check, "albedo_texture", m.albedo_texture);
+      texture_reference(check, "roughness_texture", m.roughness_texture);
       if (m.pattern) {
         Checks pattern = check.nested("pattern");
         if (schema::check_fields(*m.pattern, schema::PatternKind::fields, pattern))
@@ -324,6 +360,7 @@ class SceneValidator {
   const SceneLimits& limits_;
   PathStyle style_;
   std::vector<SceneIssue>& issues_;
+  std::unordered_map<std::string_view, std::size_t> texture_names_;
   std::size_t control_points_ = 0;
   std::size_t trim_points_ = 0;
   std::size_t triangles_ = 0;

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "tessera/image/environment_image.hpp"
+#include "tessera/image/rgb_image.hpp"
 #include "tessera/scene/mesh_loader.hpp"
 #include "tessera/scene/schema/kinds.hpp"
 #include "tessera/scene/schema/suggest.hpp"
@@ -167,9 +167,9 @@ class SceneBuilder {
   SceneDescription build(const YAML::Node& root) {
     if (!root.IsMap())
       in_.fail(root, "", "the scene must be a YAML map with camera, materials and geometry");
-    static constexpr std::string_view kSections[] = {"camera", "settings",  "environment",
-                                                     "lights", "materials", "geometry",
-                                                     "render", "geometries"};
+    static constexpr std::string_view kSections[] = {"camera",   "settings", "environment",
+                                                     "lights",   "textures", "materials",
+                                                     "geometry", "render",   "geometries"};
     in_.check_keys(root, "", kSections);
     if (root["camera"]) section<schema::CameraKind>(root["camera"], scene_.camera);
     if (root["settings"]) section<schema::BackgroundKind>(root["settings"], scene_.background);
@@ -184,6 +184,7 @@ class SceneBuilder {
           EnvironmentDesc{"gradient", glm::dvec3(1.0), scene_.background.intensity};
     }
     if (root["lights"]) read_lights(root["lights"]);
+    if (root["textures"]) read_textures(root["textures"]);
     if (root["materials"]) read_materials(root["materials"]);
     const char* geometry_key = root["geometry"] ? "geometry" : "geometries";  // RayON accepts both
     if (root["geometry"] && root["geometries"])
@@ -299,6 +300,45 @@ class SceneBuilder {
       LightDesc light;
       read_fields(l, schema::LightKind::fields, light, path);
       scene_.lights.push_back(std::move(light));
+    }
+  }
+
+  void read_textures(const YAML::Node& node) {
+    if (!node.IsSequence())
+      in_.fail(node, "textures", std::string("must be a list, got a ") + YamlReader::kind(node));
+    static const std::vector<std::string_view> kKeys = yaml_keys(schema::TextureKind::fields);
+    std::size_t pixels_left = options_.limits.max_texture_pixels;
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string path = "textures[" + std::to_string(i) + "]";
+      const YAML::Node t = map_at(node[i], path);
+      in_.check_keys(t, path, kKeys, schema::TextureKind::ignored);
+      TextureDesc texture;
+      read_fields(t, schema::TextureKind::fields, texture, path);
+      if (texture.type == "image") load_texture_image(t, path, texture, pixels_left);
+      scene_.textures.push_back(std::move(texture));
+    }
+  }
+
+  // Reads an image texture's file into linear RGB floats; `pixels_left` is what the scene's
+  // texture budget still allows, so a scene cannot read more than the budget in total.
+  void load_texture_image(const YAML::Node& section_node, const std::string& path,
+                          TextureDesc& texture, std::size_t& pixels_left) {
+    const std::string field = path + ".file";
+    const YAML::Node node = section_node["file"];
+    if (!node.IsDefined() || texture.file.empty())
+      in_.fail(section_node, field, "is required for an image texture");
+    const std::filesystem::path file = scene_file(node, field, texture.file);
+    try {
+      RgbImage image = read_rgb_image(file, pixels_left);
+      pixels_left -= std::size_t{image.width} * image.height;
+      if (texture.color_space == "srgb" || (texture.color_space == "auto" && image.integer_format))
+        decode_srgb(image.rgb);
+      texture.image_width = image.width;
+      texture.image_height = image.height;
+      texture.image_pixels = std::move(image.rgb);
+    } catch (const std::runtime_error& e) {
+      in_.fail(node, field,
+               "cannot load image '" + file.lexically_normal().string() + "': " + e.what());
     }
   }
 
@@ -647,7 +687,7 @@ class SceneBuilder {
       in_.fail(section_node, field, "is required for an image environment");
     const std::filesystem::path path = scene_file(node, field, env.file);
     try {
-      EnvironmentImage image = read_environment_image(path, options_.limits.max_environment_pixels);
+      RgbImage image = read_rgb_image(path, options_.limits.max_environment_pixels);
       env.image_width = image.width;
       env.image_height = image.height;
       env.image_pixels = std::move(image.rgb);

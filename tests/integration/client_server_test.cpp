@@ -404,6 +404,7 @@ TEST_F(CliAgainstDaemonTest, RemoteIntegratorsAndAovsMatchLocalRendering) {
 
 const std::string kShapes = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/shapes.yaml";
 const std::string kPatches = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/patches.yaml";
+const std::string kTextures = std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/textures.yaml";
 
 // Every shape type, every kind of transform, a mesh with normals and uvs: the client's
 // conversion followed by the server's gives back the description exactly.
@@ -510,6 +511,11 @@ TEST_F(CliAgainstDaemonTest, PatchesSceneRendersThroughTheDaemonAsLocally) {
 
 TEST_F(CliAgainstDaemonTest, ShapesSceneRendersThroughTheDaemonAsLocally) {
   expect_daemon_render_equals_local(render_command(), kShapes, dir_);
+}
+
+// Image textures travel as pixels and checkers as fields: the same image either way.
+TEST_F(CliAgainstDaemonTest, TexturesSceneRendersThroughTheDaemonAsLocally) {
+  expect_daemon_render_equals_local(render_command(), kTextures, dir_);
 }
 
 }  // namespace

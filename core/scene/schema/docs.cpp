@@ -151,6 +151,7 @@ std::string section_table_markdown() {
   rows(BackgroundKind{});
   rows(EnvironmentKind{});
   rows(LightKind{});
+  rows(TextureKind{});
   rows(RenderKind{});
   return out.str();
 }

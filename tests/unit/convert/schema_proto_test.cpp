@@ -105,6 +105,10 @@ TEST(SchemaProto, SectionsMaterialsAndTransformsMatchTheirMessages) {
   expect_declared_fields_match<MaterialDesc>(v1::Material::descriptor(),
                                              schema::MaterialKind::fields);
   expect_declared_fields_match<PatternDesc>(v1::Pattern::descriptor(), schema::PatternKind::fields);
+  expect_declared_fields_match<TextureDesc>(v1::Texture::descriptor(), schema::TextureKind::fields);
+  expect_declared_fields_match<LightDesc>(v1::Light::descriptor(), schema::LightKind::fields);
+  expect_declared_fields_match<EnvironmentDesc>(v1::Environment::descriptor(),
+                                                schema::EnvironmentKind::fields);
   expect_declared_fields_match<TransformDesc>(v1::Transform::descriptor(),
                                               schema::TransformKind::fields);
   expect_declared_fields_match<TransformDesc>(v1::Rotation::descriptor(),

@@ -43,6 +43,16 @@ struct Camera {
   // With the render settings' pixel filter.
   static Camera from_description(const CameraDesc& desc, const RenderSettings& render);
 
+  // The ray cone of a pixel: its width at `distance` along a camera ray, world units, and
+  // how fast that grows per unit distance (0 for orthographic views, whose rays are parallel).
+  TESSERA_HD float pixel_spread() const {
+    return projection == Projection::kOrthographic ? 0.0f : glm::length(pixel_dy);
+  }
+  TESSERA_HD float footprint_at(float distance) const {
+    return projection == Projection::kOrthographic ? glm::length(pixel_dy)
+                                                   : distance * glm::length(pixel_dy);
+  }
+
   // (px, py) in pixel units: the pixel's integer corner plus a sample offset; the ray
   // through the lens centre.
   TESSERA_HD Ray generate(float px, float py) const {

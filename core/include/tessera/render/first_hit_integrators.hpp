@@ -55,7 +55,8 @@ struct FirstHitShade {
       if constexpr (kOutput == FirstHitOutput::kNormals) {
         payload.value = 0.5f * si.shading_normal + vec3(0.5f);
       } else {
-        payload.value = albedo_at(scene, scene.materials[si.material], hit.primitive, si.position);
+        payload.value = albedo_at(scene, scene.materials[si.material], hit.primitive, si,
+                                  scene.camera.footprint_at(hit.t * glm::length(ray.direction)));
       }
     }
   }

@@ -22,6 +22,13 @@ enum class BsdfKind : std::uint32_t {
   kShowNormals = 7,  // the shading normal facing the ray, mapped from [-1, 1] to [0, 1]
 };
 
+// How a material's roughness becomes its GGX alphas (see make_material for why each).
+enum class RoughnessMapping : std::uint32_t {
+  kNone = 0,     // smooth whatever the roughness (mirror), or no microfacet lobe
+  kHalf = 1,     // alpha = roughness / 2: RayON's metal, rough_mirror and clear coat
+  kSquared = 2,  // alpha = roughness^2: anisotropic_metal and glass
+};
+
 struct Material {
   BsdfKind kind = BsdfKind::kDiffuse;
   vec3 albedo{0.8f};
@@ -46,6 +53,23 @@ struct Material {
   vec3 k{0.0f};
   // Glass: absorption coefficient per unit length inside (Beer's law); 0 = clear.
   vec3 absorption{0.0f};
+  RoughnessMapping roughness_mapping = RoughnessMapping::kNone;
+  float anisotropy_aspect = 1.0f;  // alpha_x = alpha / aspect, alpha_y = alpha * aspect
+  // Indices into SceneView::textures giving the albedo or the roughness at each hit; -1: the
+  // constants above.
+  std::int32_t albedo_texture = -1;
+  std::int32_t roughness_texture = -1;
+
+  // Sets the GGX alphas from a roughness in [0, 1], as the material's mapping says: once
+  // from the scene's value, and again per hit from a roughness texture.
+  TESSERA_HD void set_roughness(float r) {
+    roughness = r;
+    const float alpha = roughness_mapping == RoughnessMapping::kHalf      ? 0.5f * r
+                        : roughness_mapping == RoughnessMapping::kSquared ? r * r
+                                                                          : 0.0f;
+    alpha_x = alpha / anisotropy_aspect;
+    alpha_y = alpha * anisotropy_aspect;
+  }
 
   TESSERA_HD bool absorbs() const {
     return absorption.x > 0.0f || absorption.y > 0.0f || absorption.z > 0.0f;

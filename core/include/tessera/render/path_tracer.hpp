@@ -11,6 +11,7 @@
 #include "tessera/render/light_sampling.hpp"
 #include "tessera/render/pipeline_features.hpp"
 #include "tessera/render/scene_data.hpp"
+#include "tessera/render/surface_textures.hpp"
 #include "tessera/scene/scene_description.hpp"
 
 namespace tessera {
@@ -39,6 +40,10 @@ struct PathPayload {
   // The sample's share of the pixel's alpha: 1 when the camera ray hit a surface, 0 when it
   // missed (BackgroundMiss), the composited opacity for the transparency preview.
   float coverage = 1.0f;
+  // The ray cone (Amanatides 1984; Akenine-Moller et al. 2019) that picks texture mip
+  // levels: its width at the path's last vertex and how fast it widens per unit distance.
+  float cone_width = 0.0f;
+  float cone_spread = 0.0f;
   [[no_unique_address]] std::conditional_t<kAovs, FirstHitAovs, NoAovs> aov;
 };
 
@@ -62,6 +67,8 @@ struct PathRayGeneration {
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t, Payload& payload) const {
     payload.rays = 1;
+    payload.cone_width = camera.footprint_at(0.0f);
+    payload.cone_spread = camera.pixel_spread();
     return camera.generate_sample(x, y, payload.samples);
   }
 
@@ -243,16 +250,20 @@ struct PathHit {
   TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload<kFeatures.aovs>& payload,
                          const T& tracer) const {
     const SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
-    const Material& material = scene.materials[si.material];
-    const vec3 albedo = albedo_at(scene, material, hit.primitive, si.position);
+    const float distance = hit.t * glm::length(ray.direction);
+    const float footprint = payload.cone_width + payload.cone_spread * distance;
+    Material textured;
+    const Material& material =
+        material_at(scene, scene.materials[si.material], hit.primitive, si, footprint, textured);
+    const vec3 albedo = albedo_at(scene, material, hit.primitive, si, footprint);
     // Leaving absorbing glass: the segment just traced ran inside it (closed, not nested).
     if (!si.front_face && material.kind == BsdfKind::kDielectric && material.absorbs())
-      payload.throughput *= glm::exp(-material.absorption * (hit.t * glm::length(ray.direction)));
+      payload.throughput *= glm::exp(-material.absorption * distance);
     if constexpr (kFeatures.aovs) {
       if (payload.depth == 0) {
         payload.aov.albedo = albedo;
         payload.aov.normal = si.shading_normal;
-        payload.aov.depth = hit.t * glm::length(ray.direction);
+        payload.aov.depth = distance;
         payload.aov.primitive = hit.primitive;
       }
     }
@@ -307,6 +318,14 @@ struct PathHit {
     // Camera rays and specular bounces are the only way to see an emitter directly; with
     // no light list, so is every bounce.
     payload.count_emission = bs.specular() || !kFeatures.direct_lighting;
+    // A specular bounce keeps the cone's spread (flat mirrors and glass); a glossy or
+    // diffuse one widens it by about its lobe's angular width, so textures seen only
+    // through rough or diffuse bounces are read from coarse levels.
+    payload.cone_width = footprint;
+    if (!bs.specular())
+      payload.cone_spread += bsdf.kind == BsdfKind::kDiffuse
+                                 ? 0.5f
+                                 : 2.0f * glm::max(material.alpha_x, material.alpha_y);
 
     // Russian roulette keeps long paths unbiased without tracing every one to max depth.
     // Survival is the square root of the throughput (as Cycles does), gentler than the

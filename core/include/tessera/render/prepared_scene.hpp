@@ -93,6 +93,8 @@ class PreparedScene {
   SplinePatchPool patch_pool_;
   TrimPool trim_pool_;
   std::vector<Material> materials_;
+  std::vector<Texture> textures_;  // their pyramids in texels_ (render/texture_pool.hpp)
+  std::vector<vec3> texels_;
   std::vector<LightSource> lights_;
   std::vector<AliasSlot> light_alias_;     // pick_light's table over lights_
   std::vector<LightTreeNode> light_tree_;  // empty: pick_light uses the alias table

@@ -22,6 +22,7 @@
 #include "tessera/render/environment.hpp"
 #include "tessera/render/light_tree.hpp"
 #include "tessera/render/material.hpp"
+#include "tessera/render/texture.hpp"
 #include "tessera/scene/scene_features.hpp"
 
 namespace tessera {
@@ -219,6 +220,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
 // valid on the host or, once uploaded, on a device.
 struct SceneView : SceneShapes {
   const Material* materials = nullptr;
+  const Texture* textures = nullptr;  // Material::albedo_texture, roughness_texture
+  const vec3* texels = nullptr;       // the textures' mip pyramids
   const LightSource* lights = nullptr;        // sorted by primitive reference (find_light)
   const AliasSlot* light_alias = nullptr;     // light_count slots, by power (pick_light)
   const LightTreeNode* light_tree = nullptr;  // null: pick by power alone
@@ -411,29 +414,6 @@ TESSERA_HD SurfaceInteraction surface_at(const SceneView& scene, const Ray& ray,
   return scene_detail::dispatch<kShapes>(
       scene, hit.primitive, SurfaceInteraction{},
       [&](const auto& shape) { return surface_at(shape, ray, hit); });
-}
-
-// The albedo of `material` at a hit: its pattern's, where it has one. RayON measures the
-// pattern from a sphere's centre and from the world origin on every other shape; an
-// instanced sphere uses its object-space centre.
-TESSERA_HD inline vec3 albedo_at(const SceneView& scene, const Material& material,
-                                 std::uint32_t primitive, const vec3& position) {
-  if (material.pattern.type == PatternType::kNone) return material.albedo;
-  vec3 from_centre = position;
-  const std::uint32_t i = primitive_index(primitive);
-  switch (primitive_type(primitive)) {
-    case PrimitiveType::kSphere:
-      from_centre = position - scene.spheres[i].center;
-      break;
-    case PrimitiveType::kSphereInstance: {
-      const Instance<Sphere>& instance = scene.sphere_instances[i];
-      from_centre = vec3(instance.world_to_object.point(dvec3(position))) - instance.shape.center;
-      break;
-    }
-    default:
-      break;
-  }
-  return patterned_albedo(material.pattern, material.albedo, from_centre);
 }
 
 }  // namespace tessera

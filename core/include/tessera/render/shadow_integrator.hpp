@@ -19,7 +19,8 @@ struct ShadowHit {
     const Material& material = scene.materials[si.material];
     payload.radiance += material.emission;
     if (material.kind == BsdfKind::kEmitter) return;
-    const vec3 albedo = albedo_at(scene, material, hit.primitive, si.position);
+    const vec3 albedo = albedo_at(scene, material, hit.primitive, si,
+                                  scene.camera.footprint_at(hit.t * glm::length(ray.direction)));
     if (material.unlit()) {
       payload.radiance += material.unlit_color(albedo, si.shading_normal);
       return;

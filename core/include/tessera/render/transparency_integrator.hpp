@@ -25,7 +25,9 @@ struct TransparencyHit {
     for (int i = 0; i < count && alpha < 0.999f; ++i) {
       const SurfaceInteraction si = surface_at<kShapes>(scene, ray, hits[i]);
       const Material& m = scene.materials[si.material];
-      const vec3 albedo = albedo_at(scene, m, hits[i].primitive, si.position);
+      const vec3 albedo =
+          albedo_at(scene, m, hits[i].primitive, si,
+                    scene.camera.footprint_at(hits[i].t * glm::length(ray.direction)));
       const vec3 surface =
           m.unlit()      ? m.unlit_color(albedo, si.shading_normal)
           : m.emissive() ? m.emission

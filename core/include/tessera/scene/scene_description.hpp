@@ -72,6 +72,25 @@ struct EnvironmentDesc {
   friend bool operator==(const EnvironmentDesc&, const EnvironmentDesc&) = default;
 };
 
+// A texture materials may take for their albedo or roughness: an image (read through
+// OpenImageIO into linear RGB floats where the scene is loaded; over protobuf its pixels
+// travel inline) or a procedural checker. Looked up by the surface's uv.
+struct TextureDesc {
+  std::string name;
+  std::string type;                  // image, checker
+  std::string file{};                // YAML, image: the file it was read from
+  std::string color_space = "auto";  // image file: srgb, linear, auto (8/16-bit sRGB, float linear)
+  std::string wrap = "repeat";       // repeat, clamp, mirror
+  std::string filter = "trilinear";  // trilinear (mipmapped), bilinear, nearest
+  double scale = 1.0;                // repeats per unit of uv
+  glm::dvec3 color_a{0.9};           // checker
+  glm::dvec3 color_b{0.1};
+  std::uint32_t image_width = 0, image_height = 0;
+  std::vector<float> image_pixels{};  // linear RGB, rows from the top (v = 1) down
+
+  friend bool operator==(const TextureDesc&, const TextureDesc&) = default;
+};
+
 enum class MaterialType {
   kLambertian,
   kLight,
@@ -126,6 +145,10 @@ struct MaterialDesc {
   glm::dvec3 color{1.0};
   double emission_intensity = 0.0;
   std::optional<PatternDesc> pattern = std::nullopt;
+  // Names of textures (SceneDescription::textures) that give the albedo or the roughness
+  // (the mean of the texel's RGB) at each hit instead of the constants above; empty: none.
+  std::string albedo_texture{};
+  std::string roughness_texture{};
 
   // What the material emits, whichever way it was written.
   glm::dvec3 emitted_radiance() const { return emission + color * emission_intensity; }
@@ -448,6 +471,7 @@ struct SceneDescription {
   BackgroundDesc background;
   std::optional<EnvironmentDesc> environment;  // set: replaces the background
   std::vector<LightDesc> lights;
+  std::vector<TextureDesc> textures;
   std::vector<MaterialDesc> materials;
   std::vector<SphereDesc> spheres;
   std::vector<QuadDesc> quads;
@@ -487,6 +511,10 @@ struct SceneLimits {
   std::size_t max_trim_points = 4'000'000;
   // Pixels of an environment image (12 bytes each as floats): 8192 x 4096.
   std::size_t max_environment_pixels = std::size_t{8192} * 4096;
+  // Texels of all textures together before their mipmaps (which add a third): 64M texels,
+  // about 1 GB as float RGB.
+  std::size_t max_texture_pixels = std::size_t{64} << 20;
+  std::size_t max_textures = 4096;
 };
 
 // Semantic checks shared by every loader, from the kind declarations (scene/schema/kinds.hpp):

@@ -303,6 +303,93 @@ struct RenderKind {
   static constexpr std::array<IgnoredKey, 0> ignored{};
 };
 
+// One entry of the top-level `textures` list (protobuf `Scene.textures`): images and
+// procedural checkers that materials name for their albedo or roughness.
+struct TextureKind {
+  using Desc = TextureDesc;
+  static constexpr std::string_view yaml_section = "textures[i]";
+  static constexpr std::string_view proto_section = "textures[i]";
+  static constexpr Field<Desc> fields[] = {
+      {.name = "name",
+       .member = &Desc::name,
+       .presence = kRequired,
+       .doc = "unique; materials refer to it"},
+      {.name = "type",
+       .member = &Desc::type,
+       .presence = kRequired,
+       .rule = kOneOf,
+       .doc = "image or checker",
+       .choices = "image|checker"},
+      {.name = "file",
+       .member = &Desc::file,
+       .doc = "image: any format OpenImageIO reads, read where mesh files may be",
+       .side = Side::kYaml},
+      {.name = "color_space",
+       .member = &Desc::color_space,
+       .rule = kOneOf,
+       .doc = "image file: srgb, linear, or auto (8- and 16-bit files sRGB, float linear)",
+       .choices = "auto|srgb|linear"},
+      {.name = "wrap",
+       .member = &Desc::wrap,
+       .rule = kOneOf,
+       .doc = "outside [0, 1]: repeat, clamp or mirror",
+       .choices = "repeat|clamp|mirror"},
+      {.name = "filter",
+       .member = &Desc::filter,
+       .rule = kOneOf,
+       .doc = "image: trilinear (mipmapped, level from the ray footprint), bilinear or nearest",
+       .choices = "trilinear|bilinear|nearest"},
+      {.name = "scale",
+       .member = &Desc::scale,
+       .rule = kInRange,
+       .lo = 1e-6,
+       .hi = 1e6,
+       .doc = "repeats per unit of uv (checker: squares per unit)"},
+      {.name = "color_a",
+       .member = &Desc::color_a,
+       .rule = kNonNegativeComponents,
+       .doc = "checker: the square at uv (0, 0), linear RGB",
+       .grey_scalar = true},
+      {.name = "color_b",
+       .member = &Desc::color_b,
+       .rule = kNonNegativeComponents,
+       .doc = "checker: the other squares",
+       .grey_scalar = true},
+      {.name = "image_width",
+       .member = &Desc::image_width,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_height",
+       .member = &Desc::image_height,
+       .doc = "image: pixels",
+       .side = Side::kProto},
+      {.name = "image_pixels",
+       .doc = "image: linear RGB floats, rows from the top (v = 1) down",
+       .side = Side::kProto},
+  };
+  static constexpr std::array<IgnoredKey, 0> ignored{};
+  static void check(const Desc& texture, Checks& check) {
+    if (texture.type != "image") return;
+    const std::size_t pixels = std::size_t{texture.image_width} * texture.image_height;
+    const char* field = check.yaml() ? "file" : "image_width";
+    if (pixels == 0) {
+      check.fail(field, "an image texture needs an image");
+    } else if (texture.image_pixels.size() != 3 * pixels) {
+      check.fail(check.yaml() ? "file" : "image_pixels",
+                 "must hold 3 floats per pixel (" + std::to_string(3 * pixels) + "), got " +
+                     std::to_string(texture.image_pixels.size()));
+    } else {
+      for (std::size_t i = 0; i < texture.image_pixels.size(); ++i)
+        if (!(texture.image_pixels[i] >= 0.0f) || !std::isfinite(texture.image_pixels[i])) {
+          check.fail(check.yaml() ? "file" : "image_pixels",
+                     "pixel values must be finite and >= 0, got " +
+                         Checks::format(texture.image_pixels[i]) + " at " + std::to_string(i));
+          break;
+        }
+    }
+  }
+};
+
 // ---------------------------------------------------------------- materials
 
 // A material's `pattern` sub-block.
@@ -442,6 +529,13 @@ struct MaterialKind {
        .rule = kNonNegative,
        .doc = "scales color into emission; not with emission"},
       {.name = "pattern", .doc = "{ type, color, dot_count, dot_radius }: see below"},
+      {.name = "albedo_texture",
+       .member = &Desc::albedo_texture,
+       .doc = "a texture's name: gives the albedo at each hit (replaces albedo)"},
+      {.name = "roughness_texture",
+       .member = &Desc::roughness_texture,
+       .doc = "a texture's name: the mean of its RGB, clamped to [0, 1], is the roughness at "
+              "each hit (replaces roughness)"},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
   // A light without emission would be black: RayON requires it too. The shorthand and

@@ -1,14 +1,14 @@
-#include "tessera/image/environment_image.hpp"
+#include "tessera/image/rgb_image.hpp"
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace tessera {
 
-EnvironmentImage read_environment_image(const std::filesystem::path& path,
-                                        std::uint64_t max_pixels) {
+RgbImage read_rgb_image(const std::filesystem::path& path, std::uint64_t max_pixels) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error("no such file");
   auto in = OIIO::ImageInput::open(path.string());
@@ -20,7 +20,8 @@ EnvironmentImage read_environment_image(const std::filesystem::path& path,
   if (pixels > max_pixels)
     throw std::runtime_error(std::to_string(spec.width) + " x " + std::to_string(spec.height) +
                              " pixels is more than the " + std::to_string(max_pixels) + " allowed");
-  EnvironmentImage image;
+  RgbImage image;
+  image.integer_format = !spec.format.is_floating_point();
   image.width = static_cast<std::uint32_t>(spec.width);
   image.height = static_cast<std::uint32_t>(spec.height);
   image.rgb.assign(pixels * 3, 0.0f);
@@ -38,6 +39,10 @@ EnvironmentImage read_environment_image(const std::filesystem::path& path,
     for (std::uint64_t i = 0; i < pixels; ++i)
       image.rgb[3 * i] = image.rgb[3 * i + 1] = image.rgb[3 * i + 2] = grey[i];
   return image;
+}
+
+void decode_srgb(std::vector<float>& values) {
+  for (float& v : values) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
 
 }  // namespace tessera
