@@ -15,11 +15,11 @@ std::array<RenderVariant, 8> path_variants<kShapeSphere | kShapeQuad>();
 template <>
 std::array<RenderVariant, 8> path_variants<kAllShapes>();
 template <>
-std::array<RenderVariant, 5> preview_variants<kShapeTriangle>();
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeTriangle>();
 template <>
-std::array<RenderVariant, 5> preview_variants<kShapeSphere | kShapeQuad>();
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeSphere | kShapeQuad>();
 template <>
-std::array<RenderVariant, 5> preview_variants<kAllShapes>();
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kAllShapes>();
 }  // namespace variants
 
 namespace {

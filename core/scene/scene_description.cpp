@@ -31,15 +31,15 @@ constexpr std::string_view kMaterialTypeNames[] = {
     "lambertian", "light",     "metal",  "rough_mirror", "glass",        "anisotropic_metal",
     "clear_coat", "thin_film", "mirror", "constant",     "show_normals",
 };
-constexpr std::string_view kIntegratorNames[] = {"path",         "normals", "shadow",
-                                                 "transparency", "albedo",  "depth"};
+constexpr std::string_view kIntegratorNames[] = {"path",   "normals", "shadow", "transparency",
+                                                 "albedo", "depth",   "phong"};
 constexpr std::string_view kAovNameViews[] = {"albedo",       "normal",   "depth",
                                               "primitive_id", "variance", "sample_count"};
 constexpr std::string_view kSamplerNames[] = {"independent", "sobol"};
 constexpr std::string_view kLightStrategyNames[] = {"mis", "light", "bsdf"};
 static_assert(std::size(kMaterialTypeNames) ==
               static_cast<std::size_t>(MaterialType::kShowNormals) + 1);
-static_assert(std::size(kIntegratorNames) == static_cast<std::size_t>(IntegratorKind::kDepth) + 1);
+static_assert(std::size(kIntegratorNames) == static_cast<std::size_t>(IntegratorKind::kPhong) + 1);
 static_assert(std::size(kSamplerNames) == static_cast<std::size_t>(SamplerKind::kSobol) + 1);
 static_assert(std::size(kLightStrategyNames) == static_cast<std::size_t>(LightStrategy::kBsdf) + 1);
 

@@ -106,9 +106,11 @@ TileStats render_first_hit(const SceneView& scene, const RenderSettings& setting
 template <unsigned kShapes>
 std::array<RenderVariant, 8> path_variants();
 
-// The preview integrators of one shape class.
+// The preview integrators of one shape class: normals, albedo, depth, phong, shadow,
+// transparency.
+inline constexpr std::size_t kPreviewVariantCount = 6;
 template <unsigned kShapes>
-std::array<RenderVariant, 5> preview_variants();
+std::array<RenderVariant, kPreviewVariantCount> preview_variants();
 
 template <unsigned kShapes>
 std::array<RenderVariant, 8> make_path_variants() {
@@ -124,7 +126,7 @@ std::array<RenderVariant, 8> make_path_variants() {
 }
 
 template <unsigned kShapes>
-std::array<RenderVariant, 5> make_preview_variants() {
+std::array<RenderVariant, kPreviewVariantCount> make_preview_variants() {
   constexpr PipelineFeatures f{kShapes, false, false, false};
   return {
       RenderVariant{IntegratorKind::kNormals, f,
@@ -132,6 +134,7 @@ std::array<RenderVariant, 5> make_preview_variants() {
       RenderVariant{IntegratorKind::kAlbedo, f,
                     &render_first_hit<kShapes, FirstHitOutput::kAlbedo>},
       RenderVariant{IntegratorKind::kDepth, f, &render_first_hit<kShapes, FirstHitOutput::kDepth>},
+      RenderVariant{IntegratorKind::kPhong, f, &render_first_hit<kShapes, FirstHitOutput::kPhong>},
       RenderVariant{IntegratorKind::kShadow, PipelineFeatures{kShapes, true, false, false},
                     &render_shadow<kShapes>},
       RenderVariant{IntegratorKind::kTransparency, f, &render_transparency<kShapes>}};

@@ -10,7 +10,7 @@ std::array<RenderVariant, 8> path_variants<kAllShapes>() {
 }
 
 template <>
-std::array<RenderVariant, 5> preview_variants<kAllShapes>() {
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kAllShapes>() {
   return make_preview_variants<kAllShapes>();
 }
 

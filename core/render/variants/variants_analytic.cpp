@@ -10,7 +10,7 @@ std::array<RenderVariant, 8> path_variants<kShapeSphere | kShapeQuad>() {
 }
 
 template <>
-std::array<RenderVariant, 5> preview_variants<kShapeSphere | kShapeQuad>() {
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeSphere | kShapeQuad>() {
   return make_preview_variants<kShapeSphere | kShapeQuad>();
 }
 

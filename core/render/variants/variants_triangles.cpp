@@ -10,7 +10,7 @@ std::array<RenderVariant, 8> path_variants<kShapeTriangle>() {
 }
 
 template <>
-std::array<RenderVariant, 5> preview_variants<kShapeTriangle>() {
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeTriangle>() {
   return make_preview_variants<kShapeTriangle>();
 }
 

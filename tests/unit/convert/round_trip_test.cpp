@@ -223,7 +223,7 @@ TEST(SceneToProto, IntegratorAndAovsTravel) {
   EXPECT_EQ(aov_mask_from_proto(settings), kAovDepth | kAovNormal);
   for (IntegratorKind kind :
        {IntegratorKind::kNormals, IntegratorKind::kShadow, IntegratorKind::kTransparency,
-        IntegratorKind::kAlbedo, IntegratorKind::kDepth}) {
+        IntegratorKind::kAlbedo, IntegratorKind::kDepth, IntegratorKind::kPhong}) {
     scene.render.integrator = kind;
     std::string upper = to_string(kind);
     for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));

@@ -95,7 +95,8 @@ TEST(Specialisation, MixedShapesSameImageAsAllFeatures) {
 TEST(Specialisation, EveryIntegratorHasAVariantPerShapeClass) {
   for (IntegratorKind kind :
        {IntegratorKind::kPath, IntegratorKind::kNormals, IntegratorKind::kShadow,
-        IntegratorKind::kTransparency, IntegratorKind::kAlbedo, IntegratorKind::kDepth}) {
+        IntegratorKind::kTransparency, IntegratorKind::kAlbedo, IntegratorKind::kDepth,
+        IntegratorKind::kPhong}) {
     for (unsigned shapes : kShapeClasses) {
       const RenderVariant& v =
           select_render_variant(kind, PipelineFeatures{shapes, false, false, false});

@@ -393,6 +393,7 @@ enum class IntegratorKind {
   kTransparency,  // all hits along the camera ray composited front to back
   kAlbedo,        // first-hit albedo
   kDepth,         // first-hit distance
+  kPhong,         // first-hit Blinn-Phong shading under a headlight: fast CAD views
 };
 const char* to_string(IntegratorKind kind);
 std::optional<IntegratorKind> integrator_from_string(const std::string& name);

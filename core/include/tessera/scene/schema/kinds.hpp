@@ -261,7 +261,7 @@ struct RenderKind {
        .doc = "tile edge, pixels",
        .zero_means_default = true},
       {.name = "seed", .doc = "random seed (the image is a function of it)"},
-      {.name = "integrator", .doc = "path, normals, shadow, transparency, albedo or depth"},
+      {.name = "integrator", .doc = "path, normals, shadow, transparency, albedo, depth or phong"},
       {.name = "aovs",
        .doc = "extra outputs: albedo, normal, depth, primitive_id, variance, sample_count"},
       {.name = "sampler", .doc = "sobol (default) or independent"},
