@@ -36,11 +36,32 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   // Shapes go into their flat arrays in this order, each recorded for the acceleration
   // structures and the light list; the order decides both, and so the image.
   PrimitiveArrays& arrays = scene->arrays_;
+  // Each displaced sphere shades with its own copy of its material carrying the dimples,
+  // added before the primitive list takes its view of the materials.
+  std::vector<std::uint32_t> dimpled_materials;
+  for (const auto& d : description.displaced_spheres) {
+    Material dimpled = scene->materials_[d.material];
+    dimpled.golf_dimples = static_cast<float>(d.displacement_scale);
+    dimpled_materials.push_back(static_cast<std::uint32_t>(scene->materials_.size()));
+    scene->materials_.push_back(dimpled);
+  }
   PrimitiveList primitives(scene->materials_, scene->lights_);
   for (const auto& s : description.spheres)
     place_curved(s, arrays.of<PrimitiveType::kSphere>(), PrimitiveType::kSphere,
                  arrays.of<PrimitiveType::kSphereInstance>(), PrimitiveType::kSphereInstance,
                  primitives);
+  for (std::size_t i = 0; i < description.displaced_spheres.size(); ++i) {
+    const DisplacedSphereDesc& d = description.displaced_spheres[i];
+    const SphereDesc s{.center = d.center,
+                       .radius = d.radius,
+                       .material = dimpled_materials[i],
+                       .visible = d.visible,
+                       .source_index = d.source_index,
+                       .transform = d.transform};
+    place_curved(s, arrays.of<PrimitiveType::kSphere>(), PrimitiveType::kSphere,
+                 arrays.of<PrimitiveType::kSphereInstance>(), PrimitiveType::kSphereInstance,
+                 primitives);
+  }
   // A parallelogram stays one under any affine map: quads are always baked.
   for (const auto& q : description.quads)
     primitives.store(arrays.of<PrimitiveType::kQuad>(), PrimitiveType::kQuad,

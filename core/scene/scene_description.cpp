@@ -163,7 +163,7 @@ TriangleMeshDesc transformed_mesh(const TriangleMeshDesc& mesh, const TransformD
 }
 
 std::size_t SceneDescription::analytic_shape_count() const {
-  return spheres.size() + quads.size() + planes.size() + disks.size() + cylinders.size() +
+  return spheres.size() + displaced_spheres.size() + quads.size() + planes.size() + disks.size() + cylinders.size() +
          cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() + sdf_capsules.size() +
          patches.size() + trimmed_faces.size();
 }

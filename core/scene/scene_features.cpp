@@ -25,6 +25,7 @@ SceneFeatures SceneFeatures::of(const SceneDescription& scene) {
       use(transform_bakes_into_shape(s.transform) ? bit : kShapeInstance, s.material);
   };
   curved(scene.spheres, kShapeSphere);
+  curved(scene.displaced_spheres, kShapeSphere);
   curved(scene.disks, kShapeDisk);
   curved(scene.cylinders, kShapeCylinder);
   curved(scene.cones, kShapeCone);

@@ -77,7 +77,8 @@ struct FirstHitShade {
     if constexpr (kOutput == FirstHitOutput::kDepth) {
       payload.value = vec3(hit.t * glm::length(ray.direction));
     } else {
-      const SurfaceInteraction si = surface_at<kShapes>(scene, ray, hit);
+      SurfaceInteraction si = surface_at<kShapes>(scene, ray, hit);
+      apply_golf_dimples(scene, scene.materials[si.material], hit.primitive, ray, si);
       if constexpr (kOutput == FirstHitOutput::kNormals) {
         payload.value = 0.5f * si.shading_normal + vec3(0.5f);
       } else {

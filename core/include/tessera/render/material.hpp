@@ -59,6 +59,10 @@ struct Material {
   // constants above.
   std::int32_t albedo_texture = -1;
   std::int32_t roughness_texture = -1;
+  // RayON's displaced_sphere: the strength of its golf-ball dimples on the shading normal
+  // (render/golf_dimples.hpp); 0: none. The renderer gives each displaced sphere a copy of
+  // its material with this set.
+  float golf_dimples = 0.0f;
 
   // Sets the GGX alphas from a roughness in [0, 1], as the material's mapping says: once
   // from the scene's value, and again per hit from a roughness texture.

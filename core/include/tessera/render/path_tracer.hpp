@@ -249,7 +249,8 @@ struct PathHit {
   template <typename T>
   TESSERA_HD void on_hit(const Ray& ray, const HitRecord& hit, PathPayload<kFeatures.aovs>& payload,
                          const T& tracer) const {
-    const SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
+    SurfaceInteraction si = surface_at<kFeatures.shapes>(scene, ray, hit);
+    apply_golf_dimples(scene, scene.materials[si.material], hit.primitive, ray, si);
     const float distance = hit.t * glm::length(ray.direction);
     const float footprint = payload.cone_width + payload.cone_spread * distance;
     Material textured;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "tessera/render/golf_dimples.hpp"
 #include "tessera/render/scene_data.hpp"
 #include "tessera/render/texture.hpp"
 
@@ -89,6 +90,29 @@ TESSERA_HD inline const Material& material_at(const SceneView& scene, const Mate
   scratch.set_roughness(
       texture_scalar(texture_at(scene, material.roughness_texture, primitive, si.uv, footprint)));
   return scratch;
+}
+
+// Tilts `si`'s shading normal by the golf-ball dimples of a displaced sphere's material
+// (nothing for other materials). The dimples are laid out in the sphere's own frame, so they
+// turn with an instanced sphere.
+TESSERA_HD inline void apply_golf_dimples(const SceneView& scene, const Material& material,
+                                          std::uint32_t primitive, const Ray& ray,
+                                          SurfaceInteraction& si) {
+  if (!(material.golf_dimples > 0.0f)) return;
+  const std::uint32_t i = primitive_index(primitive);
+  vec3 outward = si.front_face ? si.geometric_normal : -si.geometric_normal;
+  const vec3 to_eye = -glm::normalize(ray.direction);
+  if (primitive_type(primitive) == PrimitiveType::kSphereInstance) {
+    // Into the object's frame and back (the inverse transpose carries normals).
+    const Instance<Sphere>& instance = scene.sphere_instances[i];
+    const vec3 local = glm::normalize(vec3(instance.world_to_object.vector(dvec3(outward))));
+    const vec3 local_eye = glm::normalize(vec3(instance.world_to_object.vector(dvec3(to_eye))));
+    const vec3 n = golf_dimpled_normal(local, local_eye, material.golf_dimples);
+    outward = glm::normalize(vec3(glm::transpose(instance.world_to_object.linear) * dvec3(n)));
+  } else {
+    outward = golf_dimpled_normal(outward, to_eye, material.golf_dimples);
+  }
+  si.shading_normal = si.front_face ? outward : -outward;
 }
 
 }  // namespace tessera

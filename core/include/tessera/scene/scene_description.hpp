@@ -192,6 +192,20 @@ struct SphereDesc {
   friend bool operator==(const SphereDesc&, const SphereDesc&) = default;
 };
 
+// RayON's displaced_sphere: a sphere shaded with golf-ball dimples (render/golf_dimples.hpp).
+struct DisplacedSphereDesc {
+  glm::dvec3 center{0.0};
+  double radius = 1.0;
+  double displacement_scale = 0.2;  // how far the dimples tilt the normal
+  std::uint32_t pattern_type = 0;   // 0: golf-ball dimples, RayON's only pattern
+  std::uint32_t material = 0;
+  bool visible = true;
+  std::uint32_t source_index = 0;
+  std::optional<TransformDesc> transform = std::nullopt;
+
+  friend bool operator==(const DisplacedSphereDesc&, const DisplacedSphereDesc&) = default;
+};
+
 struct QuadDesc {
   glm::dvec3 corner{0.0};
   glm::dvec3 u{1.0, 0.0, 0.0};
@@ -475,6 +489,7 @@ struct SceneDescription {
   std::vector<TextureDesc> textures;
   std::vector<MaterialDesc> materials;
   std::vector<SphereDesc> spheres;
+  std::vector<DisplacedSphereDesc> displaced_spheres;
   std::vector<QuadDesc> quads;
   std::vector<TriangleMeshDesc> meshes;
   std::vector<PlaneDesc> planes;

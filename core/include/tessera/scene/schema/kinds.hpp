@@ -615,6 +615,35 @@ struct SphereKind {
   static void check(const Desc&, Checks&) {}
 };
 
+struct DisplacedSphereKind {
+  using Desc = DisplacedSphereDesc;
+  static constexpr std::string_view name = "displaced_sphere";
+  static constexpr std::string_view proto_name = "displaced_sphere";
+  static constexpr std::string_view note =
+      "RayON's golf ball: a sphere shaded with 150 dimples (the silhouette stays round)";
+  static constexpr std::array<Alias, 0> aliases{};
+  static constexpr auto list = &SceneDescription::displaced_spheres;
+  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
+  static constexpr Field<Desc> fields[] = {
+      {.name = "center", .member = &Desc::center, .presence = kRequired},
+      {.name = "radius", .member = &Desc::radius, .rule = kPositive},
+      {.name = "displacement_scale",
+       .member = &Desc::displacement_scale,
+       .rule = kInRange,
+       .lo = 0.0,
+       .hi = 10.0,
+       .doc = "how far the dimples tilt the shading normal; 0: a plain sphere"},
+      {.name = "pattern_type",
+       .member = &Desc::pattern_type,
+       .doc = "0: golf-ball dimples (RayON's only pattern)"},
+  };
+  static void check(const Desc& sphere, Checks& check) {
+    if (sphere.pattern_type != 0)
+      check.fail("pattern_type",
+                 "must be 0 (golf-ball dimples), got " + std::to_string(sphere.pattern_type));
+  }
+};
+
 struct QuadKind {
   using Desc = QuadDesc;
   static constexpr std::string_view name = "rectangle";
@@ -921,9 +950,9 @@ struct MeshKind {
 // order of the README table.
 using SurfaceKinds = std::tuple<PlaneKind, DiskKind, QuadKind, SphereKind, CylinderKind, ConeKind,
                                 TorusKind, SplinePatchKind>;
-using ShapeKinds = std::tuple<SphereKind, QuadKind, TriangleKind, MeshKind, PlaneKind, DiskKind,
-                              CylinderKind, ConeKind, TorusKind, SdfBoxKind, SdfTorusKind,
-                              SdfCapsuleKind, SplinePatchKind, TrimmedFaceKind>;
+using ShapeKinds = std::tuple<SphereKind, DisplacedSphereKind, QuadKind, TriangleKind, MeshKind,
+                              PlaneKind, DiskKind, CylinderKind, ConeKind, TorusKind, SdfBoxKind,
+                              SdfTorusKind, SdfCapsuleKind, SplinePatchKind, TrimmedFaceKind>;
 
 // The kinds whose fields are all plain values, read and written by the generic code.
 template <typename Kind>
