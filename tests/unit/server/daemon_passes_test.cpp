@@ -6,12 +6,15 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <thread>
 
 #include "server/daemon.hpp"
 #include "server/sqlite_job_store.hpp"
+#include "server/tile_state_codec.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 #include "test_scenes.hpp"
@@ -287,6 +290,29 @@ TEST_F(DaemonPassesTest, AReaderThatNeverReadsIsCutOffAfterTheWriteTimeout) {
   EXPECT_FALSE(status.ok());
   EXPECT_LT(read, 1024u);
   EXPECT_EQ(stream(job.id(), read).tiles.size(), 1024u - read);
+}
+
+// The bytes kept between passes give back the very state they were made from.
+TEST(TileStateCodec, RoundTripsEveryPlaneAndRejectsForeignBytes) {
+  TileAccumulation state;
+  state.samples_done = 3;
+  state.samples_total = 12;
+  state.sums.beauty = {1.0f, -0.0f, 3.5f, 1e-30f};
+  state.sums.aovs[2] = {std::numeric_limits<float>::infinity(), 2.0f, 3.0f, 4.0f};
+  state.running_mean = {0.5f, 0.25f, 0.125f, 0.0f};
+  state.running_m2 = {9.0f, 8.0f, 7.0f, 6.0f};
+  const std::vector<std::uint8_t> bytes = encode_tile_state(state);
+  const TileAccumulation back = decode_tile_state(bytes);
+  EXPECT_EQ(back.samples_done, 3u);
+  EXPECT_EQ(back.samples_total, 12u);
+  EXPECT_EQ(back.sums.beauty, state.sums.beauty);
+  EXPECT_TRUE(std::signbit(back.sums.beauty[1]));
+  for (std::size_t i = 0; i < kAovCount; ++i) EXPECT_EQ(back.sums.aovs[i], state.sums.aovs[i]);
+  EXPECT_EQ(back.running_mean, state.running_mean);
+  EXPECT_EQ(back.running_m2, state.running_m2);
+  std::vector<std::uint8_t> cut(bytes.begin(), bytes.end() - 1);
+  EXPECT_THROW(decode_tile_state(cut), std::runtime_error);
+  EXPECT_THROW(decode_tile_state({'E', 'X', 'R', '!'}), std::runtime_error);
 }
 
 }  // namespace
