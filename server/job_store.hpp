@@ -26,6 +26,8 @@ struct JobRecord {
   int priority = 0;
   JobState state = JobState::kQueued;
   RenderSettings settings;  // defaults filled in
+  // Store tiles: the job's tiles times its passes (job_passes.hpp), so with passes these
+  // count tile passes.
   std::uint32_t tiles_total = 0;
   std::uint32_t tiles_done = 0;
   std::uint64_t rays_traced = 0;

@@ -368,8 +368,9 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
       }
     }
   } catch (const std::exception& e) {
-    fail_job(job, "tile " + std::to_string(rect.index) + " pass " + std::to_string(work.pass) +
-                      " failed: " + e.what());
+    const std::string pass =
+        entry.prepared->settings().pass_count() > 1 ? " pass " + std::to_string(work.pass) : "";
+    fail_job(job, "tile " + std::to_string(rect.index) + pass + " failed: " + e.what());
   } catch (...) {
     fail_job(job, "tile " + std::to_string(rect.index) + " failed: unknown error");
   }
