@@ -570,7 +570,11 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
          << "priority   " << job.priority() << '\n'
          << "image      " << settings_summary(s.width(), s.height(), s.samples_per_pixel())
          << ", max depth " << s.max_depth() << ", tiles of " << s.tile_size() << ", seed "
-         << s.seed() << '\n'
+         << s.seed()
+         << (s.passes() > 1
+                 ? ", " + std::to_string(s.passes()) + " passes (progress counts tile passes)"
+                 : std::string())
+         << '\n'
          << "progress   " << format_progress_line(snapshot_of(p)) << '\n'
          << "elapsed    " << format_duration(p.elapsed_seconds()) << ", " << p.rays_traced()
          << " rays\n"

@@ -328,6 +328,15 @@ TEST_F(CliAgainstDaemonTest, RenderWithPassesWritesTheOnePassImage) {
   const CliRun watched = run_cli(watch);
   ASSERT_EQ(watched.exit_code, kExitOk) << watched.err;
   EXPECT_TRUE(bit_equal(read_image(watch.output_exr).pixels, reference));
+
+  CliCommand status;
+  status.kind = CommandKind::kStatus;
+  status.server = address();
+  status.job_id = job_id;
+  const CliRun shown = run_cli(status);
+  ASSERT_EQ(shown.exit_code, kExitOk) << shown.err;
+  EXPECT_NE(shown.out.find(", 3 passes (progress counts tile passes)"), std::string::npos)
+      << shown.out;
 }
 
 TEST_F(CliAgainstDaemonTest, ServerRejectionPrintsCodeAndMessage) {
