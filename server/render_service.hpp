@@ -21,7 +21,9 @@ inline constexpr std::uint32_t kMaxPageSize = 1000;
 
 // tessera.v1.RenderService on the synchronous gRPC API: requests are validated and turned
 // into jobs in the store and the scheduler; StreamTiles reads tiles from the store as the
-// job stores them, checking between waits whether its client is still there.
+// job stores them (a batch at a time, so a slow client only falls behind), checking between
+// waits whether its client is still there, and gives each write stream_write_timeout
+// (StreamWriteWatchdog) before it ends a call whose client does not read.
 //
 // Every method is registered in its "streamed" form, where the handler reads the request
 // itself: that way a request whose bytes are not a valid message is answered with
