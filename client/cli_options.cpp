@@ -83,6 +83,11 @@ class OverrideOptions {
     tile_ = command.add_option("--tile-size", tile_value_, "tile edge in pixels")
                 ->check(CLI::Range(limits.min_tile_size, limits.max_tile_size));
     seed_ = command.add_option("--seed", seed_value_, "random seed");
+    passes_ = command
+                  .add_option("--passes", passes_value_,
+                              "progressive passes: the server sends every tile after each pass "
+                              "and the output is rewritten as each pass completes")
+                  ->check(CLI::Range(0u, limits.max_samples_per_pixel));
   }
 
   RenderOverrides values() const {
@@ -93,14 +98,15 @@ class OverrideOptions {
     if (*depth_) o.max_depth = depth_value_;
     if (*tile_) o.tile_size = tile_value_;
     if (*seed_) o.seed = seed_value_;
+    if (*passes_) o.passes = passes_value_;
     return o;
   }
 
  private:
   std::uint32_t width_value_ = 0, height_value_ = 0, spp_value_ = 0, depth_value_ = 0,
-                tile_value_ = 0;
+                tile_value_ = 0, passes_value_ = 0;
   std::uint64_t seed_value_ = 0;
-  CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_;
+  CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_, *passes_;
 };
 
 // The PNG preview's exposure and tone curve (the EXR keeps the linear radiance).

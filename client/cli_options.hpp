@@ -18,6 +18,7 @@ struct RenderOverrides {
   std::optional<std::uint32_t> max_depth;
   std::optional<std::uint32_t> tile_size;
   std::optional<std::uint64_t> seed;
+  std::optional<std::uint32_t> passes;
 };
 
 // One parsed and validated `tessera` invocation.

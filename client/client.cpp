@@ -50,9 +50,12 @@ v1::Job Client::submit(const v1::SubmitJobRequest& request) {
 }
 
 void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile) {
-  // Tiles come in the job's completion order and each carries its place in it
-  // (progress.tiles_done), so a broken stream re-attaches after the last tile received.
-  std::uint32_t received = 0;
+  // Deliveries (tiles, or passes of tiles) come in the job's completion order and each
+  // carries its place in it (sequence), so a broken stream re-attaches after the last one
+  // received. A daemon from before sequences sends 0 there; its progress.tiles_done is the
+  // same place, which after_tiles takes.
+  std::uint64_t received = 0;
+  bool by_sequence = true;
   auto give_up_at = std::chrono::steady_clock::now() + options_.reconnect_window;
   auto pause = std::chrono::milliseconds(200);
   bool daemon_stopping = false;  // a daemon said it stops, and none has streamed since
@@ -61,13 +64,17 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
     grpc::ClientContext context;
     v1::StreamTilesRequest request;
     request.set_job_id(job_id);
-    request.set_after_tiles(received);
+    if (by_sequence)
+      request.set_after_sequence(received);
+    else
+      request.set_after_tiles(static_cast<std::uint32_t>(received));
     std::unique_ptr<grpc::ClientReader<v1::Tile>> reader = stub_->StreamTiles(&context, request);
     v1::Tile tile;
     try {
       while (reader->Read(&tile)) {
         on_tile(tile);
-        received = tile.progress().tiles_done();
+        by_sequence = tile.sequence() != 0;
+        received = by_sequence ? tile.sequence() : tile.progress().tiles_done();
         daemon_stopping = false;
         give_up_at = std::chrono::steady_clock::now() + options_.reconnect_window;
         pause = std::chrono::milliseconds(200);

@@ -39,8 +39,9 @@ class Client {
   v1::Job submit(const v1::SubmitJobRequest& request);
 
   using TileCallback = std::function<void(const v1::Tile&)>;
-  // Calls `on_tile` for every tile of the job, on the calling thread, until the stream ends.
-  // When the daemon goes away (a restart), re-attaches after the tiles already received, for
+  // Calls `on_tile` for every delivery of the job (every tile, or with passes every pass of
+  // every tile), on the calling thread, until the stream ends. When the daemon goes away (a
+  // restart), re-attaches after the last delivery received (after_sequence), for
   // up to options.reconnect_window, so every tile still arrives exactly once. Returns when
   // the job completed; throws ClientError with CANCELLED when the job was
   // cancelled, ABORTED (and the reason) when it failed, or the transport's error. If

@@ -155,6 +155,14 @@ ProgressSnapshot snapshot_of(const v1::JobProgress& p) {
           p.elapsed_seconds(), p.rays_per_second(), p.eta_seconds()};
 }
 
+// With the pass the image is in, for a job with progressive passes.
+ProgressSnapshot snapshot_of(const v1::JobProgress& p, const TileAssembler& assembler) {
+  ProgressSnapshot snapshot = snapshot_of(p);
+  snapshot.passes = assembler.passes();
+  snapshot.passes_done = assembler.passes_done();
+  return snapshot;
+}
+
 std::string settings_summary(std::uint32_t width, std::uint32_t height, std::uint32_t spp) {
   return std::to_string(width) + "x" + std::to_string(height) + " at " + std::to_string(spp) +
          " spp";
@@ -169,6 +177,7 @@ void apply_overrides(RenderSettings& settings, const RenderOverrides& o) {
   if (o.max_depth) settings.max_depth = *o.max_depth;
   if (o.tile_size) settings.tile_size = *o.tile_size;
   if (o.seed) settings.seed = *o.seed;
+  if (o.passes) settings.passes = *o.passes;
 }
 
 // Loads the scene, prints the loader's warnings and applies the command-line overrides.
@@ -219,12 +228,13 @@ void create_parent_directory(const std::string& file) {
 
 std::unique_ptr<TileAssembler> open_output(const CliCommand& cmd, std::uint32_t width,
                                            std::uint32_t height, std::uint32_t tile_size,
-                                           std::uint32_t aovs) {
+                                           std::uint32_t aovs, std::uint32_t passes = 1) {
   create_parent_directory(cmd.output_exr);
   if (!cmd.preview_png.empty()) create_parent_directory(cmd.preview_png);
   try {
-    return std::make_unique<TileAssembler>(
-        width, height, tile_size, std::filesystem::path(cmd.output_exr), output_channels(aovs));
+    return std::make_unique<TileAssembler>(width, height, tile_size,
+                                           std::filesystem::path(cmd.output_exr),
+                                           output_channels(aovs), passes);
   } catch (const std::exception& e) {
     throw CommandFailure{kExitFailed, e.what()};
   }
@@ -297,7 +307,8 @@ void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::s
 // ---- Streaming ----------------------------------------------------------------------------
 
 // Turns one streamed tile into pixels, checking that the EXR holds what the rect says.
-void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
+// Returns true when the tile completed a pass of the whole image.
+bool add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
   const v1::TileRect& r = tile.rect();
   const TileRect rect{r.index(), r.x(), r.y(), r.width(), r.height()};
   const std::string& bytes = tile.exr();
@@ -318,7 +329,8 @@ void add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
   } catch (const std::exception& e) {
     throw std::runtime_error("tile " + std::to_string(rect.index) + ": " + e.what());
   }
-  assembler.add_tile(rect, pixels.pixels);
+  // A daemon from before passes sends no pass_index: its tiles are pass 1 of 1.
+  return assembler.add_tile(rect, pixels.pixels, std::max(tile.pass_index(), 1u));
 }
 
 // Streams `job`'s tiles into the output until the job ends. `start`: when the user's wait
@@ -331,11 +343,12 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
   const v1::RenderSettings& s = job.settings();
   const std::uint32_t aovs = aov_mask_from_proto(s);
   // The output was opened from the scene's settings; the server's are the ones that count.
+  const std::uint32_t passes = std::max(s.passes(), 1u);
   if (!assembler || assembler->tile_size() != s.tile_size() ||
       assembler->image().width != s.width() || assembler->image().height != s.height() ||
-      assembler->channels() != output_channels(aovs)) {
+      assembler->channels() != output_channels(aovs) || assembler->passes() != passes) {
     assembler.reset();  // close before reopening the same path
-    assembler = open_output(cmd, s.width(), s.height(), s.tile_size(), aovs);
+    assembler = open_output(cmd, s.width(), s.height(), s.tile_size(), aovs, passes);
   }
 
   ProgressReporter progress(io.err, io.interactive);
@@ -344,9 +357,13 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
   if (cancel_on_interrupt) canceller.emplace(client, job.id(), io.err, io.interactive);
   try {
     client.stream_tiles(job.id(), [&](const v1::Tile& tile) {
-      add_streamed_tile(*assembler, tile);
+      // Each completed pass but the last rewrote the EXR; the preview follows it (the last
+      // pass's files are written by finish_output).
+      if (add_streamed_tile(*assembler, tile) && assembler->passes_done() < passes &&
+          !cmd.preview_png.empty())
+        write_image(cmd.preview_png, assembler->image(), preview_options(cmd));
       last = tile.progress();
-      progress.update(snapshot_of(last));
+      progress.update(snapshot_of(last, *assembler));
     });
   } catch (const ClientError& e) {
     progress.finish();
@@ -388,7 +405,7 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
   // Open the output before queueing work, so an unwritable path fails fast.
   auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
-                               scene.render.aovs);
+                               scene.render.aovs, scene.render.pass_count());
   Client client(ClientOptions{.target = cmd.server});
   v1::Job job;
   try {
@@ -400,11 +417,16 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   io.err << "tessera: job " << job.id() << " submitted to " << cmd.server << " ("
          << settings_summary(job.settings().width(), job.settings().height(),
                              job.settings().samples_per_pixel())
-         << ", " << job.progress().tiles_total() << " tiles)\n"
+         << ", " << job.progress().tiles_total()
+         << (job.settings().passes() > 1
+                 ? " tile passes in " + std::to_string(job.settings().passes()) + " passes)\n"
+                 : std::string(" tiles)\n"))
          << std::flush;
   return stream_job(client, job, cmd, std::move(assembler), true, start, io, &scene);
 }
 
+// render.passes is ignored here: the tiles render in one pass, which gives the image the
+// last of the passes would (passes only change what a watcher of a daemon's job sees).
 int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   const SceneDescription scene = load_scene(cmd, io.err);
@@ -548,7 +570,11 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
          << "priority   " << job.priority() << '\n'
          << "image      " << settings_summary(s.width(), s.height(), s.samples_per_pixel())
          << ", max depth " << s.max_depth() << ", tiles of " << s.tile_size() << ", seed "
-         << s.seed() << '\n'
+         << s.seed()
+         << (s.passes() > 1
+                 ? ", " + std::to_string(s.passes()) + " passes (progress counts tile passes)"
+                 : std::string())
+         << '\n'
          << "progress   " << format_progress_line(snapshot_of(p)) << '\n'
          << "elapsed    " << format_duration(p.elapsed_seconds()) << ", " << p.rays_traced()
          << " rays\n"

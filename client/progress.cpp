@@ -48,6 +48,13 @@ int percent_done(const ProgressSnapshot& progress) {
 
 namespace {
 
+// " tiles", or with passes " tile passes  pass 2/4".
+std::string units_text(const ProgressSnapshot& progress) {
+  if (progress.passes <= 1) return " tiles";
+  const std::uint32_t current = std::min(progress.passes_done + 1, progress.passes);
+  return " tile passes  pass " + std::to_string(current) + "/" + std::to_string(progress.passes);
+}
+
 std::string eta_text(const ProgressSnapshot& progress) {
   if (progress.tiles_total > 0 && progress.tiles_done >= progress.tiles_total) return "done";
   if (progress.eta_seconds <= 0.0 || !std::isfinite(progress.eta_seconds)) return "ETA --";
@@ -73,14 +80,14 @@ std::string format_progress_bar(const ProgressSnapshot& progress, int bar_width)
   if (done.size() < total.size()) done.insert(0, total.size() - done.size(), ' ');
   char percent[8];
   std::snprintf(percent, sizeof percent, "%3d%%", percent_done(progress));
-  line += done + "/" + total + " tiles  " + percent + "  " + format_rate(progress.rays_per_second) +
-          "  " + eta_text(progress);
+  line += done + "/" + total + units_text(progress) + "  " + percent + "  " +
+          format_rate(progress.rays_per_second) + "  " + eta_text(progress);
   return line;
 }
 
 std::string format_progress_line(const ProgressSnapshot& progress) {
   return std::to_string(percent_done(progress)) + "% (" + std::to_string(progress.tiles_done) +
-         "/" + std::to_string(progress.tiles_total) + " tiles), " +
+         "/" + std::to_string(progress.tiles_total) + units_text(progress) + "), " +
          format_rate(progress.rays_per_second) + ", " + eta_text(progress);
 }
 

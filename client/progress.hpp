@@ -14,6 +14,10 @@ struct ProgressSnapshot {
   double elapsed_seconds = 0.0;
   double rays_per_second = 0.0;
   double eta_seconds = 0.0;  // 0: unknown or done
+  // A job with progressive passes: tiles_done and tiles_total count tile passes, and the
+  // line also says which pass the image is in (passes_done + 1, or the last when done).
+  std::uint32_t passes = 1;
+  std::uint32_t passes_done = 0;
 };
 
 // "0.42 s", "12.3 s", "4:05", "1:02:03"
@@ -22,7 +26,8 @@ std::string format_duration(double seconds);
 std::string format_rate(double rays_per_second);
 // Whole percent of tiles done, rounded down so 100 means every tile.
 int percent_done(const ProgressSnapshot& progress);
-// "[##########..........]  40/80 tiles  50%  3.21 Mrays/s  ETA 4.0 s"
+// "[##########..........]  40/80 tiles  50%  3.21 Mrays/s  ETA 4.0 s" (with passes:
+// "... 40/80 tile passes  pass 2/4  50% ...")
 std::string format_progress_bar(const ProgressSnapshot& progress, int bar_width = 24);
 // "50% (40/80 tiles), 3.21 Mrays/s, ETA 4.0 s"
 std::string format_progress_line(const ProgressSnapshot& progress);

@@ -106,6 +106,9 @@ void validate_config(const DaemonConfig& config) {
                       config.log_level + "'");
   if (config.max_receive_message_bytes < (std::size_t{1} << 20))
     throw ConfigError("max_receive_message_bytes: must be at least 1 MiB");
+  if (config.stream_write_timeout < std::chrono::milliseconds(1))
+    throw ConfigError("stream_write_timeout: must be at least 1ms, got " +
+                      std::to_string(config.stream_write_timeout.count()) + "ms");
 }
 
 DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
@@ -122,7 +125,8 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
   if (!root.IsMap())
     throw ConfigError(display_name +
                       ": must be a YAML map of settings (listen, threads, data, log_level, "
-                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter)");
+                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter, "
+                      "stream_write_timeout)");
 
   for (const auto& entry : root) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
@@ -158,6 +162,11 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       config.max_jobs = read_count(display_name, value, key);
     } else if (key == "max_jobs_per_submitter") {
       config.max_jobs_per_submitter = read_count(display_name, value, key);
+    } else if (key == "stream_write_timeout") {
+      config.stream_write_timeout = read_duration(display_name, value, key);
+      if (config.stream_write_timeout < std::chrono::milliseconds(1))
+        throw ConfigError(located(display_name, value, key) + ": must be at least 1ms, got " +
+                          scalar_text(value));
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

@@ -46,6 +46,10 @@ struct DaemonConfig {
   // Queued and running jobs one submitter may have; more are refused with
   // RESOURCE_EXHAUSTED (0: no limit).
   std::size_t max_jobs_per_submitter = 1000;
+  // How long one StreamTiles write may wait for a client that does not read before the
+  // stream is ended (the client re-attaches with after_sequence), so a stalled reader never
+  // holds a server thread for longer.
+  std::chrono::milliseconds stream_write_timeout{30000};
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -64,10 +68,10 @@ std::optional<std::chrono::milliseconds> parse_duration(const std::string& text)
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs and
-// max_jobs_per_submitter from a YAML file on top of `base`. Durations are a number with a unit:
-// 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad values throw ConfigError
-// naming file and key.
+// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs,
+// max_jobs_per_submitter and stream_write_timeout from a YAML file on top of `base`. Durations are
+// a number with a unit: 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad
+// values throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

@@ -16,10 +16,10 @@
 #include <random>
 #include <thread>
 
+#include "convert/scene_proto.hpp"
 #include "server/job_registry.hpp"
 #include "server/listen_address.hpp"
 #include "server/render_service.hpp"
-#include "convert/scene_proto.hpp"
 #include "server/scheduler.hpp"
 #include "server/sqlite_job_store.hpp"
 
@@ -171,8 +171,9 @@ int Daemon::start() {
     d.request_retention();
   };
   d.scheduler = std::make_unique<Scheduler>(std::move(options));
-  d.service = std::make_unique<RenderServiceImpl>(*d.jobs, *d.scheduler, d.config.limits,
-                                                  d.config.max_jobs_per_submitter);
+  d.service = std::make_unique<RenderServiceImpl>(
+      *d.jobs, *d.scheduler, d.config.limits, d.config.max_jobs_per_submitter,
+      std::chrono::milliseconds(100), d.config.stream_write_timeout);
 
   // Jobs a previous run left queued or running carry on where they stopped.
   const std::vector<JobRecord> unfinished = d.store->unfinished_jobs();
@@ -254,6 +255,16 @@ std::string Daemon::address() const {
 
 const DaemonConfig& Daemon::config() const {
   return impl_->config;
+}
+
+int Daemon::open_streams() const {
+  std::lock_guard lock(impl_->state_mutex);
+  return impl_->service ? impl_->service->open_streams() : 0;
+}
+
+std::uint64_t Daemon::stream_write_timeouts() const {
+  std::lock_guard lock(impl_->state_mutex);
+  return impl_->service ? impl_->service->stream_write_timeouts() : 0;
 }
 
 }  // namespace tessera::server

@@ -36,6 +36,10 @@ class Daemon {
   int port() const;             // 0 before start()
   std::string address() const;  // "HOST:PORT" with the bound port, for clients
   const DaemonConfig& config() const;
+  // StreamTiles calls open now, and those ended by the stream write timeout (0 before
+  // start()).
+  int open_streams() const;
+  std::uint64_t stream_write_timeouts() const;
 
  private:
   struct Impl;

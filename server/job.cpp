@@ -123,13 +123,31 @@ void Job::release_tile(std::uint32_t index, const std::string& owner) {
 
 AddTileResult Job::add_tile(const TileRect& rect, const std::string& owner,
                             const std::vector<std::uint8_t>& exr, std::uint64_t rays) {
+  return commit(rect.index, owner, exr, rays, nullptr, false);
+}
+
+AddTileResult Job::add_tile_pass(std::uint32_t index, const std::string& owner,
+                                 const std::vector<std::uint8_t>& exr, std::uint64_t rays,
+                                 const TilePassState& state, bool last_pass) {
+  return commit(index, owner, exr, rays, &state, last_pass);
+}
+
+std::optional<TilePassState> Job::tile_pass_state(std::uint32_t tile) const {
+  return store_.tile_pass_state(id_, tile);
+}
+
+AddTileResult Job::commit(std::uint32_t index, const std::string& owner,
+                          const std::vector<std::uint8_t>& exr, std::uint64_t rays,
+                          const TilePassState* state, bool last_pass) {
   std::lock_guard lock(mutex_);
   if (record_.state != JobState::kRunning) {
-    store_.release_tile(id_, rect.index, owner);
+    store_.release_tile(id_, index, owner);
     return AddTileResult::kDropped;  // cancelled or failed meanwhile
   }
+  const std::int64_t now = unix_millis_now();
   const TileCommitResult result =
-      store_.commit_tile(id_, rect.index, owner, exr, rays, unix_millis_now());
+      state ? store_.commit_tile_pass(id_, index, owner, exr, rays, now, *state, last_pass)
+            : store_.commit_tile(id_, index, owner, exr, rays, now);
   if (result.outcome == TileCommit::kJobNotRunning || result.outcome == TileCommit::kDuplicate)
     return AddTileResult::kDropped;
   set_locked(result.job);

@@ -90,6 +90,14 @@ class Job {
   // running drops the tile.
   AddTileResult add_tile(const TileRect& rect, const std::string& owner,
                          const std::vector<std::uint8_t>& exr, std::uint64_t rays);
+  // The same for one pass of a tile of a job with passes: `index` is the pass's store
+  // index (job_passes.hpp), and the tile's accumulated state is stored (or, after its last
+  // pass, dropped) with it.
+  AddTileResult add_tile_pass(std::uint32_t index, const std::string& owner,
+                              const std::vector<std::uint8_t>& exr, std::uint64_t rays,
+                              const TilePassState& state, bool last_pass);
+  // The tile's accumulated state between its passes (see JobStore::tile_pass_state).
+  std::optional<TilePassState> tile_pass_state(std::uint32_t tile) const;
   bool fail(std::string error);
   CancelResult cancel(std::string reason = {});
 
@@ -110,6 +118,9 @@ class Job {
 
  private:
   void set_locked(const JobRecord& record);
+  AddTileResult commit(std::uint32_t index, const std::string& owner,
+                       const std::vector<std::uint8_t>& exr, std::uint64_t rays,
+                       const TilePassState* state, bool last_pass);
 
   JobStore& store_;
   const std::string id_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "convert/scene_proto.hpp"
+#include "server/job_passes.hpp"
 
 namespace tessera::server {
 
@@ -63,19 +64,22 @@ void job_info_to_proto(const JobInfo& info, v1::Job& out) {
 
 void stored_tile_to_proto(const JobRecord& job, const StoredTile& tile, v1::Tile& out) {
   const RenderSettings& s = job.settings;
-  // The rectangle follows from the index and the job's tile grid, so the store keeps
-  // only the index.
+  // The store index names a pass of a tile (job_passes.hpp); the rectangle follows from
+  // the tile's index and the job's tile grid, so the store keeps only the index.
+  const TilePass tile_pass = PassLayout(s).of(tile.index);
   const std::uint32_t columns = (s.width + s.tile_size - 1) / s.tile_size;
-  const std::uint32_t x = (tile.index % columns) * s.tile_size;
-  const std::uint32_t y = (tile.index / columns) * s.tile_size;
+  const std::uint32_t x = (tile_pass.tile % columns) * s.tile_size;
+  const std::uint32_t y = (tile_pass.tile / columns) * s.tile_size;
   out.set_job_id(job.id);
   v1::TileRect& rect = *out.mutable_rect();
-  rect.set_index(tile.index);
+  rect.set_index(tile_pass.tile);
   rect.set_x(x);
   rect.set_y(y);
   rect.set_width(std::min(s.tile_size, s.width - x));
   rect.set_height(std::min(s.tile_size, s.height - y));
   out.set_pass("beauty");
+  out.set_pass_index(tile_pass.pass);
+  out.set_sequence(tile.ordinal);
   out.set_exr(tile.exr.data(), tile.exr.size());
   job_progress_to_proto(tile_progress(job, tile), *out.mutable_progress());
 }

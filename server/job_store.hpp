@@ -26,6 +26,8 @@ struct JobRecord {
   int priority = 0;
   JobState state = JobState::kQueued;
   RenderSettings settings;  // defaults filled in
+  // Store tiles: the job's tiles times its passes (job_passes.hpp), so with passes these
+  // count tile passes.
   std::uint32_t tiles_total = 0;
   std::uint32_t tiles_done = 0;
   std::uint64_t rays_traced = 0;
@@ -56,6 +58,15 @@ struct StoredTile {
   std::uint64_t rays_after = 0;
   std::int64_t finished_unix_ms = 0;
   std::vector<std::uint8_t> exr;
+};
+
+// A tile of a job with progressive passes between two of its passes: the accumulated state
+// (tile_state_codec.hpp) after `passes_done` passes, kept by the store until its last pass
+// is committed, so a restart continues the tile without rendering a finished pass again.
+struct TilePassState {
+  std::uint32_t tile = 0;  // index in the tile grid (not the store index of a pass)
+  std::uint32_t passes_done = 0;
+  std::vector<std::uint8_t> bytes;
 };
 
 enum class TileCommit {
@@ -132,6 +143,19 @@ class JobStore {
   virtual TileCommitResult commit_tile(std::string_view id, std::uint32_t index,
                                        std::string_view owner, const std::vector<std::uint8_t>& exr,
                                        std::uint64_t rays, std::int64_t now_ms) = 0;
+  // The same for one pass of a tile of a job with passes (job_passes.hpp: `index` is the
+  // pass's store index): in the same transaction, `state` replaces the tile's accumulated
+  // state, or, for its last pass (`last_pass`), the state is dropped. A duplicate or a job
+  // not running changes no state.
+  virtual TileCommitResult commit_tile_pass(std::string_view id, std::uint32_t index,
+                                            std::string_view owner,
+                                            const std::vector<std::uint8_t>& exr,
+                                            std::uint64_t rays, std::int64_t now_ms,
+                                            const TilePassState& state, bool last_pass) = 0;
+  // The accumulated state of `tile` (grid index), when a pass of it is stored and its last
+  // pass is not.
+  virtual std::optional<TilePassState> tile_pass_state(std::string_view id,
+                                                       std::uint32_t tile) const = 0;
   virtual std::vector<std::uint32_t> stored_tile_indices(std::string_view id) const = 0;
   // Tiles with ordinal > `after_ordinal`, in ordinal order, at most `limit`.
   virtual std::vector<StoredTile> tiles_after(std::string_view id, std::uint32_t after_ordinal,

@@ -5,6 +5,7 @@
 #include <charconv>
 
 #include "convert/scene_proto.hpp"
+#include "server/job_passes.hpp"
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
 
@@ -69,12 +70,14 @@ std::string peer_host(const std::string& peer) {
 
 RenderServiceImpl::RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
                                      std::size_t max_jobs_per_submitter,
-                                     std::chrono::milliseconds poll_interval)
+                                     std::chrono::milliseconds poll_interval,
+                                     std::chrono::milliseconds stream_write_timeout)
     : jobs_(jobs),
       scheduler_(scheduler),
       limits_(limits),
       max_jobs_per_submitter_(max_jobs_per_submitter),
-      poll_interval_(poll_interval) {}
+      poll_interval_(poll_interval),
+      write_watchdog_(stream_write_timeout) {}
 
 std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id,
                                                  grpc::Status& status) const {
@@ -124,7 +127,8 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
     return invalid(message);
   }
   const RenderSettings settings = conversion.scene->render;
-  const auto tiles = make_tiles(settings.width, settings.height, settings.tile_size).size();
+  // Store tiles: every pass of every tile (job_passes.hpp).
+  const auto tiles = PassLayout(settings).units();
   // The scene is read back from the store when the job is prepared; this copy is not kept.
   conversion.scene.reset();
 
@@ -166,10 +170,12 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
     // Stored, so not lost: the next start of the daemon runs it.
     spdlog::info("job {} stored while the daemon stops; it runs after a restart", job->id());
   // The feature summary (with light count) is logged once the scene is prepared.
-  spdlog::info("job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp, depth {}, {} tiles",
-               job->id(), logged_name, escape_client_text(record.submitter), job->priority(),
-               settings.width, settings.height, settings.samples_per_pixel, settings.max_depth,
-               tiles);
+  spdlog::info(
+      "job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp in {} passes, depth {}, {} "
+      "tile passes",
+      job->id(), logged_name, escape_client_text(record.submitter), job->priority(), settings.width,
+      settings.height, settings.samples_per_pixel, settings.pass_count(), settings.max_depth,
+      tiles);
   return grpc::Status::OK;
 }
 
@@ -200,11 +206,17 @@ grpc::Status RenderServiceImpl::stream(
   const auto job = find_job(request.job_id(), status);
   if (!job) return status;
   const std::uint32_t tiles_total = job->record().tiles_total;
-  if (request.after_tiles() > tiles_total)
+  if (request.after_sequence() > tiles_total)
+    return invalid("after_sequence: must be at most the job's " + std::to_string(tiles_total) +
+                   " deliveries, got " + std::to_string(request.after_sequence()));
+  if (request.after_sequence() == 0 && request.after_tiles() > tiles_total)
     return invalid("after_tiles: must be at most the job's " + std::to_string(tiles_total) +
                    " tiles, got " + std::to_string(request.after_tiles()));
-  // Tiles are numbered by completion order in the store, so re-attaching is resuming there.
-  std::uint32_t sent = request.after_tiles();
+  // Deliveries are numbered by completion order in the store (the sequence), so
+  // re-attaching is resuming there.
+  std::uint32_t sent = request.after_sequence() != 0
+                           ? static_cast<std::uint32_t>(request.after_sequence())
+                           : request.after_tiles();
   v1::Tile message;
   for (;;) {
     if (context.IsCancelled())
@@ -219,7 +231,21 @@ grpc::Status RenderServiceImpl::stream(
       for (const StoredTile& tile : tiles) {
         message.Clear();
         stored_tile_to_proto(record, tile, message);
-        if (!writer.Write(message))
+        // A client that does not read blocks Write once flow control fills its window; the
+        // watchdog ends the call after stream_write_timeout so this thread is not held. The
+        // store keeps the tiles, so the stream itself buffers at most one read batch.
+        const auto outcome = write_watchdog_.write(context, [&] { return writer.Write(message); });
+        if (outcome == StreamWriteWatchdog::Outcome::kTimedOut) {
+          spdlog::info(
+              "stream of job {} ended: the client took no tile for {} ms (sent up to "
+              "sequence {})",
+              job->id(), write_watchdog_.timeout().count(), sent);
+          return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
+                              "the client read no tile for " +
+                                  std::to_string(write_watchdog_.timeout().count()) +
+                                  " ms; re-attach with after_sequence " + std::to_string(sent));
+        }
+        if (outcome == StreamWriteWatchdog::Outcome::kFailed)
           return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
         sent = tile.ordinal;
       }
@@ -250,6 +276,11 @@ grpc::Status RenderServiceImpl::stream(
     }
     return grpc::Status(grpc::StatusCode::INTERNAL, "job ended in an unexpected state");
   }
+}
+
+int RenderServiceImpl::open_streams() const {
+  std::lock_guard lock(streams_mutex_);
+  return active_streams_;
 }
 
 bool RenderServiceImpl::wait_for_streams(std::chrono::milliseconds timeout) {

@@ -7,6 +7,7 @@
 #include "server/job_id.hpp"
 #include "server/job_registry.hpp"
 #include "server/scheduler.hpp"
+#include "server/stream_write_watchdog.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 
 namespace tessera::server {
@@ -20,7 +21,9 @@ inline constexpr std::uint32_t kMaxPageSize = 1000;
 
 // tessera.v1.RenderService on the synchronous gRPC API: requests are validated and turned
 // into jobs in the store and the scheduler; StreamTiles reads tiles from the store as the
-// job stores them, checking between waits whether its client is still there.
+// job stores them (a batch at a time, so a slow client only falls behind), checking between
+// waits whether its client is still there, and gives each write stream_write_timeout
+// (StreamWriteWatchdog) before it ends a call whose client does not read.
 //
 // Every method is registered in its "streamed" form, where the handler reads the request
 // itself: that way a request whose bytes are not a valid message is answered with
@@ -30,7 +33,8 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   // `max_jobs_per_submitter`: queued and running jobs one submitter may have (0: no limit).
   RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, SceneLimits limits,
                     std::size_t max_jobs_per_submitter = 0,
-                    std::chrono::milliseconds poll_interval = std::chrono::milliseconds(100));
+                    std::chrono::milliseconds poll_interval = std::chrono::milliseconds(100),
+                    std::chrono::milliseconds stream_write_timeout = std::chrono::seconds(30));
 
   grpc::Status StreamedSubmitJob(
       grpc::ServerContext* context,
@@ -60,6 +64,11 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   // than being cut off by the server's shutdown. Returns false on timeout.
   bool wait_for_streams(std::chrono::milliseconds timeout);
 
+  // StreamTiles calls open now, and those ended because a write waited longer than the
+  // stream write timeout for a client that did not read.
+  int open_streams() const;
+  std::uint64_t stream_write_timeouts() const { return write_watchdog_.timeouts(); }
+
  private:
   grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
                       v1::SubmitJobResponse& response);
@@ -78,7 +87,8 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   std::chrono::milliseconds poll_interval_;
   JobIdGenerator ids_;
   std::atomic<bool> accepting_{true};
-  std::mutex streams_mutex_;
+  StreamWriteWatchdog write_watchdog_;
+  mutable std::mutex streams_mutex_;
   std::condition_variable streams_ended_;
   int active_streams_ = 0;
 };

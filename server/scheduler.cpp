@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "server/job_passes.hpp"
+#include "server/tile_state_codec.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
+#include "tessera/render/tile_accumulation.hpp"
 #include "tessera/render/tile_cancel.hpp"
 
 namespace tessera::server {
@@ -18,8 +21,11 @@ struct Scheduler::Entry {
   std::uint64_t sequence = 0;
   std::unique_ptr<SceneDescription> scene;  // released once prepared; null: load_scene
   std::shared_ptr<const PreparedScene> prepared;
-  std::vector<TileRect> tiles;  // those still to render, known once prepared
+  std::vector<TileWork> tiles;  // those still to render, known once prepared
   std::size_t next_tile = 0;    // tiles before it have been handed out
+  // Per grid tile: a pass of it is being rendered. The next pass of that tile waits (it
+  // continues the state that pass stores), so the job's work waits behind it.
+  std::vector<bool> rendering;
   bool preparing = false;
   unsigned in_flight = 0;  // tasks of this entry running on workers
 };
@@ -27,7 +33,7 @@ struct Scheduler::Entry {
 struct Scheduler::Task {
   std::shared_ptr<Entry> entry;
   bool prepare = false;
-  TileRect tile;
+  TileWork tile;
 };
 
 Scheduler::Scheduler(SchedulerOptions options) : options_(std::move(options)) {
@@ -48,8 +54,9 @@ void Scheduler::start() {
 
 namespace {
 
+// Store tiles of a job: its tiles times its passes.
 std::size_t tile_count(const RenderSettings& r) {
-  return make_tiles(r.width, r.height, r.tile_size).size();
+  return PassLayout(r).units();
 }
 
 // Failing a job writes to the store, which can itself fail (a full disk); that must not
@@ -161,7 +168,9 @@ template <typename Entry>
 bool has_work(const Entry& entry) {
   if (entry.job->finished()) return false;  // tasks still in flight; nothing new to hand out
   if (!entry.prepared) return !entry.preparing;
-  return entry.next_tile < entry.tiles.size();  // else every tile is handed out
+  if (entry.next_tile >= entry.tiles.size()) return false;  // every tile is handed out
+  // The next pass of a tile whose previous pass is still rendering waits for it.
+  return !entry.rendering[entry.tiles[entry.next_tile].rect.index];
 }
 
 }  // namespace
@@ -198,6 +207,7 @@ bool Scheduler::take_task_locked(Task& task) {
     task = Task{chosen, true, {}};
   } else {
     task = Task{chosen, false, chosen->tiles[chosen->next_tile++]};
+    chosen->rendering[task.tile.rect.index] = true;
     ++served_;
   }
   last_served_[chosen->job->submitter()] = served_ + 1;
@@ -220,6 +230,7 @@ void Scheduler::worker_loop() {
       render(*task.entry, task.tile);
     {
       std::lock_guard lock(mutex_);
+      if (!task.prepare) task.entry->rendering[task.tile.rect.index] = false;
       --task.entry->in_flight;
       --in_flight_;
       prune_locked();
@@ -233,8 +244,9 @@ void Scheduler::worker_loop() {
 void Scheduler::prepare(Entry& entry) {
   Job& job = *entry.job;
   std::shared_ptr<const PreparedScene> prepared;
-  std::vector<TileRect> pending;
+  std::vector<TileWork> pending;
   std::size_t stored = 0;
+  std::size_t grid_tiles = 0;
   try {
     if (job.mark_running()) {
       std::optional<SceneDescription> loaded;
@@ -245,11 +257,18 @@ void Scheduler::prepare(Entry& entry) {
         throw std::runtime_error("the stored scene's tile grid does not match the job's");
       prepared = options_.prepare(scene);
       if (!prepared) throw std::runtime_error("no scene was built");
-      // Tiles stored before (by a daemon that stopped or died) are not rendered again.
+      // Tiles (and passes of tiles) stored before, by a daemon that stopped or died, are
+      // not rendered again. Work is in store-index order: pass 1 of every tile, then pass 2.
       const std::vector<std::uint32_t> done = job.stored_tile_indices();
       stored = done.size();
-      for (const TileRect& tile : make_tiles(r.width, r.height, r.tile_size))
-        if (!std::binary_search(done.begin(), done.end(), tile.index)) pending.push_back(tile);
+      const std::vector<TileRect> grid = make_tiles(r.width, r.height, r.tile_size);
+      grid_tiles = grid.size();
+      const PassLayout layout(r);
+      for (std::uint32_t unit = 0; unit < layout.units(); ++unit)
+        if (!std::binary_search(done.begin(), done.end(), unit)) {
+          const TilePass tile_pass = layout.of(unit);
+          pending.push_back(TileWork{grid[tile_pass.tile], tile_pass.pass, unit});
+        }
     }
   } catch (const std::exception& e) {
     prepared.reset();
@@ -261,52 +280,103 @@ void Scheduler::prepare(Entry& entry) {
   if (prepared) {
     const auto& s = prepared->settings();
     spdlog::info(
-        "job {} started: {}x{}, {} spp, {} tiles ({} stored before), {}; prepared in {:.3f} s, "
-        "BVH depth {}",
-        job.id(), s.width, s.height, s.samples_per_pixel, pending.size() + stored, stored,
-        prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
+        "job {} started: {}x{}, {} spp in {} passes, {} tile passes ({} stored before), {}; "
+        "prepared in {:.3f} s, BVH depth {}",
+        job.id(), s.width, s.height, s.samples_per_pixel, s.pass_count(), pending.size() + stored,
+        stored, prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
     if (options_.on_job_started) options_.on_job_started(job);
   }
   std::lock_guard lock(mutex_);
   entry.scene.reset();
   entry.tiles = std::move(pending);
+  entry.rendering.assign(grid_tiles, false);
   entry.prepared = std::move(prepared);
   entry.preparing = false;
 }
 
-void Scheduler::render(Entry& entry, const TileRect& rect) {
+namespace {
+
+std::vector<std::uint8_t> tile_exr(const TilePasses& passes, const TileRect& rect,
+                                   std::uint32_t aovs) {
+  return aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
+                   : encode_exr(interleave_passes(passes, aovs), rect.width, rect.height,
+                                output_channels(aovs), rect.x, rect.y);
+}
+
+}  // namespace
+
+std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork& work) {
   Job& job = *entry.job;
+  const PreparedScene& scene = *entry.prepared;
+  const PassLayout layout(scene.settings());
+  const TileRect& rect = work.rect;
+  // Continues the state the previous pass stored; kept per worker only while it renders,
+  // so memory does not grow with the job's tiles.
+  thread_local TileAccumulation state;
+  state = TileAccumulation{};
+  if (work.pass > 1) {
+    const std::optional<TilePassState> stored = job.tile_pass_state(rect.index);
+    if (!stored || stored->passes_done != work.pass - 1)
+      throw std::logic_error("pass " + std::to_string(work.pass) + " has no stored state of pass " +
+                             std::to_string(work.pass - 1) + " to continue");
+    state = decode_tile_state(stored->bytes);
+  }
+  TileStats stats;
+  {
+    const TileCancelScope cancel(&job.stop_flag());
+    stats = scene.accumulate_tile(rect, state, layout.samples_after(work.pass));
+  }
+  // A raised flag may have cut the pass short: it is incomplete, so never stored.
+  if (job.stop_requested()) return std::nullopt;
+  const bool last = work.pass == layout.passes();
+  TilePassState kept;
+  kept.tile = rect.index;
+  kept.passes_done = work.pass;
+  if (!last) kept.bytes = encode_tile_state(state);
+  const std::vector<std::uint8_t> exr =
+      tile_exr(accumulated_image(state), rect, scene.settings().aovs);
+  return job.add_tile_pass(work.unit, options_.owner, exr, stats.rays, kept, last);
+}
+
+void Scheduler::render(Entry& entry, const TileWork& work) {
+  Job& job = *entry.job;
+  const TileRect& rect = work.rect;
   if (job.stop_requested()) return;  // cancelled after the tile was handed out
   AddTileResult added = AddTileResult::kDropped;
   bool claimed = false;
   try {
-    if (!job.claim_tile(rect.index, options_.owner)) return;  // stored, or another's
+    if (!job.claim_tile(work.unit, options_.owner)) return;  // stored, or another's
     claimed = true;
-    thread_local TilePasses passes;
-    TileStats stats;
     if (options_.on_tile_started) options_.on_tile_started(job, rect);
-    {
-      const TileCancelScope cancel(&job.stop_flag());
-      stats = entry.prepared->render_tile(rect, passes);
-    }
-    // A raised flag may have cut the tile short: it is incomplete, so never stored.
-    if (!job.stop_requested()) {
-      const std::uint32_t aovs = entry.prepared->settings().aovs;
-      const std::vector<std::uint8_t> exr =
-          aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
-                    : encode_exr(interleave_passes(passes, aovs), rect.width, rect.height,
-                                 output_channels(aovs), rect.x, rect.y);
-      added = job.add_tile(rect, options_.owner, exr, stats.rays);
-      claimed = false;  // committed or released by add_tile
+    if (entry.prepared->settings().pass_count() > 1) {
+      if (const std::optional<AddTileResult> committed = render_pass(entry, work)) {
+        added = *committed;
+        claimed = false;  // committed or released by add_tile_pass
+      }
+    } else {
+      thread_local TilePasses passes;
+      TileStats stats;
+      {
+        const TileCancelScope cancel(&job.stop_flag());
+        stats = entry.prepared->render_tile(rect, passes);
+      }
+      // A raised flag may have cut the tile short: it is incomplete, so never stored.
+      if (!job.stop_requested()) {
+        added = job.add_tile(rect, options_.owner,
+                             tile_exr(passes, rect, entry.prepared->settings().aovs), stats.rays);
+        claimed = false;  // committed or released by add_tile
+      }
     }
   } catch (const std::exception& e) {
-    fail_job(job, "tile " + std::to_string(rect.index) + " failed: " + e.what());
+    const std::string pass =
+        entry.prepared->settings().pass_count() > 1 ? " pass " + std::to_string(work.pass) : "";
+    fail_job(job, "tile " + std::to_string(rect.index) + pass + " failed: " + e.what());
   } catch (...) {
     fail_job(job, "tile " + std::to_string(rect.index) + " failed: unknown error");
   }
   if (claimed) {
     try {
-      job.release_tile(rect.index, options_.owner);
+      job.release_tile(work.unit, options_.owner);
     } catch (...) {
       // Claims lapse anyway; nothing is lost by keeping this one.
     }

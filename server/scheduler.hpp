@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -62,9 +63,19 @@ struct SchedulerOptions {
 // Round-robin by submitter rather than weighted fair share: no weights to configure,
 // nothing to tune, and the share each submitter gets is obvious from the queue. Tiles the store
 // already holds (a job resumed after a restart) are not rendered again; every tile is
-// claimed in the store before it is rendered and committed to it after. A tile being
+// claimed in the store before it is rendered and committed to it after. A job with
+// progressive passes hands out pass 1 of every tile, then pass 2, and so on; a tile's next
+// pass waits while its previous one renders. A tile being
 // rendered checks its job's stop flag, so a cancel reaches it within a fraction of a
 // second. Exceptions from preparing or rendering fail that job alone.
+// One unit of work: a pass of a tile (the tile itself for a one-pass job), with its store
+// index (job_passes.hpp).
+struct TileWork {
+  TileRect rect;
+  std::uint32_t pass = 1;
+  std::uint32_t unit = 0;
+};
+
 class Scheduler {
  public:
   explicit Scheduler(SchedulerOptions options);
@@ -104,7 +115,11 @@ class Scheduler {
   bool take_task_locked(Task& task);
   void prune_locked();
   void prepare(Entry& entry);
-  void render(Entry& entry, const TileRect& rect);
+  void render(Entry& entry, const TileWork& work);
+  // A pass of a tile of a job with passes: continues the tile's stored state and stores the
+  // new one with the tile's image after the pass. Nothing when the pass was cut short (the
+  // claim is then still held).
+  std::optional<AddTileResult> render_pass(Entry& entry, const TileWork& work);
   bool enqueue(std::shared_ptr<Entry> entry);
 
   SchedulerOptions options_;

@@ -13,8 +13,10 @@ namespace tessera::server {
 namespace {
 
 // PRAGMA user_version of the schema below; a file with another version is refused rather
-// than misread.
-constexpr int kSchemaVersion = 1;
+// than misread. Version 2 added tile_states (progressive passes); a version 1 file is
+// upgraded in place, the new table being all it lacks.
+constexpr int kSchemaVersion = 2;
+constexpr int kUpgradableVersion = 1;
 
 // Tiles reference jobs by their integer sequence, not the id text, to keep the tile index
 // small. Scenes are stored once per distinct content (scene_key) and shared.
@@ -55,6 +57,16 @@ CREATE TABLE IF NOT EXISTS tiles (
   PRIMARY KEY (job_sequence, tile_index)
 );
 CREATE UNIQUE INDEX IF NOT EXISTS tiles_by_ordinal ON tiles(job_sequence, ordinal);
+-- Jobs with progressive passes store each pass of a tile as a row of tiles (index pass-major,
+-- server/job_passes.hpp) and, between a tile's passes, its accumulated state here: one row
+-- per tile, replaced by each pass and dropped with the last.
+CREATE TABLE IF NOT EXISTS tile_states (
+  job_sequence INTEGER NOT NULL REFERENCES jobs(sequence) ON DELETE CASCADE,
+  tile INTEGER NOT NULL,
+  passes_done INTEGER NOT NULL,
+  state BLOB NOT NULL,
+  PRIMARY KEY (job_sequence, tile)
+);
 )sql";
 
 constexpr const char* kJobColumns =
@@ -151,7 +163,7 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& path) {
     }
     db_->exec("PRAGMA foreign_keys = ON");
     const int version = db_->execAndGet("PRAGMA user_version").getInt();
-    if (version != 0 && version != kSchemaVersion)
+    if (version != 0 && version != kSchemaVersion && version != kUpgradableVersion)
       throw std::runtime_error("schema version " + std::to_string(version) +
                                " is not the one this tesserad knows (" +
                                std::to_string(kSchemaVersion) + ")");
@@ -338,6 +350,42 @@ TileCommitResult SqliteJobStore::commit_tile(std::string_view id, std::uint32_t 
                                              const std::vector<std::uint8_t>& exr,
                                              std::uint64_t rays, std::int64_t now_ms) {
   std::lock_guard lock(mutex_);
+  return commit_locked(id, index, owner, exr, rays, now_ms, nullptr, false);
+}
+
+TileCommitResult SqliteJobStore::commit_tile_pass(std::string_view id, std::uint32_t index,
+                                                  std::string_view owner,
+                                                  const std::vector<std::uint8_t>& exr,
+                                                  std::uint64_t rays, std::int64_t now_ms,
+                                                  const TilePassState& state, bool last_pass) {
+  std::lock_guard lock(mutex_);
+  return commit_locked(id, index, owner, exr, rays, now_ms, &state, last_pass);
+}
+
+std::optional<TilePassState> SqliteJobStore::tile_pass_state(std::string_view id,
+                                                             std::uint32_t tile) const {
+  std::lock_guard lock(mutex_);
+  SQLite::Statement q(
+      *db_,
+      "SELECT tile_states.passes_done, tile_states.state FROM tile_states JOIN jobs ON "
+      "tile_states.job_sequence = jobs.sequence WHERE jobs.id = ? AND tile_states.tile = ?");
+  bind_text(q, 1, id);
+  q.bind(2, static_cast<std::int64_t>(tile));
+  if (!q.executeStep()) return std::nullopt;
+  TilePassState state;
+  state.tile = tile;
+  state.passes_done = static_cast<std::uint32_t>(q.getColumn(0).getInt64());
+  const SQLite::Column blob = q.getColumn(1);
+  const auto* bytes = static_cast<const std::uint8_t*>(blob.getBlob());
+  state.bytes.assign(bytes, bytes + blob.getBytes());
+  return state;
+}
+
+TileCommitResult SqliteJobStore::commit_locked(std::string_view id, std::uint32_t index,
+                                               std::string_view owner,
+                                               const std::vector<std::uint8_t>& exr,
+                                               std::uint64_t rays, std::int64_t now_ms,
+                                               const TilePassState* state, bool last_pass) {
   const auto claim = claims_.find(std::make_pair(std::string(id), index));
   if (claim != claims_.end() && claim->second.owner == owner) claims_.erase(claim);
 
@@ -389,6 +437,21 @@ TileCommitResult SqliteJobStore::commit_tile(std::string_view id, std::uint32_t 
     update.bind(4, last ? now_ms : std::int64_t{0});
     update.bind(5, job->sequence);
     update.exec();
+  }
+  if (state && last_pass) {
+    SQLite::Statement drop(*db_, "DELETE FROM tile_states WHERE job_sequence = ? AND tile = ?");
+    drop.bind(1, job->sequence);
+    drop.bind(2, static_cast<std::int64_t>(state->tile));
+    drop.exec();
+  } else if (state) {
+    SQLite::Statement keep(*db_,
+                           "INSERT OR REPLACE INTO tile_states(job_sequence, tile, passes_done, "
+                           "state) VALUES (?, ?, ?, ?)");
+    keep.bind(1, job->sequence);
+    keep.bind(2, static_cast<std::int64_t>(state->tile));
+    keep.bind(3, static_cast<std::int64_t>(state->passes_done));
+    keep.bind(4, state->bytes.data(), static_cast<int>(state->bytes.size()));
+    keep.exec();
   }
   transaction.commit();
   result.outcome = last ? TileCommit::kCompletedJob : TileCommit::kStored;

@@ -44,6 +44,12 @@ class SqliteJobStore final : public JobStore {
   TileCommitResult commit_tile(std::string_view id, std::uint32_t index, std::string_view owner,
                                const std::vector<std::uint8_t>& exr, std::uint64_t rays,
                                std::int64_t now_ms) override;
+  TileCommitResult commit_tile_pass(std::string_view id, std::uint32_t index,
+                                    std::string_view owner, const std::vector<std::uint8_t>& exr,
+                                    std::uint64_t rays, std::int64_t now_ms,
+                                    const TilePassState& state, bool last_pass) override;
+  std::optional<TilePassState> tile_pass_state(std::string_view id,
+                                               std::uint32_t tile) const override;
   std::vector<std::uint32_t> stored_tile_indices(std::string_view id) const override;
   std::vector<StoredTile> tiles_after(std::string_view id, std::uint32_t after_ordinal,
                                       std::size_t limit) const override;
@@ -62,6 +68,9 @@ class SqliteJobStore final : public JobStore {
   };
 
   std::optional<JobRecord> find_locked(std::string_view id) const;
+  TileCommitResult commit_locked(std::string_view id, std::uint32_t index, std::string_view owner,
+                                 const std::vector<std::uint8_t>& exr, std::uint64_t rays,
+                                 std::int64_t now_ms, const TilePassState* state, bool last_pass);
   bool delete_locked(std::string_view id);
 
   mutable std::mutex mutex_;

@@ -1,4 +1,5 @@
 #include "tessera/render/prepared_scene.hpp"
+#include "tessera/render/tile_accumulation.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -272,6 +273,58 @@ TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, s
   // The beauty's alpha is the coverage the integrators add up; the AOV planes' fourth
   // component carries nothing.
   return variant_->render(view(), settings, tile, film);
+}
+
+TileStats PreparedScene::accumulate_tile(const TileRect& tile, TileAccumulation& state,
+                                         std::uint32_t end) const {
+  const std::uint32_t total = settings_.samples_per_pixel;
+  const std::uint32_t first = state.samples_done;
+  if (settings_.adaptive())
+    throw std::invalid_argument("accumulate_tile: adaptive sampling renders in one pass");
+  if (end <= first || end > total)
+    throw std::invalid_argument("accumulate_tile: end " + std::to_string(end) + " is not in (" +
+                                std::to_string(first) + ", " + std::to_string(total) + "]");
+  if (first > 0 && state.samples_total != total)
+    throw std::invalid_argument("accumulate_tile: the state is of a render of " +
+                                std::to_string(state.samples_total) + " samples, not " +
+                                std::to_string(total));
+  const std::size_t floats = tile.pixel_count() * 4;
+  const bool variance = (settings_.aovs & kAovVariance) != 0;
+  FilmPlanes film;
+  film.first_sample = first;
+  film.total_samples = total;
+  float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
+                      &film.primitive_id, &film.variance, &film.sample_count};
+  static_assert(std::size(planes) == kAovCount);
+  const auto prepare = [&](std::vector<float>& plane, float start) {
+    if (first == 0) {
+      plane.assign(floats, start);
+    } else if (plane.size() != floats) {
+      throw std::invalid_argument("accumulate_tile: the state does not hold this tile");
+    }
+    return plane.data();
+  };
+  film.beauty = prepare(state.sums.beauty, 0.0f);
+  for (std::size_t i = 0; i < state.sums.aovs.size(); ++i) {
+    if ((settings_.aovs & (1u << i)) == 0) {
+      state.sums.aovs[i].clear();
+      continue;
+    }
+    *planes[i] = prepare(state.sums.aovs[i], planes[i] == &film.depth ? kInfinity : 0.0f);
+  }
+  if (variance) {
+    film.running_mean = prepare(state.running_mean, 0.0f);
+    film.running_m2 = prepare(state.running_m2, 0.0f);
+  } else {
+    state.running_mean.clear();
+    state.running_m2.clear();
+  }
+  state.samples_total = total;
+  RenderSettings settings = settings_;
+  settings.samples_per_pixel = end;
+  const TileStats stats = variant_->render(view(), settings, tile, film);
+  state.samples_done = end;
+  return stats;
 }
 
 }  // namespace tessera

@@ -350,10 +350,26 @@ class SceneValidator {
                                                  std::to_string(r.samples_per_pixel) + "), got " +
                                                  std::to_string(r.min_samples_per_pixel));
     }
+    passes(r, check);
     if ((r.aovs & ~kAllAovs) != 0) check.fail("aovs", "unknown AOV bits set");
     if (r.aovs != 0 && r.integrator != IntegratorKind::kPath)
       check.fail("aovs", std::string("AOVs come with the path integrator, not '") +
                              to_string(r.integrator) + "'");
+  }
+
+  // Passes split samples_per_pixel into contiguous sample ranges, so there can be no more
+  // of them than samples, and adaptive sampling (which stops pixels on statistics a pass
+  // boundary would cut) renders in one.
+  static void passes(const RenderSettings& r, Checks& check) {
+    if (r.pass_count() <= 1) return;
+    if (r.passes > r.samples_per_pixel)
+      check.fail("passes", "must not exceed samples_per_pixel (" +
+                               std::to_string(r.samples_per_pixel) + "), got " +
+                               std::to_string(r.passes));
+    if (r.adaptive())
+      check.fail("passes", "must be 0 or 1 with adaptive sampling (target_error " +
+                               Checks::format(r.target_error) + "), got " +
+                               std::to_string(r.passes));
   }
 
   const SceneDescription& scene_;

@@ -298,6 +298,47 @@ TEST_F(CliAgainstDaemonTest, RenderAndWatchWriteTheInProcessImage) {
   EXPECT_NE(listed.out.find(job_id), std::string::npos) << listed.out;
 }
 
+// --passes: the daemon streams every pass of every tile, the CLI shows the pass and
+// rewrites its files per pass, and the file it ends with is the one-pass image bit for bit;
+// submit --passes + watch takes the same path.
+TEST_F(CliAgainstDaemonTest, RenderWithPassesWritesTheOnePassImage) {
+  const std::vector<float> reference = render_image(*PreparedScene::build(cornell(48, 40, 6, 16)));
+  CliCommand render = render_command();
+  render.overrides.samples_per_pixel = 6;
+  render.overrides.passes = 3;
+  const CliRun rendered = run_cli(render);
+  ASSERT_EQ(rendered.exit_code, kExitOk) << rendered.err;
+  EXPECT_NE(rendered.err.find("27 tile passes in 3 passes"), std::string::npos) << rendered.err;
+  EXPECT_NE(rendered.err.find("tessera: 100% (27/27 tile passes  pass 3/3)"), std::string::npos)
+      << rendered.err;
+  EXPECT_TRUE(bit_equal(read_image(render.output_exr).pixels, reference));
+  EXPECT_EQ(read_image(render.preview_png).width, 48u);
+
+  CliCommand submit = render;
+  submit.kind = CommandKind::kSubmit;
+  const CliRun submitted = run_cli(submit);
+  ASSERT_EQ(submitted.exit_code, kExitOk) << submitted.err;
+  const std::string job_id = submitted.out.substr(0, submitted.out.find('\n'));
+  EXPECT_EQ(client_.get(job_id).settings().passes(), 3u);
+  CliCommand watch;
+  watch.kind = CommandKind::kWatch;
+  watch.server = address();
+  watch.job_id = job_id;
+  watch.output_exr = (dir_ / "watched.exr").string();
+  const CliRun watched = run_cli(watch);
+  ASSERT_EQ(watched.exit_code, kExitOk) << watched.err;
+  EXPECT_TRUE(bit_equal(read_image(watch.output_exr).pixels, reference));
+
+  CliCommand status;
+  status.kind = CommandKind::kStatus;
+  status.server = address();
+  status.job_id = job_id;
+  const CliRun shown = run_cli(status);
+  ASSERT_EQ(shown.exit_code, kExitOk) << shown.err;
+  EXPECT_NE(shown.out.find(", 3 passes (progress counts tile passes)"), std::string::npos)
+      << shown.out;
+}
+
 TEST_F(CliAgainstDaemonTest, ServerRejectionPrintsCodeAndMessage) {
   // Valid for the client's default limits, beyond this daemon's max_dimension of 1024.
   CliCommand command = render_command();

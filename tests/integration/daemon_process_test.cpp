@@ -235,6 +235,68 @@ TEST_F(DaemonProcessTest, KillNineAtRandomPointsLosesNothingAndRendersNoTileTwic
   expect_every_tile_committed_once(id, tiles);
 }
 
+// The same with progressive passes: each pass of a tile is a stored unit and the tile's
+// accumulated state is stored with it, so kills between and inside passes must neither lose
+// a pass nor render one twice, and the final pass must still equal the one-pass local render
+// bit for bit.
+TEST_F(DaemonProcessTest, KillNineDuringAJobWithPassesRendersNoPassTwice) {
+  constexpr std::uint32_t kTiles = 64, kPasses = 4, kUnits = kTiles * kPasses;
+  SceneDescription scene = cornell(128, 128, 16, 16);  // 64 tiles, 4 spp per pass
+  scene.render.passes = kPasses;
+  const unsigned seed = std::random_device{}();
+  std::mt19937 rng(seed);
+  RecordProperty("seed", static_cast<int>(seed));
+  SCOPED_TRACE("random seed " + std::to_string(seed));
+
+  std::string id;
+  int kills_mid_job = 0;
+  {
+    auto daemon = std::make_unique<TesseradProcess>(data(), log());
+    auto client = std::make_unique<Client>(ClientOptions{.target = daemon->address()});
+    id = client->submit(make_submit_request(scene, "passes", 0)).id();
+    std::uint32_t done = 0;
+    for (int round = 0; round < 4; ++round) {
+      // Spread over the passes (64 tile passes each), inside and across their boundaries.
+      const std::uint32_t target = done + 10 + rng() % 50;
+      wait_for_tiles(*client, id, target);
+      std::this_thread::sleep_for(std::chrono::microseconds(rng() % 20'000));
+      daemon->kill_now();
+      const server::JobRecord record = stored(id);
+      done = record.tiles_done;
+      if (done > 0 && done < kUnits) ++kills_mid_job;
+      std::cout << "kill -9 " << round + 1 << ": " << done << "/" << kUnits
+                << " tile passes stored\n";
+      daemon = std::make_unique<TesseradProcess>(data(), log());
+      client = std::make_unique<Client>(ClientOptions{.target = daemon->address()});
+    }
+    // Every pass of every tile, each once and in order; the last pass is the final image.
+    std::vector<std::uint32_t> last_pass(kTiles, 0);
+    std::vector<float> image(128 * 128 * 4, -1.0f);
+    client->stream_tiles(id, [&](const v1::Tile& tile) {
+      const v1::TileRect& r = tile.rect();
+      EXPECT_EQ(tile.pass_index(), last_pass.at(r.index()) + 1) << "tile " << r.index();
+      last_pass.at(r.index()) = tile.pass_index();
+      if (tile.pass_index() != kPasses) return;
+      const RgbaImage pixels = decode_exr(
+          std::span(reinterpret_cast<const std::uint8_t*>(tile.exr().data()), tile.exr().size()));
+      for (std::uint32_t row = 0; row < r.height(); ++row)
+        std::memcpy(&image[((r.y() + row) * 128 + r.x()) * 4], &pixels.pixels[row * r.width() * 4],
+                    r.width() * 4 * sizeof(float));
+    });
+    EXPECT_EQ(client->get(id).state(), v1::JOB_STATE_COMPLETED);
+    for (std::uint32_t i = 0; i < kTiles; ++i) EXPECT_EQ(last_pass[i], kPasses) << "tile " << i;
+    SceneDescription one_pass = scene;
+    one_pass.render.passes = 1;
+    EXPECT_TRUE(bit_equal(image, render_image(*PreparedScene::build(one_pass))));
+    EXPECT_EQ(daemon->terminate(), 0);
+  }
+  EXPECT_GE(kills_mid_job, 2);
+  expect_every_tile_committed_once(id, kUnits);
+  SqliteJobStore store(store_file());
+  for (std::uint32_t tile = 0; tile < kTiles; ++tile)
+    EXPECT_FALSE(store.tile_pass_state(id, tile).has_value()) << "tile " << tile;
+}
+
 TEST_F(DaemonProcessTest, SigtermMidJobExitsCleanlyAndARestartCompletesTheJob) {
   const SceneDescription scene = cornell(64, 64, 16, 16);  // 16 tiles
   std::string id;

@@ -33,7 +33,8 @@ class CancelPoll {
 // says where refinement starts.
 inline PixelSampling pixel_sampling(const RenderSettings& settings, const FilmPlanes& film) {
   return PixelSampling{film.first_sample, settings.samples_per_pixel,
-                       settings.min_samples_per_pixel, static_cast<float>(settings.target_error)};
+                       settings.min_samples_per_pixel, static_cast<float>(settings.target_error),
+                       film.total_samples};
 }
 
 template <typename P>

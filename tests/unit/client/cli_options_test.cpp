@@ -41,6 +41,21 @@ TEST(CliOptions, RenderWithOverrides) {
   EXPECT_FALSE(c.local);
 }
 
+TEST(CliOptions, PassesOverrideTheSceneForRenderAndSubmit) {
+  Parsed p = parse({"render", "scene.yaml", "-o", "a.exr", "--passes", "4"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->overrides.passes, 4u);
+  p = parse({"submit", "scene.yaml", "--passes", "2"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->overrides.passes, 2u);
+  p = parse({"render", "scene.yaml", "-o", "a.exr"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_FALSE(p.result.command->overrides.passes.has_value());
+  p = parse({"render", "scene.yaml", "-o", "a.exr", "--passes", "-1"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("--passes"), std::string::npos) << p.err;
+}
+
 TEST(CliOptions, DefaultsAndLocal) {
   const Parsed p = parse({"render", "scene.yaml", "-o", "a.exr", "--local", "--threads", "3"});
   ASSERT_TRUE(p.result.command) << p.err;

@@ -39,6 +39,17 @@ TEST(Progress, BarShowsTilesPercentRateAndEta) {
   EXPECT_EQ(format_progress_bar(p, 4), "[....]   3/120 tiles    2%  0 rays/s  ETA --");
 }
 
+TEST(Progress, PassesShowWhichPassTheImageIsIn) {
+  ProgressSnapshot p{40, 80, 0, 2.0, 3.214e6, 4.0, 4, 1};
+  EXPECT_EQ(format_progress_bar(p, 10),
+            "[#####.....] 40/80 tile passes  pass 2/4   50%  3.21 Mrays/s  ETA 4.00 s");
+  EXPECT_EQ(format_progress_line(p), "50% (40/80 tile passes  pass 2/4), 3.21 Mrays/s, ETA 4.00 s");
+  p.tiles_done = 80;
+  p.passes_done = 4;
+  EXPECT_EQ(format_progress_bar(p, 10),
+            "[##########] 80/80 tile passes  pass 4/4  100%  3.21 Mrays/s  done");
+}
+
 TEST(Progress, PlainOutputPrintsOneLinePerTenPercent) {
   std::ostringstream out;
   ProgressReporter reporter(out, /*interactive=*/false);

@@ -88,3 +88,53 @@ TEST(TileAssembler, FinishNamesTheFirstMissingTile) {
 
 }  // namespace
 }  // namespace tessera
+
+namespace tessera {
+namespace {
+
+std::vector<float> filled(const TileRect& t, float value) {
+  return std::vector<float>(t.pixel_count() * 4, value);
+}
+
+// Progressive passes: each tile's passes arrive in order; the EXR on disk is rewritten
+// whole as each pass of the image completes, so it always shows a finished pass.
+TEST(TileAssembler, PassesReplaceTilesAndRewriteTheExrAsEachPassCompletes) {
+  const std::uint32_t width = 20, height = 12, tile_size = 8;  // 3 x 2 tiles
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("tessera_tile_assembler_passes_" + std::to_string(::getpid()) + ".exr");
+  std::filesystem::remove(path);
+  const std::vector<TileRect> tiles = make_tiles(width, height, tile_size);
+  TileAssembler assembler(width, height, tile_size, path, rgba_channels(), 3);
+  EXPECT_EQ(assembler.passes(), 3u);
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    EXPECT_FALSE(std::filesystem::exists(path));  // no pass complete yet
+    EXPECT_EQ(assembler.add_tile(tiles[i], filled(tiles[i], 1.0f), 1), i + 1 == tiles.size());
+  }
+  EXPECT_EQ(assembler.passes_done(), 1u);
+  ASSERT_TRUE(std::filesystem::exists(path));
+  EXPECT_EQ(read_image(path).pixels[0], 1.0f);
+  // A pass out of order, or a tile's pass again, is an error.
+  EXPECT_THROW(assembler.add_tile(tiles[0], filled(tiles[0], 3.0f), 3), std::runtime_error);
+  EXPECT_THROW(assembler.add_tile(tiles[0], filled(tiles[0], 1.0f), 1), std::runtime_error);
+  assembler.add_tile(tiles[0], filled(tiles[0], 2.0f), 2);
+  EXPECT_EQ(assembler.image().pixels[0], 2.0f);  // the latest pass shows at once
+  EXPECT_EQ(read_image(path).pixels[0], 1.0f);   // the file keeps the last whole pass
+  for (std::size_t i = 1; i < tiles.size(); ++i)
+    assembler.add_tile(tiles[i], filled(tiles[i], 2.0f), 2);
+  EXPECT_EQ(read_image(path).pixels[0], 2.0f);
+  for (const TileRect& t : tiles) {
+    EXPECT_FALSE(assembler.complete());
+    assembler.add_tile(t, filled(t, 3.0f), 3);
+  }
+  EXPECT_TRUE(assembler.complete());
+  EXPECT_EQ(assembler.passes_done(), 3u);
+  assembler.finish();
+  const RgbaImage file = read_image(path);
+  EXPECT_TRUE(
+      std::all_of(file.pixels.begin(), file.pixels.end(), [](float v) { return v == 3.0f; }));
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace tessera

@@ -37,6 +37,17 @@ TEST(SchemaYaml, MisspelledRequiredKeyIsNamedWithTheKeyItMeant) {
             "scene.yaml:4: geometry[0].raduis: unknown key 'raduis' (did you mean 'radius'?)");
 }
 
+TEST(SchemaYaml, RenderPassesAreReadAndCheckedAgainstSppAndAdaptiveSampling) {
+  EXPECT_EQ(load("render: { spp: 8, passes: 4 }\n").scene.render.passes, 4u);
+  EXPECT_EQ(load("render: { spp: 8 }\n").scene.render.pass_count(), 1u);
+  const SceneIssue over = load_error("render: { spp: 4, passes: 8 }\n");
+  EXPECT_EQ(over.field, "render.passes");
+  EXPECT_EQ(over.message, "must not exceed samples_per_pixel (4), got 8");
+  const SceneIssue adaptive = load_error("render: { spp: 64, passes: 4, target_error: 0.05 }\n");
+  EXPECT_EQ(adaptive.field, "render.passes");
+  EXPECT_NE(adaptive.message.find("adaptive sampling"), std::string::npos);
+}
+
 TEST(SchemaYaml, UnknownKeysInEverySectionAreErrorsWithTheirLine) {
   EXPECT_EQ(load_error("camera:\n  position: [0, 0, 5]\n  fvo: 30\n").to_string(),
             "scene.yaml:3: camera.fvo: unknown key 'fvo' (did you mean 'fov'?)");

@@ -147,6 +147,14 @@ TEST_F(ConfigFile, ShutdownGraceAndRetentionAreRead) {
   EXPECT_TRUE(cl.warnings.empty());
 }
 
+TEST_F(ConfigFile, StreamWriteTimeoutIsReadWithItsDefault) {
+  EXPECT_EQ(parse({}).config.stream_write_timeout, std::chrono::seconds(30));
+  const CommandLine cl = parse({"--config", write("stream_write_timeout: 2m\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.stream_write_timeout, std::chrono::minutes(2));
+  EXPECT_TRUE(cl.warnings.empty());
+}
+
 TEST(ParseDuration, AcceptsANumberWithAUnit) {
   EXPECT_EQ(parse_duration("250ms"), std::chrono::milliseconds(250));
   EXPECT_EQ(parse_duration("30"), std::chrono::seconds(30));
@@ -182,6 +190,8 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
       {"job_ttl: 5w\n", "job_ttl: must be a duration"},
       {"max_jobs: -3\n", "max_jobs: must be a whole number, 0 for no limit, got '-3'"},
       {"max_jobs: lots\n", "max_jobs: must be a whole number"},
+      {"stream_write_timeout: 0s\n", ":1: stream_write_timeout: must be at least 1ms, got '0s'"},
+      {"stream_write_timeout: never\n", "stream_write_timeout: must be a duration"},
   };
   for (const auto& [text, expected] : cases) {
     const CommandLine cl = parse({"--config", write(text)});
@@ -222,6 +232,9 @@ TEST(ValidateConfig, NamesTheBadSetting) {
   EXPECT_THROW(validate_config(config), ConfigError);
   config = DaemonConfig{};
   config.log_level = "loud";
+  EXPECT_THROW(validate_config(config), ConfigError);
+  config = DaemonConfig{};
+  config.stream_write_timeout = std::chrono::milliseconds(0);
   EXPECT_THROW(validate_config(config), ConfigError);
   EXPECT_NO_THROW(validate_config(DaemonConfig{}));
 }

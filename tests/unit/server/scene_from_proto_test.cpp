@@ -153,6 +153,27 @@ TEST(SceneFromProto, UnknownSamplerAndLightStrategyNameTheFieldAndTheValues) {
       "LIGHT_STRATEGY_BSDF)");
 }
 
+// Progressive passes split spp into sample ranges, so the same two rules as YAML's
+// render.passes apply, named in protobuf's path style.
+TEST(SceneFromProto, PassesAreCheckedAgainstSppAndAdaptiveSampling) {
+  v1::RenderSettings settings = tiny_settings();
+  settings.set_samples_per_pixel(8);
+  settings.set_passes(4);
+  const SceneConversion ok = scene_from_proto(tiny_scene(), settings);
+  ASSERT_TRUE(ok.ok()) << issues_text(ok);
+  EXPECT_EQ(ok.scene->render.passes, 4u);
+  EXPECT_EQ(settings_to_proto(ok.scene->render).passes(), 4u);
+  settings.set_passes(9);
+  expect_single_issue(tiny_scene(), settings, "settings.passes",
+                      "must not exceed samples_per_pixel (8), got 9");
+  settings.set_passes(2);
+  settings.set_target_error(0.05);
+  settings.set_min_samples_per_pixel(4);
+  expect_single_issue(tiny_scene(), settings, "settings.passes", "adaptive sampling");
+  settings.set_passes(0);  // one pass
+  EXPECT_TRUE(scene_from_proto(tiny_scene(), settings).ok());
+}
+
 TEST(SceneFromProto, MissingShapeIsNamed) {
   v1::Scene scene = tiny_scene();
   scene.add_geometry()->set_material("grey");

@@ -56,6 +56,62 @@ class SqliteJobStoreTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// A pass of a tile and the tile's accumulated state are one transaction: the state is
+// replaced by each pass, dropped with the last, and left alone by a duplicate or a job that
+// is not running.
+TEST_F(SqliteJobStoreTest, PassStatesAreReplacedPerPassAndDroppedWithTheLast) {
+  SqliteJobStore store(file());
+  store.create_job(record("job-a", 4), scene());  // 2 tiles x 2 passes
+  store.mark_running("job-a", 1);
+  EXPECT_FALSE(store.tile_pass_state("job-a", 1).has_value());
+  const TilePassState first{1, 1, {1, 2, 3}};
+  EXPECT_EQ(store.commit_tile_pass("job-a", 1, "w", {9}, 5, 2, first, false).outcome,
+            TileCommit::kStored);
+  auto state = store.tile_pass_state("job-a", 1);
+  ASSERT_TRUE(state.has_value());
+  EXPECT_EQ(state->passes_done, 1u);
+  EXPECT_EQ(state->bytes, (std::vector<std::uint8_t>{1, 2, 3}));
+  // A duplicate commit of that pass changes no state.
+  EXPECT_EQ(
+      store.commit_tile_pass("job-a", 1, "w", {9}, 5, 2, TilePassState{1, 1, {7}}, false).outcome,
+      TileCommit::kDuplicate);
+  EXPECT_EQ(store.tile_pass_state("job-a", 1)->bytes, (std::vector<std::uint8_t>{1, 2, 3}));
+  store.commit_tile_pass("job-a", 0, "w", {9}, 5, 3, TilePassState{0, 1, {4}}, false);
+  EXPECT_EQ(rows("tile_states"), 2);
+  // Pass 2 of tile 1 (store index 3) is its last: its state goes in the same commit.
+  EXPECT_EQ(
+      store.commit_tile_pass("job-a", 3, "w", {9}, 5, 4, TilePassState{1, 2, {}}, true).outcome,
+      TileCommit::kStored);
+  EXPECT_FALSE(store.tile_pass_state("job-a", 1).has_value());
+  EXPECT_EQ(store.tile_pass_state("job-a", 0)->passes_done, 1u);
+  EXPECT_EQ(rows("tile_states"), 1);
+  // Deleting the job deletes its states.
+  store.finish_job("job-a", JobState::kCancelled, "", 5);
+  EXPECT_EQ(
+      store.commit_tile_pass("job-a", 2, "w", {9}, 5, 6, TilePassState{0, 2, {}}, true).outcome,
+      TileCommit::kJobNotRunning);
+  EXPECT_EQ(rows("tile_states"), 1);
+  EXPECT_TRUE(store.delete_job("job-a"));
+  EXPECT_EQ(rows("tile_states"), 0);
+}
+
+// A version-1 file (before passes) opens and gains the tile_states table.
+TEST_F(SqliteJobStoreTest, AVersionOneFileIsUpgraded) {
+  {
+    SqliteJobStore store(file());
+    store.create_job(record("job-a"), scene());
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE tile_states; PRAGMA user_version = 1", nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  SqliteJobStore store(file());
+  EXPECT_TRUE(store.find_job("job-a").has_value());
+  EXPECT_EQ(rows("tile_states"), 0);
+}
+
 TEST_F(SqliteJobStoreTest, JobsTilesAndScenesSurviveReopening) {
   {
     SqliteJobStore store(file());

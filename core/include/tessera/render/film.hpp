@@ -27,6 +27,15 @@ struct FilmPlanes {
   // Progressive refinement: the planes already hold the image of samples [0, first_sample),
   // and the render adds the samples from there on.
   std::uint32_t first_sample = 0;
+  // Accumulation in passes (PreparedScene::accumulate_tile): when not 0, every sample is
+  // added at its weight in a render of `total_samples`, and the planes hold the partial
+  // sums of that render rather than an image (no rescaling between passes, so the last
+  // pass ends with the very floats a single render gives). The variance AOV's running
+  // statistics then live between passes in these two planes (mean and sum of squared
+  // deviations, RGB of RGBA); null when the variance AOV is off.
+  std::uint32_t total_samples = 0;
+  float* running_mean = nullptr;
+  float* running_m2 = nullptr;
 
   TESSERA_HD static std::size_t offset(const TileRect& tile, std::uint32_t x, std::uint32_t y) {
     return 4 * ((static_cast<std::size_t>(y) - tile.y) * tile.width + (x - tile.x));

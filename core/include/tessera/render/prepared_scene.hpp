@@ -27,6 +27,8 @@ struct TilePasses {
   std::array<std::vector<float>, kAovCount> aovs;
 };
 
+struct TileAccumulation;
+
 struct PrepareOptions {
   // Use the variant compiled with every feature instead of the smallest cover (tests and
   // benchmarks compare the two).
@@ -64,6 +66,13 @@ class PreparedScene {
   // kept between passes).
   TileStats refine_tile(const TileRect& tile, TilePasses& passes, std::uint32_t first,
                         std::uint32_t end) const;
+  // Passes that add up bit for bit (refine_tile rescales its image between passes, so its
+  // last pass differs from a single render by float rounding): adds samples
+  // [state.samples_done, end) to `state` (tile_accumulation.hpp), each at its weight in a
+  // render of settings().samples_per_pixel. A state with samples_done 0 is (re)started.
+  // Throws std::invalid_argument for an end outside (samples_done, samples_per_pixel], for a
+  // state of another tile or render, and under adaptive sampling.
+  TileStats accumulate_tile(const TileRect& tile, TileAccumulation& state, std::uint32_t end) const;
 
   // The specialisation this scene renders with, and what the scene needed.
   const RenderVariant& variant() const { return *variant_; }

@@ -475,8 +475,13 @@ struct RenderSettings {
   // then the most a pixel takes).
   double target_error = 0.0;
   std::uint32_t min_samples_per_pixel = 16;  // before adaptive sampling may stop a pixel
+  // Progressive passes: the daemon renders samples_per_pixel in this many passes over the
+  // whole image, each tile's passes adding up to the single-pass image bit for bit (0 or 1:
+  // one pass). Not with adaptive sampling.
+  std::uint32_t passes = 1;
 
   bool adaptive() const { return target_error > 0.0; }
+  std::uint32_t pass_count() const { return passes == 0 ? 1 : passes; }
 
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };

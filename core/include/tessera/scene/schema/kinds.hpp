@@ -299,6 +299,12 @@ struct RenderKind {
        .doc = "adaptive sampling: samples every pixel takes before it may stop",
        .yaml_name = "min_spp",
        .zero_means_default = true},
+      {.name = "passes",
+       .member = &Desc::passes,
+       .doc = "progressive passes: the daemon delivers every tile after each pass, the last "
+              "equal bit for bit to one pass (0 or 1: one pass; at most spp; not with "
+              "target_error)",
+       .zero_means_default = true},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
 };
