@@ -235,11 +235,15 @@ TEST_F(DaemonBudgetTest, TheMemoryEstimateBoundsTheMeasuredPeak) {
   struct Case {
     std::string name;
     v1::SubmitJobRequest request;
+    // Whether the estimate should be close. Repeats of one triangle are stored once, which
+    // only building the scene finds out: the estimate counts every copy.
+    bool close = true;
   };
   std::vector<Case> cases;
   cases.push_back({"cornell 256x256", make_submit_request(cornell(256, 256, 4, 32), "c", 0)});
   cases.push_back({"2M identical triangles",
-                   with_identical_triangles(cornell(64, 64, 1, 32), 2'000'000, "identical")});
+                   with_identical_triangles(cornell(64, 64, 1, 32), 2'000'000, "identical"),
+                   false});
   {
     // Two million distinct small triangles scattered in the box.
     v1::SubmitJobRequest request = make_submit_request(cornell(64, 64, 1, 32), "random", 0);
@@ -278,7 +282,7 @@ TEST_F(DaemonBudgetTest, TheMemoryEstimateBoundsTheMeasuredPeak) {
     // The request's own bytes (received and parsed) count in the measured peak but not in
     // the estimate: gRPC holds them before any budget can apply.
     EXPECT_GE(estimate.total() + 2 * c.request.ByteSizeLong(), used) << c.name;
-    if (used > (std::size_t{64} << 20)) {
+    if (c.close && used > (std::size_t{64} << 20)) {
       EXPECT_LT(ratio, 3.0) << c.name;
     }
     EXPECT_EQ(daemon.terminate(), 0);
