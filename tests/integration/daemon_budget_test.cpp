@@ -185,6 +185,26 @@ TEST_F(DaemonBudgetTest, FiftyMillionTrianglesAreRefusedBeforeAnyLargeAllocation
   EXPECT_EQ(daemon.terminate(), 0);
 }
 
+// A request over max_receive_message_bytes is refused by gRPC itself, before the daemon
+// parses it; a smaller one on the same daemon is accepted.
+TEST_F(DaemonBudgetTest, ARequestOverTheMessageSizeLimitIsRefused) {
+  TesseradProcess daemon(data(), log(), 2, "127.0.0.1:0",
+                         config("max_receive_message_bytes: 1MiB\n"));
+  Client client(ClientOptions{.target = daemon.address()});
+  // 500,000 triangles: 1.5M indices of a byte or more, well over 1 MiB.
+  try {
+    client.submit(with_identical_triangles(cornell(16, 16, 1, 16), 500'000, "big"));
+    ADD_FAILURE() << "the request was accepted";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << e.what();
+  }
+  EXPECT_TRUE(client.list().empty());
+  const v1::Job small = client.submit(make_submit_request(cornell(16, 16, 1, 16), "small", 0));
+  client.stream_tiles(small.id(), [](const v1::Tile&) {});
+  EXPECT_EQ(client.get(small.id()).state(), v1::JOB_STATE_COMPLETED);
+  EXPECT_EQ(daemon.terminate(), 0);
+}
+
 // The client's deadline passes while the daemon checks a large scene: the client hears
 // DEADLINE_EXCEEDED and no job is created, then or later.
 TEST_F(DaemonBudgetTest, ASubmissionWhoseDeadlinePassedCreatesNoJob) {
