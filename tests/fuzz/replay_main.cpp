@@ -29,9 +29,9 @@ std::string mutate(const std::string& seed, const std::vector<std::string>& seed
   std::string out = seed;
   const auto pick = [&](std::size_t n) { return n == 0 ? 0 : rng() % n; };
   static const std::vector<std::string> kTokens = {
-      "1e308", "-1e308", "nan", "inf", "-0", "4294967295", "18446744073709551616", "[]", "{}",
-      ":",     "- ",     "\n",  "\"",  "'",  "&a",         "*a",                   "!!binary",
-      "\xff",  "1e-300"};
+      "1e308", "-1e308", "nan",      "inf",  "-0",    "4294967295", "18446744073709551616",
+      "[]",    "{}",     ":",        "- ",   "\n",    "\"",         "'",
+      "&a",    "*a",     "!!binary", "\xff", "1e-300"};
   const int edits = 1 + static_cast<int>(rng() % 4);
   for (int e = 0; e < edits; ++e) {
     switch (rng() % 6) {
@@ -42,7 +42,8 @@ std::string mutate(const std::string& seed, const std::vector<std::string>& seed
         out.resize(pick(out.size() + 1));
         break;
       case 2: {  // insert a token, or a NUL byte
-        const std::string token = rng() % 8 == 0 ? std::string(1, '\0') : kTokens[pick(kTokens.size())];
+        const std::string token =
+            rng() % 8 == 0 ? std::string(1, '\0') : kTokens[pick(kTokens.size())];
         out.insert(pick(out.size() + 1), token);
         break;
       }
