@@ -25,8 +25,9 @@ constexpr std::size_t kTriangle = 64;
 constexpr std::size_t kTriangleAttributes = 96;
 // Triangle structure and BVH, counting their build's temporaries (boxes, centroids,
 // references of every primitive, held at once), which set the peak. Measured: 2M scattered
-// triangles peak at ~385 bytes each beyond their description, 2M (and 50M) copies of one
-// triangle at ~235; the estimate takes the scattered case.
+// triangles peak at ~385 bytes each beyond their description (50M copies of one triangle
+// took ~235 each before repeats were stored once; the estimate cannot see repeats and
+// counts every triangle).
 constexpr std::size_t kTriangleAccel = 384;
 // A shape other than a triangle: its description, render form, box and BVH share.
 constexpr std::size_t kShape = 512;
