@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build run test sanitize tsan clean
+.PHONY: all deps configure build run test sanitize tsan fuzz clean
 
 all: build
 
@@ -40,6 +40,19 @@ tsan: deps
 	cmake --build build-tsan -j $(JOBS) --target unit_server unit_client integration_tests tesserad
 	cd build-tsan && TSAN_OPTIONS="halt_on_error=1 suppressions=$(CURDIR)/tests/tsan.supp" \
 	  ctest --output-on-failure -j $(JOBS) -R "^(Daemon|Scheduler|Job|SqliteJobStore|CliAgainstDaemon|ClientServer|DaemonProcess)" --timeout 1200
+
+# libFuzzer on the YAML loader and on SubmitJobRequest bytes (tests/fuzz), built with clang
+# under ASan + UBSan in build-fuzz/, each run for FUZZ_SECONDS on a copy of its seed corpus
+# (build-fuzz/corpus-*; findings in build-fuzz/findings-*). `make test` replays the seeds
+# and fixed mutations of them without clang (FuzzReplay.*).
+FUZZ_SECONDS ?= 60
+FUZZ_FLAGS = -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_CUDA=OFF -DTESSERA_BUILD_BENCH=OFF \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DTESSERA_SANITIZE=ON -DTESSERA_FUZZ=ON \
+  -DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link -DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link
+fuzz: deps
+	cmake -S . -B build-fuzz $(FUZZ_FLAGS)
+	cmake --build build-fuzz -j $(JOBS) --target fuzz_yaml_scene fuzz_proto_scene fuzz_proto_seeds
+	bash tests/fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -73,9 +73,9 @@ class OverrideOptions {
   explicit OverrideOptions(CLI::App& command) {
     const SceneLimits limits;
     width_ = command.add_option("--width", width_value_, "image width in pixels")
-                 ->check(CLI::Range(1u, limits.max_dimension));
+                 ->check(CLI::Range(1u, limits.max_width));
     height_ = command.add_option("--height", height_value_, "image height in pixels")
-                  ->check(CLI::Range(1u, limits.max_dimension));
+                  ->check(CLI::Range(1u, limits.max_height));
     spp_ = command.add_option("--spp", spp_value_, "samples per pixel")
                ->check(CLI::Range(1u, limits.max_samples_per_pixel));
     depth_ = command.add_option("--max-depth", depth_value_, "maximum path length")

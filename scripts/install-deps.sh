@@ -11,8 +11,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev libcli11-dev nlohmann-json3-dev libtbb-dev
 )
-# Optional: Embree is only a benchmark yardstick; never a dependency of tesserad.
-optional_packages=(libembree-dev)
+# Optional: Embree is only a benchmark yardstick; never a dependency of tesserad. clang and
+# its runtime libraries (libFuzzer) build `make fuzz`; `make test` does without them.
+optional_packages=(libembree-dev clang libclang-rt-14-dev)
 
 missing=()
 for p in "${packages[@]}" "${optional_packages[@]}"; do

@@ -63,7 +63,9 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
                               ->default_str(data);
   app.add_option("--config", config_file,
                  "YAML file with listen, threads, data, log_level, shutdown_grace, job_ttl, "
-                 "max_jobs, max_jobs_per_submitter and stream_write_timeout; flags override it")
+                 "max_jobs, max_jobs_per_submitter and the budgets (max_receive_message_bytes, "
+                 "max_width, max_height, max_pixels, max_samples_per_pixel, max_primitives, "
+                 "memory_budget, prepare_timeout) and stream_write_timeout; flags override it")
       ->type_name("FILE");
   CLI::Option* log_opt =
       app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")

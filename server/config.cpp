@@ -2,11 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 #include <variant>
 
+#include "server/job_cost.hpp"
 #include "server/listen_address.hpp"
 
 namespace tessera::server {
@@ -51,7 +54,84 @@ std::size_t read_count(const std::string& file, const YAML::Node& node, const st
   return static_cast<std::size_t>(count);
 }
 
+std::size_t read_size(const std::string& file, const YAML::Node& node, const std::string& key) {
+  const auto size = node.IsScalar() ? parse_size(node.Scalar()) : std::nullopt;
+  if (!size)
+    throw ConfigError(located(file, node, key) +
+                      ": must be a size such as 512MiB or 8GiB (a plain number is bytes), got " +
+                      scalar_text(node));
+  return *size;
+}
+
+// A limit that must be at least 1: a whole number from 1 to `largest`.
+std::uint64_t read_limit(const std::string& file, const YAML::Node& node, const std::string& key,
+                         std::uint64_t largest) {
+  long long value = 0;
+  if (!node.IsScalar() || !YAML::convert<long long>::decode(node, value) || value < 1 ||
+      static_cast<unsigned long long>(value) > largest)
+    throw ConfigError(located(file, node, key) + ": must be a whole number from 1 to " +
+                      std::to_string(largest) + ", got " + scalar_text(node));
+  return static_cast<std::uint64_t>(value);
+}
+
+// The renderer's own bounds, which a configuration may lower but not raise.
+constexpr std::uint32_t kLargestDimension = 65536;
+constexpr std::uint32_t kLargestSamplesPerPixel = 65536;  // Sobol sample indices: 16 bits
+constexpr std::size_t kLargestPrimitives = (std::size_t{1} << 27) - 1;  // reference index bits
+
+constexpr const char* kKeys =
+    "listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs, "
+    "max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, max_pixels, "
+    "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout";
+
 }  // namespace
+
+std::optional<std::size_t> parse_size(const std::string& text) {
+  std::size_t digits = 0;
+  bool point = false;
+  while (digits < text.size() &&
+         ((text[digits] >= '0' && text[digits] <= '9') || (text[digits] == '.' && !point))) {
+    point = point || text[digits] == '.';
+    ++digits;
+  }
+  if (digits == 0 || digits > 20 || text[0] == '.') return std::nullopt;
+  double value = 0.0;
+  try {
+    value = std::stod(text.substr(0, digits));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  std::string unit = text.substr(digits);
+  while (!unit.empty() && unit.front() == ' ') unit.erase(unit.begin());
+  double scale = 0.0;
+  if (unit.empty() || unit == "B")
+    scale = 1.0;
+  else if (unit == "KiB")
+    scale = 1024.0;
+  else if (unit == "MiB")
+    scale = 1024.0 * 1024.0;
+  else if (unit == "GiB")
+    scale = 1024.0 * 1024.0 * 1024.0;
+  else if (unit == "TiB")
+    scale = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+  else if (unit == "KB" || unit == "kB")
+    scale = 1e3;
+  else if (unit == "MB")
+    scale = 1e6;
+  else if (unit == "GB")
+    scale = 1e9;
+  else if (unit == "TB")
+    scale = 1e12;
+  else
+    return std::nullopt;
+  const double bytes = value * scale;
+  if (!(bytes <= static_cast<double>(std::size_t{1} << 60))) return std::nullopt;
+  return static_cast<std::size_t>(bytes);
+}
+
+std::size_t effective_memory_budget(const DaemonConfig& config) {
+  return config.memory_budget == kMemoryBudgetAuto ? default_memory_budget() : config.memory_budget;
+}
 
 std::optional<std::chrono::milliseconds> parse_duration(const std::string& text) {
   std::size_t digits = 0;
@@ -104,8 +184,20 @@ void validate_config(const DaemonConfig& config) {
   if (!parse_log_level(config.log_level))
     throw ConfigError("log_level: must be one of " + std::string(kLogLevels) + ", got '" +
                       config.log_level + "'");
-  if (config.max_receive_message_bytes < (std::size_t{1} << 20))
-    throw ConfigError("max_receive_message_bytes: must be at least 1 MiB");
+  if (config.max_receive_message_bytes < (std::size_t{1} << 20) ||
+      config.max_receive_message_bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw ConfigError("max_receive_message_bytes: must be from 1 MiB to 2 GiB - 1 (gRPC's limit)");
+  const SceneLimits& limits = config.limits;
+  if (limits.max_width < 1 || limits.max_width > kLargestDimension)
+    throw ConfigError("max_width: must be from 1 to " + std::to_string(kLargestDimension));
+  if (limits.max_height < 1 || limits.max_height > kLargestDimension)
+    throw ConfigError("max_height: must be from 1 to " + std::to_string(kLargestDimension));
+  if (limits.max_pixels < 1) throw ConfigError("max_pixels: must be at least 1");
+  if (limits.max_samples_per_pixel < 1 || limits.max_samples_per_pixel > kLargestSamplesPerPixel)
+    throw ConfigError("max_samples_per_pixel: must be from 1 to " +
+                      std::to_string(kLargestSamplesPerPixel));
+  if (limits.max_primitives < 1 || limits.max_primitives > kLargestPrimitives)
+    throw ConfigError("max_primitives: must be from 1 to " + std::to_string(kLargestPrimitives));
   if (config.stream_write_timeout < std::chrono::milliseconds(1))
     throw ConfigError("stream_write_timeout: must be at least 1ms, got " +
                       std::to_string(config.stream_write_timeout.count()) + "ms");
@@ -123,10 +215,7 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
   }
   if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
   if (!root.IsMap())
-    throw ConfigError(display_name +
-                      ": must be a YAML map of settings (listen, threads, data, log_level, "
-                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter, "
-                      "stream_write_timeout)");
+    throw ConfigError(display_name + ": must be a YAML map of settings (" + kKeys + ")");
 
   for (const auto& entry : root) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
@@ -167,6 +256,36 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       if (config.stream_write_timeout < std::chrono::milliseconds(1))
         throw ConfigError(located(display_name, value, key) + ": must be at least 1ms, got " +
                           scalar_text(value));
+    } else if (key == "max_receive_message_bytes") {
+      config.max_receive_message_bytes = read_size(display_name, value, key);
+      if (config.max_receive_message_bytes < (std::size_t{1} << 20) ||
+          config.max_receive_message_bytes >
+              static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw ConfigError(located(display_name, value, key) +
+                          ": must be from 1MiB to 2GiB - 1 (gRPC's limit), got " +
+                          scalar_text(value));
+    } else if (key == "max_width") {
+      config.limits.max_width =
+          static_cast<std::uint32_t>(read_limit(display_name, value, key, kLargestDimension));
+    } else if (key == "max_height") {
+      config.limits.max_height =
+          static_cast<std::uint32_t>(read_limit(display_name, value, key, kLargestDimension));
+    } else if (key == "max_pixels") {
+      config.limits.max_pixels = read_limit(display_name, value, key,
+                                            std::uint64_t{kLargestDimension} * kLargestDimension);
+    } else if (key == "max_samples_per_pixel") {
+      config.limits.max_samples_per_pixel =
+          static_cast<std::uint32_t>(read_limit(display_name, value, key, kLargestSamplesPerPixel));
+    } else if (key == "max_primitives") {
+      config.limits.max_primitives = read_limit(display_name, value, key, kLargestPrimitives);
+      config.limits.max_triangles =
+          std::max(config.limits.max_triangles, config.limits.max_primitives);
+    } else if (key == "memory_budget") {
+      config.memory_budget = value.IsScalar() && value.Scalar() == "auto"
+                                 ? kMemoryBudgetAuto
+                                 : read_size(display_name, value, key);
+    } else if (key == "prepare_timeout") {
+      config.prepare_timeout = read_duration(display_name, value, key);
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

@@ -16,6 +16,8 @@ namespace tessera::server {
 inline constexpr const char* kDefaultListen = "127.0.0.1:50051";
 inline constexpr const char* kDefaultDataDir = "./var";  // tesserad's default for --data
 inline constexpr unsigned kMaxThreads = 1024;
+// DaemonConfig::memory_budget's default: half the physical memory, read when the daemon starts.
+inline constexpr std::size_t kMemoryBudgetAuto = static_cast<std::size_t>(-1);
 
 // std::thread::hardware_concurrency(), or 1 where it is unknown.
 unsigned default_thread_count();
@@ -31,8 +33,21 @@ struct DaemonConfig {
   // trace, debug, info, warn, error, critical, off. Process-wide, so tesserad's main()
   // applies it; an in-process Daemon leaves the host's logging alone.
   std::string log_level = "info";
-  std::size_t max_receive_message_bytes = std::size_t{256} << 20;  // large inline meshes
+  // Budgets. gRPC refuses a larger request before the daemon sees it (RESOURCE_EXHAUSTED);
+  // 256 MiB carries inline meshes of ~20M triangles.
+  std::size_t max_receive_message_bytes = std::size_t{256} << 20;
+  // Width, height, pixels, samples per pixel, primitives: checked with the scene (config
+  // keys max_width, max_height, max_pixels, max_samples_per_pixel, max_primitives).
   SceneLimits limits;
+  // A job whose estimated memory (estimate_memory: description, geometry, BVH, images,
+  // tiles in flight) exceeds this is refused at SubmitJob with RESOURCE_EXHAUSTED, before
+  // its scene is converted. Checked per job, not against what running jobs hold now: those
+  // finish, so a job that fits the budget is queued rather than refused for being early.
+  // 0: no limit. Default: half the physical memory (default_memory_budget()).
+  std::size_t memory_budget = kMemoryBudgetAuto;
+  // A job whose scene preparation (BVH build and the rest) runs longer fails with an
+  // error saying so; 0: no limit.
+  std::chrono::milliseconds prepare_timeout{10 * 60 * 1000};
   // How long shutdown lets tiles in flight finish (and be stored) before abandoning them;
   // an abandoned tile stops within about a second and is rendered again after a restart.
   // Shutdown takes at most this plus about 2 s, so a container's stop grace period must be
@@ -65,13 +80,23 @@ std::optional<spdlog::level::level_enum> parse_log_level(const std::string& name
 // negative or beyond 100 years.
 std::optional<std::chrono::milliseconds> parse_duration(const std::string& text);
 
+// "512MiB", "8GiB", "1.5GB"... (KB/MB/GB/TB are powers of 1000, KiB/MiB/GiB/TiB of 1024);
+// a plain number is bytes. Nothing when malformed or beyond 2^60.
+std::optional<std::size_t> parse_size(const std::string& text);
+
+// The memory budget in bytes (kMemoryBudgetAuto resolved; 0: no limit).
+std::size_t effective_memory_budget(const DaemonConfig& config);
+
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
 // Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs,
-// max_jobs_per_submitter and stream_write_timeout from a YAML file on top of `base`. Durations are
-// a number with a unit: 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad
-// values throw ConfigError naming file and key.
+// max_jobs_per_submitter and the budgets (max_receive_message_bytes, max_width, max_height,
+// max_pixels, max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) and
+// stream_write_timeout from a
+// YAML file on top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d;
+// sizes a number with an optional unit: 512MiB, 8GiB. Unknown keys are reported in
+// `warnings`; bad values throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

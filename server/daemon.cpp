@@ -22,6 +22,7 @@
 #include "server/render_service.hpp"
 #include "server/scheduler.hpp"
 #include "server/sqlite_job_store.hpp"
+#include "tessera/render/memory_estimate.hpp"
 
 namespace tessera::server {
 
@@ -165,6 +166,7 @@ int Daemon::start() {
   SchedulerOptions options;
   options.threads = d.config.threads;
   options.owner = random_owner();
+  options.prepare_timeout = d.config.prepare_timeout;
   options.load_scene = [&d](const Job& job) { return load_scene(*d.store, job, d.config.limits); };
   options.on_job_released = [&d](const Job& job) {
     d.jobs->forget(job.id());
@@ -174,6 +176,7 @@ int Daemon::start() {
   d.service = std::make_unique<RenderServiceImpl>(
       *d.jobs, *d.scheduler, d.config.limits, d.config.max_jobs_per_submitter,
       std::chrono::milliseconds(100), d.config.stream_write_timeout);
+  d.service->set_memory_budget(effective_memory_budget(d.config));
 
   // Jobs a previous run left queued or running carry on where they stopped.
   const std::vector<JobRecord> unfinished = d.store->unfinished_jobs();
@@ -208,6 +211,13 @@ int Daemon::start() {
   d.set_state(Impl::State::kRunning, bound_port, connectable_host(listen.host));
   spdlog::info("tesserad {} listening on {} with {} render threads", TESSERA_VERSION,
                listen.host + ":" + std::to_string(bound_port), d.config.threads);
+  const std::size_t budget = effective_memory_budget(d.config);
+  spdlog::info("budgets: memory {} per job, messages up to {}, preparation {}",
+               budget == 0 ? std::string("unlimited") : format_bytes(budget),
+               format_bytes(d.config.max_receive_message_bytes),
+               d.config.prepare_timeout.count() == 0
+                   ? std::string("unlimited")
+                   : std::to_string(d.config.prepare_timeout.count() / 1000) + " s");
   return bound_port;
 }
 

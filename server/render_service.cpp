@@ -6,6 +6,7 @@
 
 #include "convert/scene_proto.hpp"
 #include "server/job_passes.hpp"
+#include "server/job_cost.hpp"
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
 
@@ -120,6 +121,16 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
     return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
                    " bytes, got " + std::to_string(request.submitter().size()));
   const std::string logged_name = escape_client_text(request.name());
+  // Before the scene is converted: a request that could never fit costs no more than the
+  // memory gRPC already spent parsing it.
+  const JobCostCheck cost = check_job_cost(request, limits_, memory_budget_, scheduler_.threads());
+  if (cost.verdict != JobCostCheck::Verdict::kFits) {
+    spdlog::info("refused job '{}': {}", logged_name, cost.message);
+    return grpc::Status(cost.verdict == JobCostCheck::Verdict::kOverMemoryBudget
+                            ? grpc::StatusCode::RESOURCE_EXHAUSTED
+                            : grpc::StatusCode::INVALID_ARGUMENT,
+                        cost.message);
+  }
   SceneConversion conversion = scene_from_proto(request.scene(), request.settings(), limits_);
   if (!conversion.ok()) {
     const std::string message = describe_issues(conversion.issues);

@@ -55,6 +55,11 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
       grpc::ServerContext* context,
       grpc::ServerUnaryStreamer<v1::DeleteJobRequest, v1::DeleteJobResponse>* streamer) override;
 
+  // A job whose estimated memory (server/job_cost.hpp) exceeds `bytes` is refused with
+  // RESOURCE_EXHAUSTED before its scene is converted; 0 (the default): no limit. Call
+  // before serving.
+  void set_memory_budget(std::size_t bytes) { memory_budget_ = bytes; }
+
   // From now on SubmitJob answers UNAVAILABLE, and streams of unfinished jobs end with
   // UNAVAILABLE (their jobs resume when the daemon restarts).
   void stop_accepting() { accepting_ = false; }
@@ -84,6 +89,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   Scheduler& scheduler_;
   SceneLimits limits_;
   std::size_t max_jobs_per_submitter_;
+  std::size_t memory_budget_ = 0;
   std::chrono::milliseconds poll_interval_;
   JobIdGenerator ids_;
   std::atomic<bool> accepting_{true};

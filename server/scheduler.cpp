@@ -255,8 +255,15 @@ void Scheduler::prepare(Entry& entry) {
       const RenderSettings& r = scene.render;
       if (tile_count(r) != job.record().tiles_total)
         throw std::runtime_error("the stored scene's tile grid does not match the job's");
+      const auto prepare_start = std::chrono::steady_clock::now();
       prepared = options_.prepare(scene);
       if (!prepared) throw std::runtime_error("no scene was built");
+      const std::chrono::duration<double> took = std::chrono::steady_clock::now() - prepare_start;
+      if (options_.prepare_timeout.count() > 0 && took > options_.prepare_timeout)
+        throw std::runtime_error(
+            fmt::format("it took {:.1f} s, longer than the daemon's limit of {:.1f} s "
+                        "(prepare_timeout in its configuration)",
+                        took.count(), options_.prepare_timeout.count() / 1000.0));
       // Tiles (and passes of tiles) stored before, by a daemon that stopped or died, are
       // not rendered again. Work is in store-index order: pass 1 of every tile, then pass 2.
       const std::vector<std::uint32_t> done = job.stored_tile_indices();

@@ -33,6 +33,11 @@ struct SchedulerOptions {
   // For jobs submitted without a scene in memory (every job the daemon runs, so a queued
   // job costs no scene memory and a resumed one takes the same path).
   LoadSceneFn load_scene;
+  // A job whose scene preparation takes longer fails (0: no limit). The build itself
+  // cannot be interrupted (the BVH build is one TBB parallel step), so the job fails, and
+  // its worker is free, when the build returns; the budgets checked at submission
+  // (primitives, memory estimate) are what bound how long that can be.
+  std::chrono::milliseconds prepare_timeout{0};
   // Names this scheduler's tile claims in the store.
   std::string owner = "scheduler";
   // Fairness across priorities: once a job has been handed `long_job_tiles` tiles, every

@@ -19,13 +19,23 @@ bool cpu_has_avx2() {
 }
 }  // namespace tessera::accel_detail
 
+// Clang ignores GCC's target pragma; its attribute pragma does the same (the fuzz build,
+// `make fuzz`, compiles the library with clang).
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,bmi,popcnt"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,popcnt")
+#endif
 #define TESSERA_KERNEL_NS avx2
 #define TESSERA_KERNEL_ISA_NAME "avx2"
 #define TESSERA_KERNEL_AVX2 1
 #include "triangle_kernels.inl"
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #else
 namespace tessera::accel_detail {
 bool cpu_has_avx2() {

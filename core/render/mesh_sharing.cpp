@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "mesh_triangles.hpp"
+#include "repeated_triangles.hpp"
 #include "shape_placement.hpp"
 
 namespace tessera {
@@ -76,7 +77,9 @@ SharedMeshes share_mesh_geometry(const SceneDescription& description,
   for (const auto& group : groups) {
     const TriangleMeshDesc& geometry = description.meshes[group.front()];
     const auto first_triangle = static_cast<std::uint32_t>(shared.triangles.size());
+    const std::vector<bool> repeated = repeated_triangles(geometry);
     for (std::size_t i = 0; i + 2 < geometry.indices.size(); i += 3) {
+      if (!repeated.empty() && repeated[i / 3]) continue;  // adds nothing to the image
       const std::uint32_t a = geometry.indices[i], b = geometry.indices[i + 1],
                           c = geometry.indices[i + 2];
       // Material 0: each placement carries its own material (MeshPlacement::material).

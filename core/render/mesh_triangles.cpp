@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "repeated_triangles.hpp"
+
 namespace tessera {
 
 bool stores_triangle_attributes(std::span<const TriangleMeshDesc> meshes) {
@@ -39,7 +41,9 @@ void bake_mesh(const TriangleMeshDesc& mesh, bool store_attributes,
   const TriangleMeshDesc world =
       mesh.transform ? transformed_mesh(mesh, *mesh.transform) : TriangleMeshDesc{};
   const TriangleMeshDesc& placed = mesh.transform ? world : mesh;
+  const std::vector<bool> repeated = repeated_triangles(placed);
   for (std::size_t i = 0; i + 2 < placed.indices.size(); i += 3) {
+    if (!repeated.empty() && repeated[i / 3]) continue;  // adds nothing to the image
     const std::uint32_t a = placed.indices[i], b = placed.indices[i + 1], c = placed.indices[i + 2];
     primitives.store(triangles, PrimitiveType::kTriangle,
                      mesh_triangle(placed, a, b, c, placed.material), placed.visible,

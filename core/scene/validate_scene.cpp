@@ -211,6 +211,11 @@ class SceneValidator {
     // Counted from the points actually given, so the limit bounds what building allocates.
     control_points_ += count;
     if (control_points_ > limits_.max_patch_control_points) return;  // reported in totals()
+    // The builder checks finiteness; the magnitude bound is the scene model's (schema).
+    for (std::size_t i = 0; i < count; ++i)
+      if (!check.finite("control_points[" + std::to_string(i) + "]", p.control_points[i])) return;
+    for (std::size_t i = 0; i < p.weights.size(); ++i)
+      if (!check.finite("weights[" + std::to_string(i) + "]", p.weights[i])) return;
     SplinePatchPool pool;
     SplinePatch patch;
     const std::string error =
@@ -233,8 +238,8 @@ class SceneValidator {
               if constexpr (schema::PlainShapeKind<Kind>) {
                 Checks check = at(prefix);
                 if (schema::check_fields(surface, Kind::fields, check)) Kind::check(surface, check);
-              } else {
-                patch_shape(surface, prefix);
+              } else if constexpr (std::is_same_v<S, SplinePatchDesc>) {
+                patch_shape(surface, prefix);  // spelled out: clang 14 instantiates the else
               }
             }
           });
@@ -306,6 +311,8 @@ class SceneValidator {
     over(control_points_, limits_.max_patch_control_points, "patch control points");
     over(trim_points_, limits_.max_trim_points, "trimming loop points");
     over(triangles_, limits_.max_triangles, "triangles");
+    over(triangles_ + scene_.analytic_shape_count(), limits_.max_primitives,
+         "primitives (triangles and other shapes)");
     // The renderer names triangles (baked, or each placement's of shared geometry) with the
     // 27 index bits of a primitive reference, whatever limit a server configures.
     constexpr std::size_t kNamedTriangles = std::size_t{1} << 27;
@@ -334,8 +341,13 @@ class SceneValidator {
                                                 std::to_string(value));
     };
     const auto& fields = schema::RenderKind::fields;
-    in_u32(fields[0], 1, limits_.max_dimension);
-    in_u32(fields[1], 1, limits_.max_dimension);
+    in_u32(fields[0], 1, limits_.max_width);
+    in_u32(fields[1], 1, limits_.max_height);
+    const std::size_t pixels = std::size_t{r.width} * r.height;
+    if (pixels > limits_.max_pixels)
+      check.fail(fields[0].key(check.yaml()), "width x height is " + std::to_string(pixels) +
+                                                  " pixels, more than the limit of " +
+                                                  std::to_string(limits_.max_pixels));
     in_u32(fields[2], 1, limits_.max_samples_per_pixel);
     in_u32(fields[3], 1, limits_.max_depth);
     in_u32(fields[4], limits_.min_tile_size, limits_.max_tile_size);

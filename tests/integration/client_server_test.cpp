@@ -83,7 +83,8 @@ class ClientServerTest : public ::testing::Test {
     config.log_level = "warn";
     spdlog::set_level(spdlog::level::warn);  // job-by-job info lines would drown the test output
     // Small enough that the CLI test below can exceed it with a scene the client accepts.
-    config.limits.max_dimension = 1024;
+    config.limits.max_width = 1024;
+    config.limits.max_height = 1024;
     daemon_ = new server::Daemon(config);
     port_ = daemon_->start();
   }
@@ -340,7 +341,7 @@ TEST_F(CliAgainstDaemonTest, RenderWithPassesWritesTheOnePassImage) {
 }
 
 TEST_F(CliAgainstDaemonTest, ServerRejectionPrintsCodeAndMessage) {
-  // Valid for the client's default limits, beyond this daemon's max_dimension of 1024.
+  // Valid for the client's default limits, beyond this daemon's max_width of 1024.
   CliCommand command = render_command();
   command.overrides.width = 2000;
   const CliRun r = run_cli(command);

@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "cornell_scene.hpp"
+#include "tesserad_process.hpp"
 
 #include <chrono>
 #include <cstring>
@@ -37,84 +38,7 @@ using server::SqliteJobStore;
 
 using test::cornell;
 using test::kCornell;
-
-// One tesserad process on a free port, its log appended to `log`.
-class TesseradProcess {
- public:
-  TesseradProcess(const std::filesystem::path& data, const std::filesystem::path& log,
-                  unsigned threads = 2, const std::string& listen = "127.0.0.1:0") {
-    std::vector<std::string> args = {
-        TESSERAD_PATH,          "--listen", listen, "--data", data.string(), "--threads",
-        std::to_string(threads)};
-    std::vector<char*> argv;
-    for (std::string& arg : args) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-    const std::string log_path = log.string();
-
-    int out[2];
-    if (::pipe(out) != 0) throw std::runtime_error("pipe failed");
-    pid_ = ::fork();
-    if (pid_ < 0) throw std::runtime_error("fork failed");
-    if (pid_ == 0) {
-      // Only async-signal-safe calls between fork and exec: this process has threads.
-      ::dup2(out[1], STDOUT_FILENO);
-      const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-      if (log_fd >= 0) ::dup2(log_fd, STDERR_FILENO);
-      ::close(out[0]);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    ::close(out[1]);
-    stdout_fd_ = out[0];
-    port_ = read_port();
-  }
-  ~TesseradProcess() {
-    if (pid_ > 0) kill_now();
-    if (stdout_fd_ >= 0) ::close(stdout_fd_);
-  }
-  TesseradProcess(const TesseradProcess&) = delete;
-  TesseradProcess& operator=(const TesseradProcess&) = delete;
-
-  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
-
-  void kill_now() {
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
-    pid_ = -1;
-  }
-
-  // SIGTERM, then the exit status (128 + signal when killed by one).
-  int terminate() {
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-
- private:
-  // Reads stdout up to "tesserad listening on HOST:PORT (port N)".
-  int read_port() {
-    std::string text;
-    const auto give_up = std::chrono::steady_clock::now() + 60s;
-    while (std::chrono::steady_clock::now() < give_up) {
-      pollfd fd{stdout_fd_, POLLIN, 0};
-      if (::poll(&fd, 1, 100) <= 0) continue;
-      char buffer[256];
-      const ssize_t n = ::read(stdout_fd_, buffer, sizeof buffer);
-      if (n <= 0) break;
-      text.append(buffer, static_cast<std::size_t>(n));
-      const auto at = text.find("(port ");
-      if (at != std::string::npos && text.find(')', at) != std::string::npos)
-        return std::stoi(text.substr(at + 6));
-    }
-    throw std::runtime_error("tesserad did not report its port; stdout: " + text);
-  }
-
-  pid_t pid_ = -1;
-  int stdout_fd_ = -1;
-  int port_ = 0;
-};
+using test::TesseradProcess;
 
 // What the stream of a job delivered, assembled into an image.
 struct Streamed {

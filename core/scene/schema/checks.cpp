@@ -1,5 +1,7 @@
 #include "tessera/scene/schema/checks.hpp"
 
+#include "tessera/scene/schema/field.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -19,15 +21,33 @@ std::string Checks::format(const glm::dvec3& value) {
   return out.str();
 }
 
+namespace {
+
+std::string magnitude_bound() {
+  return "must be within +-" + Checks::format(kMaxMagnitude) +
+         " (the renderer works in single precision), got ";
+}
+
+}  // namespace
+
 bool Checks::finite(std::string_view field, double value) {
-  if (std::isfinite(value)) return true;
-  fail(field, "must be a finite number, got " + format(value));
+  if (!std::isfinite(value)) {
+    fail(field, "must be a finite number, got " + format(value));
+    return false;
+  }
+  if (std::fabs(value) <= kMaxMagnitude) return true;
+  fail(field, magnitude_bound() + format(value));
   return false;
 }
 
 bool Checks::finite(std::string_view field, const glm::dvec3& value) {
-  if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z)) return true;
-  fail(field, "must be three finite numbers, got " + format(value));
+  if (!std::isfinite(value.x) || !std::isfinite(value.y) || !std::isfinite(value.z)) {
+    fail(field, "must be three finite numbers, got " + format(value));
+    return false;
+  }
+  const double largest = std::max({std::fabs(value.x), std::fabs(value.y), std::fabs(value.z)});
+  if (largest <= kMaxMagnitude) return true;
+  fail(field, magnitude_bound() + format(value));
   return false;
 }
 

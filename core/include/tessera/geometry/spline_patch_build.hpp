@@ -2,6 +2,7 @@
 // Host-side construction of SplinePatch: validation of the control grid, knots and weights,
 // and conversion to rational Bézier pieces by knot insertion (once, when the scene is
 // built). Not for the device: it allocates.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -117,6 +118,12 @@ inline std::vector<glm::dvec4> transpose(const std::vector<glm::dvec4>& grid, in
 
 }  // namespace detail
 
+// The largest ratio between a NURBS patch's largest and smallest weight. Extreme weights
+// (1e-300 next to 1e300) pinch the surface into control points the flatness bound cannot
+// see, so the intersector subdivides to its depth limit on every ray (4000x slower);
+// circles and conics need ratios near 1 (1/sqrt 2), and 1e6 leaves any modelled shape room.
+inline constexpr double kMaxWeightRatio = 1e6;
+
 // Validates `description` (errors name `field`'s sub-field and the reason), appends its
 // Bézier pieces to the pool and fills `out` (its pieces pointer bound to the pool as it is
 // now). Returns an empty string on success.
@@ -143,6 +150,14 @@ inline std::string build_spline_patch(const SplinePatchDescription& description,
       return field + ".weights[" + std::to_string(i) + "]: must be finite and > 0, got " +
              std::to_string(w);
     grid[i] = glm::dvec4(p * w, w);
+  }
+  if (!description.weights.empty()) {
+    const auto [smallest, largest] =
+        std::minmax_element(description.weights.begin(), description.weights.end());
+    if (*largest > *smallest * kMaxWeightRatio)
+      return field + ".weights: the largest (" + std::to_string(*largest) + ") must be at most " +
+             std::to_string(kMaxWeightRatio) + " times the smallest (" + std::to_string(*smallest) +
+             ")";
   }
   std::string error = detail::validate_knots(description.knots_u, nu, field + ".knots_u");
   if (error.empty()) error = detail::validate_knots(description.knots_v, nv, field + ".knots_v");

@@ -517,13 +517,19 @@ struct SceneDescription {
 };
 
 // Limits that keep one job from exhausting the daemon; they apply to every input path.
+// A server sets them from its configuration (server/config.hpp documents the keys).
 struct SceneLimits {
-  std::uint32_t max_dimension = 16384;
+  std::uint32_t max_width = 16384;
+  std::uint32_t max_height = 16384;
+  // Width x height: bounds the film (16 bytes a pixel for beauty, more with AOVs).
+  std::size_t max_pixels = std::size_t{8192} * 8192;
   std::uint32_t max_samples_per_pixel = 65536;
   std::uint32_t max_depth = 64;
   std::uint32_t min_tile_size = 8;
   std::uint32_t max_tile_size = 1024;
   std::size_t max_triangles = 50'000'000;
+  // Triangles plus every other shape (spheres, quads, patches, trimmed faces, ...).
+  std::size_t max_primitives = 50'000'000;
   // Shapes of one type; the renderer's primitive references hold 27 index bits.
   std::size_t max_shapes_per_type = (std::size_t{1} << 27) - 1;
   // Control points of all patches together (each becomes at most one Bézier piece of

@@ -17,7 +17,15 @@ enum class Presence : std::uint8_t {
   kOptional,  // missing keeps the description's default (the struct's member initialiser)
 };
 
-// The value rule validate_scene applies. Every number must be finite whatever the rule.
+// The largest magnitude any number in a scene may have, whatever its rule. The renderer
+// works in single precision (largest float ~3.4e38): a camera at 1e308, an emission of
+// 1e308 or a radius of 1e300 is finite in the description but infinite or NaN in the
+// renderer. 1e12 leaves squares (distances, areas: 1e24) and sums of many samples well
+// inside float range while allowing any physical scene (a 1e12 m scene is 7 AU across).
+inline constexpr double kMaxMagnitude = 1e12;
+
+// The value rule validate_scene applies. Every number must be finite and within
+// +-kMaxMagnitude whatever the rule.
 enum class Rule : std::uint8_t {
   kFinite,
   kPositive,               // > 0 (lengths, radii)

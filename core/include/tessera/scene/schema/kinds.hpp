@@ -888,7 +888,9 @@ struct SplinePatchKind {
       {.name = "control_points",
        .presence = kRequired,
        .doc = "rows along u, each row the points along v; at least 4 x 4"},
-      {.name = "weights", .doc = "[none] (same shape; any given makes it a NURBS patch, each > 0)"},
+      {.name = "weights",
+       .doc = "[none] (same shape; any given makes it a NURBS patch, each > 0, the largest at "
+              "most 1e6 times the smallest)"},
       {.name = "knots_u",
        .doc = "[clamped uniform on [0, 1]] (count + 4 non-decreasing values, a value repeated at "
               "most 4 times)"},
