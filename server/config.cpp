@@ -106,6 +106,12 @@ void validate_config(const DaemonConfig& config) {
                       config.log_level + "'");
   if (config.max_receive_message_bytes < (std::size_t{1} << 20))
     throw ConfigError("max_receive_message_bytes: must be at least 1 MiB");
+  if (config.tile_retries > kMaxTileRetries)
+    throw ConfigError("tile_retries: must be from 0 to " + std::to_string(kMaxTileRetries) +
+                      ", got " + std::to_string(config.tile_retries));
+  if (config.watch_buffer < 1) throw ConfigError("watch_buffer: must be at least 1 event");
+  if (config.watch_write_timeout <= std::chrono::milliseconds(0))
+    throw ConfigError("watch_write_timeout: must be longer than 0");
 }
 
 DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
@@ -122,7 +128,8 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
   if (!root.IsMap())
     throw ConfigError(display_name +
                       ": must be a YAML map of settings (listen, threads, data, log_level, "
-                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter)");
+                      "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter, tile_retries, "
+                      "watch_buffer, watch_write_timeout)");
 
   for (const auto& entry : root) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
@@ -158,6 +165,20 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       config.max_jobs = read_count(display_name, value, key);
     } else if (key == "max_jobs_per_submitter") {
       config.max_jobs_per_submitter = read_count(display_name, value, key);
+    } else if (key == "tile_retries") {
+      config.tile_retries = read_count(display_name, value, key);
+      if (config.tile_retries > kMaxTileRetries)
+        throw ConfigError(located(display_name, value, key) + ": must be from 0 to " +
+                          std::to_string(kMaxTileRetries) + ", got " + scalar_text(value));
+    } else if (key == "watch_buffer") {
+      config.watch_buffer = read_count(display_name, value, key);
+      if (config.watch_buffer < 1)
+        throw ConfigError(located(display_name, value, key) + ": must be at least 1, got " +
+                          scalar_text(value));
+    } else if (key == "watch_write_timeout") {
+      config.watch_write_timeout = read_duration(display_name, value, key);
+      if (config.watch_write_timeout <= std::chrono::milliseconds(0))
+        throw ConfigError(located(display_name, value, key) + ": must be longer than 0");
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

@@ -16,6 +16,7 @@ namespace tessera::server {
 inline constexpr const char* kDefaultListen = "127.0.0.1:50051";
 inline constexpr const char* kDefaultDataDir = "./var";  // tesserad's default for --data
 inline constexpr unsigned kMaxThreads = 1024;
+inline constexpr std::size_t kMaxTileRetries = 100;
 
 // std::thread::hardware_concurrency(), or 1 where it is unknown.
 unsigned default_thread_count();
@@ -46,6 +47,13 @@ struct DaemonConfig {
   // Queued and running jobs one submitter may have; more are refused with
   // RESOURCE_EXHAUSTED (0: no limit).
   std::size_t max_jobs_per_submitter = 1000;
+  // Failed attempts at one tile (its render, encoding or storage threw) retried before the
+  // job fails naming the tile: a tile gets tile_retries + 1 attempts in all (0 to 100).
+  std::size_t tile_retries = 2;
+  // WatchJobs: events buffered per watcher (beyond its opening snapshot), and how long one
+  // write to a watcher may wait for its client to read; a watcher past either is dropped.
+  std::size_t watch_buffer = 1024;
+  std::chrono::milliseconds watch_write_timeout{10'000};
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -64,10 +72,10 @@ std::optional<std::chrono::milliseconds> parse_duration(const std::string& text)
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs and
-// max_jobs_per_submitter from a YAML file on top of `base`. Durations are a number with a unit:
-// 500ms, 30s, 15m, 12h, 7d. Unknown keys are reported in `warnings`; bad values throw ConfigError
-// naming file and key.
+// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs,
+// max_jobs_per_submitter, tile_retries, watch_buffer and watch_write_timeout from a YAML file on
+// top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d. Unknown keys are
+// reported in `warnings`; bad values throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

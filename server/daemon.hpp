@@ -36,6 +36,8 @@ class Daemon {
   int port() const;             // 0 before start()
   std::string address() const;  // "HOST:PORT" with the bound port, for clients
   const DaemonConfig& config() const;
+  // WatchJobs streams open now (dropped watchers are gone from it once their call ended).
+  std::size_t watcher_count() const;
 
  private:
   struct Impl;

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "tessera/image/exr.hpp"
@@ -22,6 +23,10 @@ struct Scheduler::Entry {
   std::size_t next_tile = 0;    // tiles before it have been handed out
   bool preparing = false;
   unsigned in_flight = 0;  // tasks of this entry running on workers
+  // Replaced by a new entry (requeue): hands out nothing more, and when `requeue_when_idle`
+  // is set queues a fresh entry for its job once its tasks have returned.
+  bool retired = false;
+  bool requeue_when_idle = false;
 };
 
 struct Scheduler::Task {
@@ -98,8 +103,37 @@ bool Scheduler::enqueue(std::shared_ptr<Entry> entry) {
 }
 
 void Scheduler::job_changed() {
-  std::lock_guard lock(mutex_);
-  prune_locked();
+  {
+    std::lock_guard lock(mutex_);
+    // Priorities may have changed (UpdateJob): keep the queue in its order.
+    std::stable_sort(queue_.begin(), queue_.end(), [](const auto& a, const auto& b) {
+      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
+      return a->sequence < b->sequence;
+    });
+    prune_locked();
+  }
+  work_available_.notify_all();
+}
+
+bool Scheduler::requeue(std::shared_ptr<Job> job) {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return false;
+    bool waiting = false;
+    for (const auto& entry : queue_) {
+      if (entry->job->id() != job->id() || entry->retired) continue;
+      entry->retired = true;
+      if (entry->in_flight > 0 && !waiting) {
+        entry->requeue_when_idle = true;
+        entry->job = job;  // the live object, should the old one differ
+        waiting = true;
+      }
+    }
+    if (waiting) return true;
+  }
+  auto entry = std::make_shared<Entry>();
+  entry->job = std::move(job);
+  return enqueue(std::move(entry));
 }
 
 void Scheduler::wait_idle() {
@@ -138,15 +172,37 @@ void Scheduler::stop(std::chrono::milliseconds grace) {
   idle_.notify_all();
 }
 
-// Forgets finished jobs whose tasks have all returned, freeing their prepared scenes.
+// Forgets finished, paused and retired entries whose tasks have all returned, freeing
+// their prepared scenes (a resumed job is prepared again).
 void Scheduler::prune_locked() {
+  std::vector<std::shared_ptr<Entry>> requeued;
   const auto removed = std::remove_if(queue_.begin(), queue_.end(), [&](const auto& entry) {
-    if (entry->in_flight != 0 || !entry->job->finished()) return false;
+    if (entry->in_flight != 0) return false;
+    if (entry->retired) {
+      if (entry->requeue_when_idle && !entry->job->finished()) {
+        auto fresh = std::make_shared<Entry>();
+        fresh->job = entry->job;
+        requeued.push_back(std::move(fresh));
+      }
+      return true;
+    }
+    const JobState state = entry->job->state();
+    if (state == JobState::kPaused) return true;
+    if (!is_finished(state)) return false;
     if (options_.on_job_released) options_.on_job_released(*entry->job);
     return true;
   });
   if (removed == queue_.end()) return;
   queue_.erase(removed, queue_.end());
+  for (auto& entry : requeued) {
+    entry->sequence = next_sequence_++;
+    queue_.push_back(std::move(entry));
+  }
+  if (!requeued.empty())
+    std::stable_sort(queue_.begin(), queue_.end(), [](const auto& a, const auto& b) {
+      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
+      return a->sequence < b->sequence;
+    });
   // Submitters with nothing queued start afresh.
   std::erase_if(last_served_, [&](const auto& served) {
     return std::none_of(queue_.begin(), queue_.end(),
@@ -159,7 +215,9 @@ namespace {
 
 template <typename Entry>
 bool has_work(const Entry& entry) {
-  if (entry.job->finished()) return false;  // tasks still in flight; nothing new to hand out
+  if (entry.retired) return false;
+  // Finished (tasks still in flight) or paused: nothing new to hand out.
+  if (!is_runnable(entry.job->state())) return false;
   if (!entry.prepared) return !entry.preparing;
   return entry.next_tile < entry.tiles.size();  // else every tile is handed out
 }
@@ -276,9 +334,12 @@ void Scheduler::prepare(Entry& entry) {
 
 void Scheduler::render(Entry& entry, const TileRect& rect) {
   Job& job = *entry.job;
-  if (job.stop_requested()) return;  // cancelled after the tile was handed out
+  // Cancelled or paused after the tile was handed out (a resumed job is queued afresh).
+  if (job.stop_requested() || !is_runnable(job.state())) return;
+  const std::uint64_t run = job.run();
   AddTileResult added = AddTileResult::kDropped;
   bool claimed = false;
+  std::optional<std::string> failure;
   try {
     if (!job.claim_tile(rect.index, options_.owner)) return;  // stored, or another's
     claimed = true;
@@ -289,8 +350,9 @@ void Scheduler::render(Entry& entry, const TileRect& rect) {
       const TileCancelScope cancel(&job.stop_flag());
       stats = entry.prepared->render_tile(rect, passes);
     }
-    // A raised flag may have cut the tile short: it is incomplete, so never stored.
-    if (!job.stop_requested()) {
+    // A raised flag may have cut the tile short: it is incomplete, so never stored. The
+    // flag first, then the run (see Job::run).
+    if (!job.stop_flag().load() && job.run() == run) {
       const std::uint32_t aovs = entry.prepared->settings().aovs;
       const std::vector<std::uint8_t> exr =
           aovs == 0 ? encode_exr(passes.beauty, rect.width, rect.height, rect.x, rect.y)
@@ -300,9 +362,9 @@ void Scheduler::render(Entry& entry, const TileRect& rect) {
       claimed = false;  // committed or released by add_tile
     }
   } catch (const std::exception& e) {
-    fail_job(job, "tile " + std::to_string(rect.index) + " failed: " + e.what());
+    failure = e.what();
   } catch (...) {
-    fail_job(job, "tile " + std::to_string(rect.index) + " failed: unknown error");
+    failure = "unknown error";
   }
   if (claimed) {
     try {
@@ -311,6 +373,8 @@ void Scheduler::render(Entry& entry, const TileRect& rect) {
       // Claims lapse anyway; nothing is lost by keeping this one.
     }
   }
+  // An attempt that failed because its job stopped meanwhile is not the tile's fault.
+  if (failure && !job.stop_flag().load() && job.run() == run) tile_failed(entry, rect, *failure);
   if (options_.on_tile_rendered)
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {
@@ -319,6 +383,34 @@ void Scheduler::render(Entry& entry, const TileRect& rect) {
                  info.progress.tiles_done, info.progress.rays_traced, info.progress.elapsed_seconds,
                  info.progress.rays_per_second);
   }
+}
+
+}  // namespace tessera::server
+
+namespace tessera::server {
+
+void Scheduler::tile_failed(Entry& entry, const TileRect& rect, const std::string& reason) {
+  Job& job = *entry.job;
+  const std::string tile = "tile " + std::to_string(rect.index) + " (x " + std::to_string(rect.x) +
+                           ", y " + std::to_string(rect.y) + ")";
+  std::uint32_t failures = 0;
+  try {
+    failures = job.record_tile_failure(rect.index);
+  } catch (const std::exception& e) {
+    fail_job(job, tile + " failed: " + reason + "; its failure could not be counted: " + e.what());
+    return;
+  }
+  if (failures > options_.tile_retries) {
+    fail_job(job, tile + " failed " + std::to_string(failures) + " times: " + reason);
+    return;
+  }
+  spdlog::warn("job {}: {} failed (attempt {} of {}), retrying: {}", job.id(), tile, failures,
+               options_.tile_retries + 1, reason);
+  {
+    std::lock_guard lock(mutex_);
+    entry.tiles.push_back(rect);  // handed out again after the tiles still waiting
+  }
+  work_available_.notify_one();
 }
 
 }  // namespace tessera::server
