@@ -401,7 +401,8 @@ void Scheduler::tile_failed(Entry& entry, const TileRect& rect, const std::strin
     return;
   }
   if (failures > options_.tile_retries) {
-    fail_job(job, tile + " failed " + std::to_string(failures) + " times: " + reason);
+    fail_job(job, tile + " failed " + std::to_string(failures) +
+                      (failures == 1 ? " time: " : " times: ") + reason);
     return;
   }
   spdlog::warn("job {}: {} failed (attempt {} of {}), retrying: {}", job.id(), tile, failures,
