@@ -574,6 +574,8 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
          << "name       " << (job.name().empty() ? "-" : job.name()) << '\n'
          << "state      " << job_state_name(job.state()) << '\n'
          << "priority   " << job.priority() << '\n'
+         << "submitter  " << (job.submitter().empty() ? "-" : job.submitter()) << '\n'
+         << "labels     " << labels_text(job.labels()) << '\n'
          << "image      " << settings_summary(s.width(), s.height(), s.samples_per_pixel())
          << ", max depth " << s.max_depth() << ", tiles of " << s.tile_size() << ", seed "
          << s.seed() << '\n'

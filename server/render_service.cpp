@@ -305,6 +305,9 @@ grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobR
                         "job " + job->id() + " has already " + to_string(info.state));
   if (result == CancelResult::kCancelled) {
     scheduler_.job_changed();
+    // A paused job has no scheduler entry to release it: let go of it here (a running
+    // one is released again, harmlessly, once its tiles in flight return).
+    jobs_.forget(job->id());
     spdlog::info("job {} cancelled by a client after {}/{} tiles", job->id(),
                  info.progress.tiles_done, info.progress.tiles_total);
   }

@@ -23,10 +23,11 @@ struct Scheduler::Entry {
   std::size_t next_tile = 0;    // tiles before it have been handed out
   bool preparing = false;
   unsigned in_flight = 0;  // tasks of this entry running on workers
-  // Replaced by a new entry (requeue): hands out nothing more, and when `requeue_when_idle`
-  // is set queues a fresh entry for its job once its tasks have returned.
+  // Replaced by a new entry (requeue): hands out nothing more.
   bool retired = false;
-  bool requeue_when_idle = false;
+  // Queued as a fresh entry once this one's tasks have returned (requeue): the job's live
+  // object, which may differ from `job` (a worker may still be using `job`).
+  std::shared_ptr<Job> successor;
 };
 
 struct Scheduler::Task {
@@ -124,8 +125,7 @@ bool Scheduler::requeue(std::shared_ptr<Job> job) {
       if (entry->job->id() != job->id() || entry->retired) continue;
       entry->retired = true;
       if (entry->in_flight > 0 && !waiting) {
-        entry->requeue_when_idle = true;
-        entry->job = job;  // the live object, should the old one differ
+        entry->successor = job;
         waiting = true;
       }
     }
@@ -179,9 +179,9 @@ void Scheduler::prune_locked() {
   const auto removed = std::remove_if(queue_.begin(), queue_.end(), [&](const auto& entry) {
     if (entry->in_flight != 0) return false;
     if (entry->retired) {
-      if (entry->requeue_when_idle && !entry->job->finished()) {
+      if (entry->successor && !entry->successor->finished()) {
         auto fresh = std::make_shared<Entry>();
-        fresh->job = entry->job;
+        fresh->job = std::move(entry->successor);
         requeued.push_back(std::move(fresh));
       }
       return true;
