@@ -262,6 +262,9 @@ grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
     query.before_sequence = sequence;
   }
   if (!request.submitter().empty()) query.submitter = request.submitter();
+  if (request.name().size() > kMaxJobNameLength)
+    return invalid("name: must be at most " + std::to_string(kMaxJobNameLength) + " bytes, got " +
+                   std::to_string(request.name().size()));
   if (!request.name().empty()) query.name = request.name();
   if (!request.label().empty()) {
     std::string problem;
