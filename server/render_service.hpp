@@ -3,6 +3,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 
 #include "server/job_id.hpp"
 #include "server/job_registry.hpp"
@@ -96,6 +97,9 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   grpc::Status update(const v1::UpdateJobRequest& request, v1::Job& out);
   grpc::Status watch(grpc::ServerContext& context, const v1::WatchJobsRequest& request,
                      grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>& writer);
+  // RESOURCE_EXHAUSTED when one more unfinished job of `submitter` would pass the cap
+  // (RetryJob, and UpdateJob moving an unfinished job to another submitter).
+  std::optional<grpc::Status> submitter_quota(const std::string& submitter);
   // Counts a streaming call for wait_for_streams while it lives.
   class StreamScope;
   // The job, or the status to answer when `job_id` is empty, too long or unknown.

@@ -38,6 +38,17 @@ class RenderServiceImpl::StreamScope {
   RenderServiceImpl& service_;
 };
 
+std::optional<grpc::Status> RenderServiceImpl::submitter_quota(const std::string& submitter) {
+  if (max_jobs_per_submitter_ == 0) return std::nullopt;
+  const std::size_t unfinished = jobs_.store().unfinished_count(submitter);
+  if (unfinished < max_jobs_per_submitter_) return std::nullopt;
+  return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                      "submitter '" + escape_client_text(submitter) + "' already has " +
+                          std::to_string(unfinished) +
+                          " queued, running or paused jobs, the most this daemon accepts "
+                          "(max_jobs_per_submitter)");
+}
+
 grpc::Status RenderServiceImpl::StreamedPauseJob(
     grpc::ServerContext*,
     grpc::ServerUnaryStreamer<v1::PauseJobRequest, v1::PauseJobResponse>* streamer) {
@@ -100,9 +111,13 @@ grpc::Status RenderServiceImpl::StreamedRetryJob(
 
 grpc::Status RenderServiceImpl::retry(const std::string& job_id, v1::Job& out) {
   grpc::Status status;
-  if (!find_job(job_id, status)) return status;  // empty, too long or unknown
+  const auto found = find_job(job_id, status);
+  if (!found) return status;  // empty, too long or unknown
   if (!accepting_)
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
+  // A retried job is unfinished again, so it counts against its submitter's cap.
+  if (is_finished(found->state()))
+    if (auto refused = submitter_quota(found->submitter())) return *refused;
   ControlResult result = ControlResult::kRefused;
   const auto job = jobs_.retry(job_id, result);
   if (!job)
@@ -161,6 +176,8 @@ grpc::Status RenderServiceImpl::update(const v1::UpdateJobRequest& request, v1::
   if (labels.size() > kMaxLabels)
     return invalid("set_labels: the job would have " + std::to_string(labels.size()) +
                    " labels, more than " + std::to_string(kMaxLabels));
+  if (change.submitter && !job->finished() && *change.submitter != job->submitter())
+    if (auto refused = submitter_quota(*change.submitter)) return *refused;
   const int old_priority = job->priority();
   const JobInfo info = job->update(change);
   if (info.priority != old_priority) scheduler_.job_changed();

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <future>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -134,6 +135,8 @@ TEST_F(JobControlTest, PauseStopsNewTilesAndResumeFinishesTheSameImage) {
   EXPECT_EQ(still.state(), v1::JOB_STATE_PAUSED);
   EXPECT_EQ(still.progress().tiles_done(), settled);
   ASSERT_LT(settled, 64u) << "the job finished before it could be paused";
+  std::cout << "paused at " << paused.progress().tiles_done() << "/64 tiles; "
+            << settled - paused.progress().tiles_done() << " in flight landed after the pause\n";
 
   EXPECT_EQ(client_->resume(job.id()).state(), v1::JOB_STATE_QUEUED);
   std::vector<int> seen;
@@ -223,6 +226,25 @@ TEST_F(JobControlTest, UpdatingThePriorityReordersTheQueue) {
   EXPECT_NE(client_->get(blocker.id()).state(), v1::JOB_STATE_COMPLETED)
       << "the blocker finished before the raised job could overtake it; make it longer";
   client_->cancel(blocker.id());
+}
+
+// A retried job is unfinished again: it counts against its submitter's cap.
+TEST_F(JobControlTest, RetryRespectsThePerSubmitterCap) {
+  start([](server::DaemonConfig& c) { c.max_jobs_per_submitter = 1; });
+  const v1::Job first = submit(cornell(128, 128, 256, 16), "first");
+  client_->cancel(first.id());
+  const v1::Job second = submit(cornell(128, 128, 256, 16), "second");
+  try {
+    client_->retry(first.id());
+    ADD_FAILURE() << "a retry passed the cap";
+  } catch (const ClientError& e) {
+    EXPECT_EQ(e.code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << e.message();
+    EXPECT_NE(e.message().find("max_jobs_per_submitter"), std::string::npos) << e.message();
+  }
+  EXPECT_EQ(client_->get(first.id()).state(), v1::JOB_STATE_CANCELLED);
+  client_->cancel(second.id());
+  EXPECT_EQ(client_->retry(first.id()).state(), v1::JOB_STATE_QUEUED);
+  client_->cancel(first.id());
 }
 
 TEST_F(JobControlTest, LabelsAreStoredUpdatedAndFilterListJobs) {
