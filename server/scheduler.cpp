@@ -30,6 +30,14 @@ struct Scheduler::Entry {
   std::shared_ptr<Job> successor;
 };
 
+// The queue's order: priority descending (it may change: UpdateJob), then submission.
+bool Scheduler::queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b) {
+  const int pa = a->job->priority();
+  const int pb = b->job->priority();
+  if (pa != pb) return pa > pb;
+  return a->sequence < b->sequence;
+}
+
 struct Scheduler::Task {
   std::shared_ptr<Entry> entry;
   bool prepare = false;
@@ -93,11 +101,7 @@ bool Scheduler::enqueue(std::shared_ptr<Entry> entry) {
     std::lock_guard lock(mutex_);
     if (stopping_) return false;
     entry->sequence = next_sequence_++;
-    const auto before = [](const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b) {
-      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
-      return a->sequence < b->sequence;
-    };
-    queue_.insert(std::upper_bound(queue_.begin(), queue_.end(), entry, before), entry);
+    queue_.insert(std::upper_bound(queue_.begin(), queue_.end(), entry, queue_order), entry);
   }
   work_available_.notify_one();
   return true;
@@ -107,10 +111,7 @@ void Scheduler::job_changed() {
   {
     std::lock_guard lock(mutex_);
     // Priorities may have changed (UpdateJob): keep the queue in its order.
-    std::stable_sort(queue_.begin(), queue_.end(), [](const auto& a, const auto& b) {
-      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
-      return a->sequence < b->sequence;
-    });
+    std::stable_sort(queue_.begin(), queue_.end(), queue_order);
     prune_locked();
   }
   work_available_.notify_all();
@@ -198,11 +199,7 @@ void Scheduler::prune_locked() {
     entry->sequence = next_sequence_++;
     queue_.push_back(std::move(entry));
   }
-  if (!requeued.empty())
-    std::stable_sort(queue_.begin(), queue_.end(), [](const auto& a, const auto& b) {
-      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
-      return a->sequence < b->sequence;
-    });
+  if (!requeued.empty()) std::stable_sort(queue_.begin(), queue_.end(), queue_order);
   // Submitters with nothing queued start afresh.
   std::erase_if(last_served_, [&](const auto& served) {
     return std::none_of(queue_.begin(), queue_.end(),
@@ -384,10 +381,6 @@ void Scheduler::render(Entry& entry, const TileRect& rect) {
                  info.progress.rays_per_second);
   }
 }
-
-}  // namespace tessera::server
-
-namespace tessera::server {
 
 void Scheduler::tile_failed(Entry& entry, const TileRect& rect, const std::string& reason) {
   Job& job = *entry.job;

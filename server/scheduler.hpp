@@ -112,6 +112,7 @@ class Scheduler {
   struct Entry;
   struct Task;
 
+  static bool queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b);
   void worker_loop();
   bool take_task_locked(Task& task);
   void prune_locked();
