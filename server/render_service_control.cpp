@@ -241,11 +241,7 @@ grpc::Status RenderServiceImpl::watch(
 
   v1::JobEvent event;
   for (;;) {
-    if (context.IsCancelled())
-      return grpc::Status(grpc::StatusCode::CANCELLED, "the client cancelled the watch");
-    if (!accepting_)
-      return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
-    const std::optional<JobChange> change = watcher->next(poll_interval_);
+    // Dropped first: the watchdog's cancel also makes the call look cancelled.
     switch (watcher->dropped()) {
       case WatchDrop::kBufferFull:
         spdlog::info("a watcher fell behind by {} events and was dropped",
@@ -255,13 +251,19 @@ grpc::Status RenderServiceImpl::watch(
                                 std::to_string(watch_hub_->options().buffer_events) +
                                 " events; watch again for a fresh snapshot");
       case WatchDrop::kWriteTimeout:
-        spdlog::info("a watcher that did not read for {} ms was dropped",
+        spdlog::info("a watcher whose write waited longer than {} ms was dropped",
                      watch_hub_->options().write_timeout.count());
         return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
-                            "the client did not read for longer than the watch write timeout");
+                            "a write to this watcher waited longer than the watch write timeout");
       case WatchDrop::kNone:
         break;
     }
+    if (context.IsCancelled())
+      return grpc::Status(grpc::StatusCode::CANCELLED, "the client cancelled the watch");
+    if (!accepting_)
+      return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
+    const std::optional<JobChange> change = watcher->next(poll_interval_);
+    if (watcher->dropped() != WatchDrop::kNone) continue;  // reported above
     if (!change) continue;
     event.Clear();
     // Jobs deleted by retention are known by their id alone (a real job has a tile).
@@ -275,9 +277,7 @@ grpc::Status RenderServiceImpl::watch(
     const bool written = writer.Write(event);
     watcher->end_write();
     if (!written) {
-      if (watcher->dropped() == WatchDrop::kWriteTimeout)
-        spdlog::info("a watcher that did not read for {} ms was dropped",
-                     watch_hub_->options().write_timeout.count());
+      if (watcher->dropped() != WatchDrop::kNone) continue;  // reported at the loop's top
       return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
     }
   }
