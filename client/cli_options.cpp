@@ -31,6 +31,18 @@ std::optional<std::string> check_server_address(const std::string& address) {
 
 namespace {
 
+// "KEY=VALUE" with a non-empty key; the server checks the rest.
+CLI::Validator label_validator() {
+  return CLI::Validator(
+      [](std::string& value) {
+        const auto equals = value.find('=');
+        if (equals == std::string::npos || equals == 0)
+          return "'" + value + "' is not a label; expected KEY=VALUE";
+        return std::string();
+      },
+      "KEY=VALUE");
+}
+
 CLI::Validator server_address_validator() {
   return CLI::Validator(
       [](std::string& value) {
@@ -161,6 +173,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   submit->add_option("--name", cmd.name, "job name (default: the scene file's name)");
   submit->add_option("--priority", cmd.priority, "higher runs first");
   submit->add_flag("--lenient", cmd.lenient, "unknown scene keys are warnings, not errors");
+  submit->add_option("--label", cmd.labels, "a label KEY=VALUE (repeatable)")
+      ->check(label_validator());
+  submit->add_option("--submitter", cmd.submitter, "who submits (default: this host)");
   add_server_option(*submit, cmd.server);
 
   CLI::App* watch =
@@ -175,6 +190,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   add_server_option(*watch, cmd.server);
 
   CLI::App* list = app.add_subcommand("list", "list the server's jobs, newest first");
+  list->add_option("--label", cmd.label_filter, "only jobs with this label (KEY=VALUE or KEY)");
+  list->add_option("--name", cmd.name_filter, "only jobs with exactly this name");
+  list->add_option("--submitter", cmd.submitter, "only jobs of this submitter");
   add_server_option(*list, cmd.server);
 
   CLI::App* status = app.add_subcommand("status", "show one job");
@@ -189,6 +207,37 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       app.add_subcommand("delete", "delete a finished job and its tiles from the server");
   remove->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
   add_server_option(*remove, cmd.server);
+
+  CLI::App* pause =
+      app.add_subcommand("pause", "stop handing out a job's tiles (those rendering finish)");
+  pause->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*pause, cmd.server);
+
+  CLI::App* resume = app.add_subcommand("resume", "put a paused job back in the queue");
+  resume->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*resume, cmd.server);
+
+  CLI::App* retry = app.add_subcommand(
+      "retry", "queue a failed or cancelled job again; only its missing tiles are rendered");
+  retry->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  add_server_option(*retry, cmd.server);
+
+  CLI::App* update = app.add_subcommand("update", "change a job's priority, labels or submitter");
+  update->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  update->add_option("--priority", cmd.new_priority, "new priority (higher runs first)");
+  update->add_option("--label", cmd.labels, "set a label KEY=VALUE (repeatable)")
+      ->check(label_validator());
+  update->add_option("--remove-label", cmd.remove_labels, "remove the label KEY (repeatable)");
+  update->add_option("--submitter", cmd.new_submitter, "new submitter")
+      ->check(non_empty_validator());
+  add_server_option(*update, cmd.server);
+
+  CLI::App* events = app.add_subcommand(
+      "events", "print job state changes as they happen (the current states first); Ctrl-C ends");
+  events->add_option("--job", cmd.job_id, "only this job")->check(non_empty_validator());
+  events->add_option("--submitter", cmd.submitter, "only jobs of this submitter");
+  events->add_option("--label", cmd.label_filter, "only jobs with this label (KEY=VALUE or KEY)");
+  add_server_option(*events, cmd.server);
 
   CLI::App* denoise = app.add_subcommand(
       "denoise", "add a denoised pass (denoised.R/G/B) to a render with the denoiser's AOVs");
@@ -208,8 +257,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
                        [&](const CLI::App* c) { return c->get_name() == word; });
   };
   const char* const expected =
-      "expected render, submit, watch, list, status, cancel, delete or denoise; see 'tessera "
-      "--help'";
+      "expected render, submit, watch, list, status, cancel, delete, pause, resume, retry, "
+      "update, events or denoise; see 'tessera --help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
@@ -249,6 +298,22 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     cmd.kind = CommandKind::kStatus;
   } else if (cancel->parsed()) {
     cmd.kind = CommandKind::kCancel;
+  } else if (pause->parsed()) {
+    cmd.kind = CommandKind::kPause;
+  } else if (resume->parsed()) {
+    cmd.kind = CommandKind::kResume;
+  } else if (retry->parsed()) {
+    cmd.kind = CommandKind::kRetry;
+  } else if (update->parsed()) {
+    cmd.kind = CommandKind::kUpdate;
+    if (!cmd.new_priority && !cmd.new_submitter && cmd.labels.empty() &&
+        cmd.remove_labels.empty()) {
+      err << "tessera: update: nothing to change; give --priority, --label, --remove-label or "
+             "--submitter (see 'tessera update --help')\n";
+      return {std::nullopt, kExitUsage};
+    }
+  } else if (events->parsed()) {
+    cmd.kind = CommandKind::kEvents;
   } else if (denoise->parsed()) {
     cmd.kind = CommandKind::kDenoise;
     if (cmd.output_exr.empty()) cmd.output_exr = cmd.input_exr;

@@ -3,12 +3,27 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace tessera {
 
 inline constexpr const char* kDefaultServer = "127.0.0.1:50051";
 
-enum class CommandKind { kRender, kSubmit, kWatch, kList, kStatus, kCancel, kDelete, kDenoise };
+enum class CommandKind {
+  kRender,
+  kSubmit,
+  kWatch,
+  kList,
+  kStatus,
+  kCancel,
+  kDelete,
+  kDenoise,
+  kPause,
+  kResume,
+  kRetry,
+  kUpdate,
+  kEvents
+};
 
 // Values given on the command line replace the scene file's `render` section.
 struct RenderOverrides {
@@ -25,11 +40,11 @@ struct RenderOverrides {
 struct CliCommand {
   CommandKind kind = CommandKind::kList;
   std::string server = kDefaultServer;
-  std::string scene_path;              // render, submit
-  std::string job_id;                  // watch, status, cancel, delete
-  std::string input_exr;               // denoise
-  std::string output_exr;              // render, watch, denoise
-  std::string preview_png;             // render, watch, denoise; empty: none
+  std::string scene_path;   // render, submit
+  std::string job_id;       // watch, status, cancel, delete, pause, resume, retry, update, events
+  std::string input_exr;    // denoise
+  std::string output_exr;   // render, watch, denoise
+  std::string preview_png;  // render, watch, denoise; empty: none
   double preview_exposure = 0.0;       // stops, applied to the PNG preview only
   std::string preview_tone = "clamp";  // the PNG preview's tone curve: clamp or aces
   RenderOverrides overrides;
@@ -39,6 +54,14 @@ struct CliCommand {
   std::int32_t priority = 0;
   bool lenient = false;  // unknown scene keys are warnings instead of errors
   bool denoise = false;  // render: add the denoiser's AOVs and denoised.R/G/B channels
+  // submit, update: labels to set, each "key=value".
+  std::vector<std::string> labels;
+  std::vector<std::string> remove_labels;    // update: label keys to remove
+  std::optional<std::int32_t> new_priority;  // update
+  std::optional<std::string> new_submitter;  // update
+  std::string submitter;                     // submit; list and events: filter
+  std::string label_filter;                  // list, events: "key=value" or "key"
+  std::string name_filter;                   // list
 };
 
 struct ParsedCommandLine {

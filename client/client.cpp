@@ -127,9 +127,9 @@ v1::ListJobsResponse Client::list_page(const v1::ListJobsRequest& request) {
   return response;
 }
 
-std::vector<v1::Job> Client::list() {
+std::vector<v1::Job> Client::list(v1::ListJobsRequest request) {
   std::vector<v1::Job> jobs;
-  v1::ListJobsRequest request;
+  request.clear_page_token();
   for (;;) {
     const v1::ListJobsResponse page = list_page(request);
     jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());
@@ -155,6 +155,75 @@ v1::Job Client::cancel(const std::string& job_id) {
   v1::CancelJobResponse response;
   check(stub_->CancelJob(&context, request, &response));
   return response.job();
+}
+
+namespace {
+
+// One unary job-control call naming a job; returns the job from its response.
+template <typename Request, typename Response, typename Call>
+v1::Job control(const std::string& job_id, std::chrono::milliseconds deadline, Call&& call) {
+  grpc::ClientContext context;
+  set_deadline(context, deadline);
+  Request request;
+  request.set_job_id(job_id);
+  Response response;
+  check(call(&context, request, &response));
+  return response.job();
+}
+
+}  // namespace
+
+v1::Job Client::pause(const std::string& job_id) {
+  return control<v1::PauseJobRequest, v1::PauseJobResponse>(
+      job_id, options_.unary_deadline, [&](auto* context, const auto& request, auto* response) {
+        return stub_->PauseJob(context, request, response);
+      });
+}
+
+v1::Job Client::resume(const std::string& job_id) {
+  return control<v1::ResumeJobRequest, v1::ResumeJobResponse>(
+      job_id, options_.unary_deadline, [&](auto* context, const auto& request, auto* response) {
+        return stub_->ResumeJob(context, request, response);
+      });
+}
+
+v1::Job Client::retry(const std::string& job_id) {
+  return control<v1::RetryJobRequest, v1::RetryJobResponse>(
+      job_id, options_.unary_deadline, [&](auto* context, const auto& request, auto* response) {
+        return stub_->RetryJob(context, request, response);
+      });
+}
+
+v1::Job Client::update(const v1::UpdateJobRequest& request) {
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  v1::UpdateJobResponse response;
+  check(stub_->UpdateJob(&context, request, &response));
+  return response.job();
+}
+
+void Client::watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event) {
+  // No deadline: a watch lasts as long as its caller wants.
+  grpc::ClientContext context;
+  const auto reader = stub_->WatchJobs(&context, request);
+  v1::JobEvent event;
+  while (reader->Read(&event)) {
+    bool more = false;
+    try {
+      more = on_event(event);
+    } catch (...) {
+      context.TryCancel();
+      reader->Finish();
+      throw;
+    }
+    if (!more) {
+      context.TryCancel();
+      reader->Finish();
+      return;
+    }
+  }
+  check(reader->Finish());
+  throw ClientError(grpc::StatusCode::UNAVAILABLE, "the server ended the watch");
 }
 
 }  // namespace tessera

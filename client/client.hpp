@@ -49,11 +49,24 @@ class Client {
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
 
   v1::Job get(const std::string& job_id);
-  std::vector<v1::Job> list();  // every job, newest first, page after page
+  // Every job matching the request's filters (state, submitter, label, name), newest
+  // first, page after page; the request's page fields are ignored.
+  std::vector<v1::Job> list(v1::ListJobsRequest filters = {});
   v1::ListJobsResponse list_page(const v1::ListJobsRequest& request);
   // Deletes a finished job (DeleteJob).
   void remove(const std::string& job_id);
   v1::Job cancel(const std::string& job_id);
+  v1::Job pause(const std::string& job_id);
+  v1::Job resume(const std::string& job_id);
+  v1::Job retry(const std::string& job_id);
+  v1::Job update(const v1::UpdateJobRequest& request);
+
+  // Return false to stop watching.
+  using JobEventCallback = std::function<bool(const v1::JobEvent&)>;
+  // Calls `on_event` for each event of WatchJobs (the snapshot first), on the calling
+  // thread, until it returns false (then returns normally) or the stream ends (then throws
+  // ClientError with the server's status: a watch never ends on its own with OK).
+  void watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event);
 
   const std::string& target() const { return options_.target; }
 

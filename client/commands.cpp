@@ -140,6 +140,27 @@ std::string job_state_name(v1::JobState state) {
   return name.empty() ? "unknown" : name;
 }
 
+// "key=value" arguments (checked by the parser to hold '=') into a label map.
+void add_labels(const std::vector<std::string>& labels,
+                google::protobuf::Map<std::string, std::string>& out) {
+  for (const std::string& label : labels) {
+    const auto equals = label.find('=');
+    out[label.substr(0, equals)] = label.substr(equals + 1);
+  }
+}
+
+std::string labels_text(const google::protobuf::Map<std::string, std::string>& labels) {
+  std::vector<std::string> pairs;
+  for (const auto& [key, value] : labels) pairs.push_back(key + "=" + value);
+  std::sort(pairs.begin(), pairs.end());
+  std::string text;
+  for (const std::string& pair : pairs) {
+    if (!text.empty()) text += ',';
+    text += pair;
+  }
+  return text.empty() ? "-" : text;
+}
+
 std::string format_unix_ms(std::int64_t unix_ms) {
   if (unix_ms <= 0) return "-";
   const std::time_t seconds = static_cast<std::time_t>(unix_ms / 1000);
@@ -494,7 +515,10 @@ int submit(const CliCommand& cmd, const CommandOutput& io) {
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
   Client client(ClientOptions{.target = cmd.server});
   try {
-    const v1::Job job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
+    v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
+    add_labels(cmd.labels, *request.mutable_labels());
+    request.set_submitter(cmd.submitter);
+    const v1::Job job = client.submit(request);
     io.out << job.id() << '\n' << std::flush;
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
@@ -524,8 +548,12 @@ std::string progress_cell(const v1::Job& job) {
 int list(const CliCommand& cmd, const CommandOutput& io) {
   Client client(ClientOptions{.target = cmd.server});
   std::vector<v1::Job> jobs;
+  v1::ListJobsRequest filters;
+  filters.set_label(cmd.label_filter);
+  filters.set_name(cmd.name_filter);
+  filters.set_submitter(cmd.submitter);
   try {
-    jobs = client.list();
+    jobs = client.list(filters);
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "listing jobs failed")};
   }
@@ -568,6 +596,8 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
          << "name       " << (job.name().empty() ? "-" : job.name()) << '\n'
          << "state      " << job_state_name(job.state()) << '\n'
          << "priority   " << job.priority() << '\n'
+         << "submitter  " << (job.submitter().empty() ? "-" : job.submitter()) << '\n'
+         << "labels     " << labels_text(job.labels()) << '\n'
          << "image      " << settings_summary(s.width(), s.height(), s.samples_per_pixel())
          << ", max depth " << s.max_depth() << ", tiles of " << s.tile_size() << ", seed "
          << s.seed()
@@ -603,6 +633,68 @@ int remove(const CliCommand& cmd, const CommandOutput& io) {
     io.out << "job " << cmd.job_id << ": deleted\n" << std::flush;
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot delete job " + cmd.job_id)};
+  }
+  return kExitOk;
+}
+
+// pause, resume, retry: one call naming a job; prints the job's state after it.
+template <typename Call>
+int control(const CliCommand& cmd, const CommandOutput& io, const std::string& verb, Call&& call) {
+  Client client(ClientOptions{.target = cmd.server});
+  try {
+    const v1::Job job = call(client);
+    io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed,
+                         describe(e, cmd.server, "cannot " + verb + " job " + cmd.job_id)};
+  }
+  return kExitOk;
+}
+
+int update(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  v1::UpdateJobRequest request;
+  request.set_job_id(cmd.job_id);
+  if (cmd.new_priority) request.set_priority(*cmd.new_priority);
+  if (cmd.new_submitter) request.set_submitter(*cmd.new_submitter);
+  add_labels(cmd.labels, *request.mutable_set_labels());
+  for (const std::string& key : cmd.remove_labels) request.add_remove_labels(key);
+  try {
+    const v1::Job job = client.update(request);
+    io.out << "job " << job.id() << ": priority " << job.priority() << ", submitter "
+           << job.submitter() << ", labels " << labels_text(job.labels()) << '\n'
+           << std::flush;
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot update job " + cmd.job_id)};
+  }
+  return kExitOk;
+}
+
+// One line per event: time, job, state, progress, name; "(snapshot)" for the opening ones.
+int events(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server});
+  v1::WatchJobsRequest request;
+  request.set_job_id(cmd.job_id);
+  request.set_submitter(cmd.submitter);
+  request.set_label(cmd.label_filter);
+  // Ctrl-C ends the process the usual way: a watch has nothing to clean up.
+  try {
+    client.watch_jobs(request, [&](const v1::JobEvent& event) {
+      const v1::Job& job = event.job();
+      io.out << format_unix_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                   std::chrono::system_clock::now().time_since_epoch())
+                                   .count())
+             << "  " << job.id() << "  "
+             << (event.deleted() ? std::string("deleted") : job_state_name(job.state()));
+      if (!event.deleted())
+        io.out << "  " << progress_cell(job) << "  " << (job.name().empty() ? "-" : job.name());
+      if (event.snapshot()) io.out << "  (snapshot)";
+      if (!job.error().empty()) io.out << "  error: " << job.error();
+      io.out << '\n' << std::flush;
+      return true;
+    });
+  } catch (const ClientError& e) {
+    throw CommandFailure{kExitFailed, describe(e, cmd.server, "watching jobs failed")};
   }
   return kExitOk;
 }
@@ -644,6 +736,16 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return remove(command, io);
       case CommandKind::kDenoise:
         return denoise_file(command, io);
+      case CommandKind::kPause:
+        return control(command, io, "pause", [&](Client& c) { return c.pause(command.job_id); });
+      case CommandKind::kResume:
+        return control(command, io, "resume", [&](Client& c) { return c.resume(command.job_id); });
+      case CommandKind::kRetry:
+        return control(command, io, "retry", [&](Client& c) { return c.retry(command.job_id); });
+      case CommandKind::kUpdate:
+        return update(command, io);
+      case CommandKind::kEvents:
+        return events(command, io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {

@@ -82,7 +82,8 @@ constexpr std::size_t kLargestPrimitives = (std::size_t{1} << 27) - 1;  // refer
 constexpr const char* kKeys =
     "listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs, "
     "max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, max_pixels, "
-    "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout";
+    "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout, "
+    "tile_retries, watch_buffer, watch_write_timeout";
 
 }  // namespace
 
@@ -201,6 +202,12 @@ void validate_config(const DaemonConfig& config) {
   if (config.stream_write_timeout < std::chrono::milliseconds(1))
     throw ConfigError("stream_write_timeout: must be at least 1ms, got " +
                       std::to_string(config.stream_write_timeout.count()) + "ms");
+  if (config.tile_retries > kMaxTileRetries)
+    throw ConfigError("tile_retries: must be from 0 to " + std::to_string(kMaxTileRetries) +
+                      ", got " + std::to_string(config.tile_retries));
+  if (config.watch_buffer < 1) throw ConfigError("watch_buffer: must be at least 1 event");
+  if (config.watch_write_timeout <= std::chrono::milliseconds(0))
+    throw ConfigError("watch_write_timeout: must be longer than 0");
 }
 
 DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
@@ -286,6 +293,20 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
                                  : read_size(display_name, value, key);
     } else if (key == "prepare_timeout") {
       config.prepare_timeout = read_duration(display_name, value, key);
+    } else if (key == "tile_retries") {
+      config.tile_retries = read_count(display_name, value, key);
+      if (config.tile_retries > kMaxTileRetries)
+        throw ConfigError(located(display_name, value, key) + ": must be from 0 to " +
+                          std::to_string(kMaxTileRetries) + ", got " + scalar_text(value));
+    } else if (key == "watch_buffer") {
+      config.watch_buffer = read_count(display_name, value, key);
+      if (config.watch_buffer < 1)
+        throw ConfigError(located(display_name, value, key) + ": must be at least 1, got " +
+                          scalar_text(value));
+    } else if (key == "watch_write_timeout") {
+      config.watch_write_timeout = read_duration(display_name, value, key);
+      if (config.watch_write_timeout <= std::chrono::milliseconds(0))
+        throw ConfigError(located(display_name, value, key) + ": must be longer than 0");
     } else {
       warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
     }

@@ -18,6 +18,7 @@ inline constexpr const char* kDefaultDataDir = "./var";  // tesserad's default f
 inline constexpr unsigned kMaxThreads = 1024;
 // DaemonConfig::memory_budget's default: half the physical memory, read when the daemon starts.
 inline constexpr std::size_t kMemoryBudgetAuto = static_cast<std::size_t>(-1);
+inline constexpr std::size_t kMaxTileRetries = 100;
 
 // std::thread::hardware_concurrency(), or 1 where it is unknown.
 unsigned default_thread_count();
@@ -65,6 +66,13 @@ struct DaemonConfig {
   // stream is ended (the client re-attaches with after_sequence), so a stalled reader never
   // holds a server thread for longer.
   std::chrono::milliseconds stream_write_timeout{30000};
+  // Failed attempts at one tile (its render, encoding or storage threw) retried before the
+  // job fails naming the tile: a tile gets tile_retries + 1 attempts in all (0 to 100).
+  std::size_t tile_retries = 2;
+  // WatchJobs: events buffered per watcher (beyond its opening snapshot), and how long one
+  // write to a watcher may wait for its client to read; a watcher past either is dropped.
+  std::size_t watch_buffer = 1024;
+  std::chrono::milliseconds watch_write_timeout{10'000};
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -91,12 +99,12 @@ std::size_t effective_memory_budget(const DaemonConfig& config);
 void validate_config(const DaemonConfig& config);
 
 // Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs,
-// max_jobs_per_submitter and the budgets (max_receive_message_bytes, max_width, max_height,
-// max_pixels, max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) and
-// stream_write_timeout from a
-// YAML file on top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d;
-// sizes a number with an optional unit: 512MiB, 8GiB. Unknown keys are reported in
-// `warnings`; bad values throw ConfigError naming file and key.
+// max_jobs_per_submitter, tile_retries, watch_buffer, watch_write_timeout, stream_write_timeout
+// and the budgets (max_receive_message_bytes, max_width, max_height, max_pixels,
+// max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) from a YAML file on
+// top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d; sizes a number
+// with an optional unit: 512MiB, 8GiB. Unknown keys are reported in `warnings`; bad values
+// throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.

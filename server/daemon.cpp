@@ -18,6 +18,7 @@
 
 #include "convert/scene_proto.hpp"
 #include "server/job_registry.hpp"
+#include "server/job_watch.hpp"
 #include "server/listen_address.hpp"
 #include "server/render_service.hpp"
 #include "server/scheduler.hpp"
@@ -76,6 +77,7 @@ struct Daemon::Impl {
   std::string host;
 
   std::unique_ptr<JobStore> store;
+  std::unique_ptr<JobWatchHub> watch_hub;  // outlives the jobs, which report to it
   std::unique_ptr<JobRegistry> jobs;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<RenderServiceImpl> service;
@@ -96,7 +98,12 @@ struct Daemon::Impl {
     if (policy.ttl_ms == 0 && policy.max_jobs == 0) return;
     try {
       const auto deleted = store->apply_retention(policy, unix_millis_now());
-      for (const std::string& id : deleted) jobs->forget(id);
+      for (const std::string& id : deleted) {
+        jobs->forget(id);
+        JobRecord gone;  // retention knows only the id
+        gone.id = id;
+        watch_hub->job_deleted(gone);
+      }
       if (!deleted.empty()) spdlog::info("retention deleted {} finished jobs", deleted.size());
     } catch (const std::exception& e) {
       spdlog::error("retention failed: {}", e.what());
@@ -161,12 +168,15 @@ int Daemon::start() {
   d.store = std::make_unique<SqliteJobStore>(d.config.data_dir.empty()
                                                  ? std::filesystem::path(":memory:")
                                                  : d.config.data_dir / SqliteJobStore::kFileName);
-  d.jobs = std::make_unique<JobRegistry>(*d.store);
+  d.watch_hub = std::make_unique<JobWatchHub>(JobWatchHub::Options{
+      .buffer_events = d.config.watch_buffer, .write_timeout = d.config.watch_write_timeout});
+  d.jobs = std::make_unique<JobRegistry>(*d.store, d.watch_hub.get());
 
   SchedulerOptions options;
   options.threads = d.config.threads;
   options.owner = random_owner();
   options.prepare_timeout = d.config.prepare_timeout;
+  options.tile_retries = static_cast<std::uint32_t>(d.config.tile_retries);
   options.load_scene = [&d](const Job& job) { return load_scene(*d.store, job, d.config.limits); };
   options.on_job_released = [&d](const Job& job) {
     d.jobs->forget(job.id());
@@ -177,10 +187,15 @@ int Daemon::start() {
       *d.jobs, *d.scheduler, d.config.limits, d.config.max_jobs_per_submitter,
       std::chrono::milliseconds(100), d.config.stream_write_timeout);
   d.service->set_memory_budget(effective_memory_budget(d.config));
+  d.service->enable_watch(*d.watch_hub);
 
-  // Jobs a previous run left queued or running carry on where they stopped.
+  // Jobs a previous run left queued or running carry on where they stopped; paused ones
+  // stay paused (live, so ResumeJob finds them) until resumed.
   const std::vector<JobRecord> unfinished = d.store->unfinished_jobs();
-  for (const JobRecord& record : unfinished) d.scheduler->submit(d.jobs->adopt(record));
+  for (const JobRecord& record : unfinished) {
+    auto job = d.jobs->adopt(record);
+    if (is_runnable(record.state)) d.scheduler->submit(std::move(job));
+  }
   if (!unfinished.empty())
     spdlog::info("resuming {} unfinished jobs from {}", unfinished.size(),
                  d.config.data_dir.string());
@@ -261,6 +276,10 @@ int Daemon::port() const {
 std::string Daemon::address() const {
   std::lock_guard lock(impl_->state_mutex);
   return impl_->host + ":" + std::to_string(impl_->port);
+}
+
+std::size_t Daemon::watcher_count() const {
+  return impl_->watch_hub ? impl_->watch_hub->watcher_count() : 0;
 }
 
 const DaemonConfig& Daemon::config() const {

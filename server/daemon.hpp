@@ -40,6 +40,8 @@ class Daemon {
   // start()).
   int open_streams() const;
   std::uint64_t stream_write_timeouts() const;
+  // WatchJobs streams open now (dropped watchers are gone from it once their call ended).
+  std::size_t watcher_count() const;
 
  private:
   struct Impl;

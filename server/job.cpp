@@ -14,6 +14,8 @@ const char* to_string(JobState state) {
       return "failed";
     case JobState::kCancelled:
       return "cancelled";
+    case JobState::kPaused:
+      return "paused";
   }
   return "unknown";
 }
@@ -59,6 +61,7 @@ JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
   info.cancel_reason = r.cancel_reason;
   info.submitted_unix_ms = r.submitted_unix_ms;
   info.finished_unix_ms = r.finished_unix_ms;
+  info.labels = r.labels;
   return info;
 }
 
@@ -68,11 +71,11 @@ JobProgress tile_progress(const JobRecord& job, const StoredTile& tile) {
   return progress_at(tile.ordinal, job.tiles_total, tile.rays_after, elapsed, true);
 }
 
-Job::Job(JobStore& store, JobRecord record)
+Job::Job(JobStore& store, JobRecord record, JobListener* listener)
     : store_(store),
+      listener_(listener),
       id_(record.id),
       name_(record.name),
-      submitter_(record.submitter),
       priority_(record.priority),
       sequence_(record.sequence),
       settings_(record.settings),
@@ -80,10 +83,18 @@ Job::Job(JobStore& store, JobRecord record)
   if (is_finished(record_.state)) stop_ = true;
 }
 
-void Job::set_locked(const JobRecord& record) {
+void Job::set_locked(const JobRecord& record, bool announce) {
+  const bool state_changed = record.state != record_.state;
   record_ = record;
+  priority_.store(record_.priority, std::memory_order_relaxed);
   if (is_finished(record_.state)) stop_ = true;
   changed_.notify_all();
+  if (listener_ && (state_changed || announce)) listener_->job_changed(record_);
+}
+
+std::string Job::submitter() const {
+  std::lock_guard lock(mutex_);
+  return record_.submitter;
 }
 
 JobInfo Job::info() const {
@@ -140,7 +151,8 @@ AddTileResult Job::commit(std::uint32_t index, const std::string& owner,
                           const std::vector<std::uint8_t>& exr, std::uint64_t rays,
                           const TilePassState* state, bool last_pass) {
   std::lock_guard lock(mutex_);
-  if (record_.state != JobState::kRunning) {
+  // A paused job keeps the tiles that were in flight when it was paused.
+  if (record_.state != JobState::kRunning && record_.state != JobState::kPaused) {
     store_.release_tile(id_, index, owner);
     return AddTileResult::kDropped;  // cancelled or failed meanwhile
   }
@@ -177,6 +189,50 @@ CancelResult Job::cancel(std::string reason) {
   }
   set_locked(*updated);
   return CancelResult::kCancelled;
+}
+
+ControlResult Job::pause() {
+  std::lock_guard lock(mutex_);
+  if (record_.state == JobState::kPaused) return ControlResult::kAlready;
+  if (!is_runnable(record_.state)) return ControlResult::kRefused;
+  const auto updated = store_.pause_job(id_);
+  if (!updated) return ControlResult::kRefused;
+  set_locked(*updated);
+  return ControlResult::kDone;
+}
+
+ControlResult Job::resume() {
+  std::lock_guard lock(mutex_);
+  if (is_runnable(record_.state)) return ControlResult::kAlready;
+  if (record_.state != JobState::kPaused) return ControlResult::kRefused;
+  const auto updated = store_.resume_job(id_);
+  if (!updated) return ControlResult::kRefused;
+  set_locked(*updated);
+  return ControlResult::kDone;
+}
+
+ControlResult Job::retry() {
+  std::lock_guard lock(mutex_);
+  if (record_.state != JobState::kFailed && record_.state != JobState::kCancelled)
+    return ControlResult::kRefused;
+  const auto updated = store_.retry_job(id_);
+  if (!updated) return ControlResult::kRefused;
+  // Tiles of the failed run that are still rendering were cut short by the raised flag and
+  // are dropped; lowering it lets the new run's tiles render.
+  ++run_;
+  stop_ = false;
+  set_locked(*updated);
+  return ControlResult::kDone;
+}
+
+JobInfo Job::update(const JobUpdate& update) {
+  std::lock_guard lock(mutex_);
+  if (const auto updated = store_.update_job(id_, update)) set_locked(*updated, true);
+  return job_info(record_, unix_millis_now());
+}
+
+std::uint32_t Job::record_tile_failure(std::uint32_t index) {
+  return store_.record_tile_failure(id_, index);
 }
 
 std::vector<std::uint32_t> Job::stored_tile_indices() const {

@@ -35,6 +35,7 @@ struct JobInfo {
   std::string cancel_reason;  // why it was cancelled, when kCancelled
   std::int64_t submitted_unix_ms = 0;
   std::int64_t finished_unix_ms = 0;  // 0 until finished
+  JobLabels labels;
 };
 
 JobInfo job_info(const JobRecord& record, std::int64_t now_ms);
@@ -55,6 +56,18 @@ struct TileUpdate {
 
 enum class CancelResult { kCancelled, kAlreadyCancelled, kAlreadyFinished };
 enum class AddTileResult { kDropped, kStored, kCompletedJob };
+// Pause, resume and retry: done now, already so (nothing changed), or refused in the job's
+// current state.
+enum class ControlResult { kDone, kAlready, kRefused };
+
+// Told of each change of a job's state, and of each UpdateJob, with the record after it.
+// Called under the job's lock, so one job's changes arrive in order; must be quick and must
+// not call the job.
+class JobListener {
+ public:
+  virtual ~JobListener() = default;
+  virtual void job_changed(const JobRecord& job) = 0;
+};
 
 // A job live in this daemon: its record as last written to the store, and a condition
 // variable for subscribers. Every transition is written to the store first, under this
@@ -62,14 +75,15 @@ enum class AddTileResult { kDropped, kStored, kCompletedJob };
 // Finished tiles are not kept here but read from the store. Thread-safe.
 class Job {
  public:
-  Job(JobStore& store, JobRecord record);
+  Job(JobStore& store, JobRecord record, JobListener* listener = nullptr);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
-  const std::string& submitter() const { return submitter_; }
-  int priority() const { return priority_; }
+  // Both may change (UpdateJob), so the submitter is a copy.
+  std::string submitter() const;
+  int priority() const { return priority_.load(std::memory_order_relaxed); }
   std::int64_t sequence() const { return sequence_; }
   const RenderSettings& settings() const { return settings_; }
 
@@ -101,6 +115,17 @@ class Job {
   bool fail(std::string error);
   CancelResult cancel(std::string reason = {});
 
+  // Job control (RPCs). Pause: queued or running -> paused (kRefused once finished); tiles
+  // in flight are not stopped and are kept. Resume: paused -> queued (kAlready when queued
+  // or running). Retry: failed or cancelled -> queued with its tiles kept (kRefused in any
+  // other state). After resume and retry the scheduler must be given the job again.
+  ControlResult pause();
+  ControlResult resume();
+  ControlResult retry();
+  JobInfo update(const JobUpdate& update);
+  // One more failed attempt at tile `index`; returns the failed attempts so far.
+  std::uint32_t record_tile_failure(std::uint32_t index);
+
   // Tiles already stored (after a restart: those not to render again).
   std::vector<std::uint32_t> stored_tile_indices() const;
   // Stored tiles after the first `after_ordinal`, at most `limit`, in completion order.
@@ -115,18 +140,23 @@ class Job {
   const std::atomic<bool>& stop_flag() const { return stop_; }
   bool stop_requested() const { return stop_.load(std::memory_order_relaxed); }
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
+  // Counts retries: a tile that started in an earlier run may have been cut short by the
+  // flag that retry lowered, so it must not be stored. Read stop_requested() first, then
+  // this (retry changes them in the other order).
+  std::uint64_t run() const { return run_.load(); }
 
  private:
-  void set_locked(const JobRecord& record);
+  // `announce`: tell the listener even when the state did not change (an update).
+  void set_locked(const JobRecord& record, bool announce = false);
   AddTileResult commit(std::uint32_t index, const std::string& owner,
                        const std::vector<std::uint8_t>& exr, std::uint64_t rays,
                        const TilePassState* state, bool last_pass);
 
   JobStore& store_;
+  JobListener* const listener_;
   const std::string id_;
   const std::string name_;
-  const std::string submitter_;
-  const int priority_;
+  std::atomic<int> priority_;
   const std::int64_t sequence_;
   const RenderSettings settings_;
 
@@ -134,6 +164,7 @@ class Job {
   mutable std::condition_variable changed_;
   JobRecord record_;
   std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> run_{0};
 };
 
 std::int64_t unix_millis_now();

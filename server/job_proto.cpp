@@ -19,6 +19,8 @@ v1::JobState job_state_to_proto(JobState state) {
       return v1::JOB_STATE_FAILED;
     case JobState::kCancelled:
       return v1::JOB_STATE_CANCELLED;
+    case JobState::kPaused:
+      return v1::JOB_STATE_PAUSED;
   }
   return v1::JOB_STATE_UNSPECIFIED;
 }
@@ -35,6 +37,8 @@ std::optional<JobState> job_state_from_proto(int state) {
       return JobState::kFailed;
     case v1::JOB_STATE_CANCELLED:
       return JobState::kCancelled;
+    case v1::JOB_STATE_PAUSED:
+      return JobState::kPaused;
     default:
       return std::nullopt;
   }
@@ -60,6 +64,8 @@ void job_info_to_proto(const JobInfo& info, v1::Job& out) {
   out.set_error(info.error);
   out.set_submitted_unix_ms(info.submitted_unix_ms);
   out.set_finished_unix_ms(info.finished_unix_ms);
+  out.mutable_labels()->clear();
+  for (const auto& [key, value] : info.labels) (*out.mutable_labels())[key] = value;
 }
 
 void stored_tile_to_proto(const JobRecord& job, const StoredTile& tile, v1::Tile& out) {

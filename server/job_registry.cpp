@@ -15,14 +15,15 @@ std::shared_ptr<Job> JobRegistry::create(const JobRecord& record, const SceneSou
                                    " queued or running jobs, the most this daemon accepts "
                                    "(max_jobs_per_submitter)");
   }
-  auto job = std::make_shared<Job>(store_, store_.create_job(record, scene));
+  auto job = std::make_shared<Job>(store_, store_.create_job(record, scene), listener_);
   live_.emplace(job->id(), job);
+  if (listener_) listener_->job_changed(job->record());
   return job;
 }
 
 std::shared_ptr<Job> JobRegistry::adopt(const JobRecord& record) {
   std::lock_guard lock(mutex_);
-  auto job = std::make_shared<Job>(store_, record);
+  auto job = std::make_shared<Job>(store_, record, listener_);
   live_[job->id()] = job;
   return job;
 }
@@ -32,7 +33,23 @@ std::shared_ptr<Job> JobRegistry::find(std::string_view id) {
   if (const auto it = live_.find(std::string(id)); it != live_.end()) return it->second;
   auto record = store_.find_job(id);
   if (!record) return nullptr;
-  return std::make_shared<Job>(store_, std::move(*record));
+  return std::make_shared<Job>(store_, std::move(*record), listener_);
+}
+
+std::shared_ptr<Job> JobRegistry::retry(std::string_view id, ControlResult& result) {
+  // Under the lock, so the job cannot be forgotten between its retry and going live.
+  std::lock_guard lock(mutex_);
+  std::shared_ptr<Job> job;
+  if (const auto it = live_.find(std::string(id)); it != live_.end()) {
+    job = it->second;
+  } else {
+    auto record = store_.find_job(id);
+    if (!record) return nullptr;
+    job = std::make_shared<Job>(store_, std::move(*record), listener_);
+  }
+  result = job->retry();
+  if (result == ControlResult::kDone) live_[job->id()] = job;
+  return job;
 }
 
 void JobRegistry::forget(const std::string& id) {

@@ -21,7 +21,9 @@ class SubmitterQuotaExceeded : public std::runtime_error {
 // hand, not with history. A finished job is read from the store when asked for.
 class JobRegistry {
  public:
-  explicit JobRegistry(JobStore& store) : store_(store) {}
+  // `listener` (may be null) is told of every live job's changes, and of each job created.
+  explicit JobRegistry(JobStore& store, JobListener* listener = nullptr)
+      : store_(store), listener_(listener) {}
 
   JobStore& store() { return store_; }
 
@@ -34,12 +36,16 @@ class JobRegistry {
   std::shared_ptr<Job> adopt(const JobRecord& record);
   // The live job with `id`, or a snapshot of a finished one from the store; null if unknown.
   std::shared_ptr<Job> find(std::string_view id);
+  // Retries a failed or cancelled job (Job::retry) and makes it live again. The job is null
+  // when unknown; `result` says what happened.
+  std::shared_ptr<Job> retry(std::string_view id, ControlResult& result);
   // Drops the live object of a finished job (the store keeps it).
   void forget(const std::string& id);
   std::size_t live_count() const;
 
  private:
   JobStore& store_;
+  JobListener* const listener_;
   mutable std::mutex mutex_;
   std::unordered_map<std::string, std::shared_ptr<Job>> live_;
 };

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -10,13 +11,20 @@
 
 namespace tessera::server {
 
-enum class JobState { kQueued, kRunning, kCompleted, kFailed, kCancelled };
+// The stored value of each state is its position here: new states go at the end.
+enum class JobState { kQueued, kRunning, kCompleted, kFailed, kCancelled, kPaused };
 
 const char* to_string(JobState state);
 inline bool is_finished(JobState state) {
   return state == JobState::kCompleted || state == JobState::kFailed ||
          state == JobState::kCancelled;
 }
+// Whether workers may take the job's tiles (a paused job is unfinished but not runnable).
+inline bool is_runnable(JobState state) {
+  return state == JobState::kQueued || state == JobState::kRunning;
+}
+
+using JobLabels = std::map<std::string, std::string>;
 
 // A job as the store keeps it: everything but its scene and tiles.
 struct JobRecord {
@@ -39,6 +47,15 @@ struct JobRecord {
   // Submission order, assigned by the store, increasing across restarts: orders the queue
   // and ListJobs, and is the ListJobs page token.
   std::int64_t sequence = 0;
+  JobLabels labels;
+};
+
+// What UpdateJob changes; unset fields stay as they are.
+struct JobUpdate {
+  std::optional<int> priority;
+  std::optional<std::string> submitter;
+  std::vector<std::string> remove_labels;  // applied first
+  JobLabels set_labels;
 };
 
 // The scene of a job as it was submitted: the serialized tessera.v1.Scene and the job's
@@ -86,6 +103,10 @@ struct JobQuery {
   std::optional<std::int64_t> before_sequence;  // only jobs submitted before this one
   std::optional<JobState> state;
   std::optional<std::string> submitter;
+  std::optional<std::string> name;  // exact match
+  // Jobs with this label key, and (when label_value is set) this value.
+  std::optional<std::string> label_key;
+  std::optional<std::string> label_value;
 };
 
 // What retention keeps: finished jobs are deleted once finished longer than `ttl_ms` ago
@@ -119,18 +140,36 @@ class JobStore {
   virtual std::optional<JobRecord> find_job(std::string_view id) const = 0;
   // Newest first.
   virtual std::vector<JobRecord> list_jobs(const JobQuery& query) const = 0;
-  // Queued and running jobs, oldest first: what a starting daemon resumes.
+  // Queued, running and paused jobs, oldest first: what a starting daemon resumes (the
+  // paused ones stay paused).
   virtual std::vector<JobRecord> unfinished_jobs() const = 0;
   virtual std::optional<SceneSource> scene(std::string_view id) const = 0;
-  // Queued and running jobs of one submitter.
+  // Queued, running and paused jobs of one submitter.
   virtual std::size_t unfinished_count(std::string_view submitter) const = 0;
 
   // State transitions. Each applies only to an unfinished job and returns the record after
   // it, or nothing when the job is finished or unknown.
   virtual std::optional<JobRecord> mark_running(std::string_view id, std::int64_t now_ms) = 0;
   // `state` is kCompleted, kFailed or kCancelled; `message` is the error or cancel reason.
+  // Applies to paused jobs too.
   virtual std::optional<JobRecord> finish_job(std::string_view id, JobState state,
                                               const std::string& message, std::int64_t now_ms) = 0;
+
+  // Job control. Each returns the record after the change, or nothing when the job is
+  // unknown or not in a state the change applies to (the caller reads it to say why).
+  // Queued or running -> paused.
+  virtual std::optional<JobRecord> pause_job(std::string_view id) = 0;
+  // Paused -> queued.
+  virtual std::optional<JobRecord> resume_job(std::string_view id) = 0;
+  // Failed or cancelled -> queued, keeping its tiles; clears the error, the finish time and
+  // the tile failure counts.
+  virtual std::optional<JobRecord> retry_job(std::string_view id) = 0;
+  // Any state.
+  virtual std::optional<JobRecord> update_job(std::string_view id, const JobUpdate& update) = 0;
+  // Counts one failed attempt at a tile (render, encoding or storage threw) and returns how
+  // many attempts at it have failed since the job was submitted or last retried. Kept in
+  // the store, so a restart does not give a failing tile fresh attempts.
+  virtual std::uint32_t record_tile_failure(std::string_view id, std::uint32_t index) = 0;
 
   // Tiles. A worker claims a tile before rendering it and commits it after; a claim held
   // by another live owner, or a tile already stored, is refused. A claim lapses at
@@ -139,7 +178,8 @@ class JobStore {
                           std::int64_t lease_until_ms, std::int64_t now_ms) = 0;
   virtual void release_tile(std::string_view id, std::uint32_t index, std::string_view owner) = 0;
   // Stores a rendered tile and adds its rays to the job, completing the job with its last
-  // tile, in one transaction; releases the claim.
+  // tile, in one transaction; releases the claim. A running or paused job takes the tile
+  // (a paused job keeps the tiles that were in flight when it was paused).
   virtual TileCommitResult commit_tile(std::string_view id, std::uint32_t index,
                                        std::string_view owner, const std::vector<std::uint8_t>& exr,
                                        std::uint64_t rays, std::int64_t now_ms) = 0;

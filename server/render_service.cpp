@@ -7,54 +7,23 @@
 #include "convert/scene_proto.hpp"
 #include "server/job_passes.hpp"
 #include "server/job_cost.hpp"
+#include "server/job_labels.hpp"
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
+#include "server/rpc_handler.hpp"
 
 namespace tessera::server {
+using rpc::guarded;
+using rpc::invalid;
+using rpc::unary;
 namespace {
 
 // Tiles read from the store per batch while streaming: bounds a stream's memory whatever
 // the job's size.
 constexpr std::size_t kTilesPerRead = 16;
 
-// No request, however malformed, may take the daemon down: whatever escapes a handler
-// becomes INTERNAL for that call alone.
-template <typename Fn>
-grpc::Status guarded(const char* method, Fn&& fn) {
-  try {
-    return fn();
-  } catch (const std::exception& e) {
-    spdlog::error("{} failed: {}", method, escape_client_text(e.what(), 1024));
-    return grpc::Status(grpc::StatusCode::INTERNAL, std::string(method) + ": " + e.what());
-  } catch (...) {
-    spdlog::error("{} failed with an unknown exception", method);
-    return grpc::Status(grpc::StatusCode::INTERNAL, std::string(method) + ": unknown error");
-  }
-}
-
-// Reads the request of a unary call, runs `fn(request, response)` and sends the response
-// when it returns OK.
-template <typename Request, typename Response, typename Fn>
-grpc::Status unary(const char* method, grpc::ServerUnaryStreamer<Request, Response>& streamer,
-                   Fn&& fn) {
-  Request request;
-  if (!streamer.Read(&request))
-    return grpc::Status(
-        grpc::StatusCode::INVALID_ARGUMENT,
-        std::string("request: not a valid ") + Request::descriptor()->full_name() + " message");
-  Response response;
-  const grpc::Status status = guarded(method, [&] { return fn(request, response); });
-  if (status.ok() && !streamer.Write(response))
-    return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
-  return status;
-}
-
 std::string cancelled_message(const std::string& job_id, const std::string& reason) {
   return "job " + job_id + " was cancelled" + (reason.empty() ? "" : " (" + reason + ")");
-}
-
-grpc::Status invalid(std::string message) {
-  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::move(message));
 }
 
 // The host part of a gRPC peer ("ipv4:10.0.0.7:51234" -> "ipv4:10.0.0.7"): a client that
@@ -120,6 +89,8 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   if (request.submitter().size() > kMaxSubmitterLength)
     return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
                    " bytes, got " + std::to_string(request.submitter().size()));
+  const JobLabels labels(request.labels().begin(), request.labels().end());
+  if (const auto problem = labels_problem(labels, "labels")) return invalid(*problem);
   const std::string logged_name = escape_client_text(request.name());
   // Before the scene is converted: a request that could never fit costs no more than the
   // memory gRPC already spent parsing it.
@@ -158,6 +129,7 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   record.settings = settings;
   record.tiles_total = static_cast<std::uint32_t>(tiles);
   record.submitted_unix_ms = unix_millis_now();
+  record.labels = labels;
   SceneSource source;
   source.scene_proto = request.scene().SerializeAsString();
   source.settings_proto = settings_to_proto(settings).SerializeAsString();
@@ -332,6 +304,17 @@ grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
     query.before_sequence = sequence;
   }
   if (!request.submitter().empty()) query.submitter = request.submitter();
+  if (request.name().size() > kMaxJobNameLength)
+    return invalid("name: must be at most " + std::to_string(kMaxJobNameLength) + " bytes, got " +
+                   std::to_string(request.name().size()));
+  if (!request.name().empty()) query.name = request.name();
+  if (!request.label().empty()) {
+    std::string problem;
+    const auto filter = parse_label_filter(request.label(), "label", problem);
+    if (!filter) return invalid(problem);
+    query.label_key = filter->key;
+    query.label_value = filter->value;
+  }
   if (request.state() != v1::JOB_STATE_UNSPECIFIED) {
     query.state = job_state_from_proto(request.state());
     if (!query.state) return invalid("state: unknown job state " + std::to_string(request.state()));
@@ -367,6 +350,9 @@ grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobR
                         "job " + job->id() + " has already " + to_string(info.state));
   if (result == CancelResult::kCancelled) {
     scheduler_.job_changed();
+    // A paused job has no scheduler entry to release it: let go of it here (a running
+    // one is released again, harmlessly, once its tiles in flight return).
+    jobs_.forget(job->id());
     spdlog::info("job {} cancelled by a client after {}/{} tiles", job->id(),
                  info.progress.tiles_done, info.progress.tiles_total);
   }
@@ -389,9 +375,11 @@ grpc::Status RenderServiceImpl::remove(const std::string& job_id) {
     return grpc::Status(
         grpc::StatusCode::FAILED_PRECONDITION,
         "job " + job->id() + " is " + to_string(job->state()) + "; cancel it before deleting it");
+  const JobRecord last = job->record();
   if (!jobs_.store().delete_job(job->id()))
     return grpc::Status(grpc::StatusCode::NOT_FOUND, "job '" + job->id() + "' not found");
   jobs_.forget(job->id());
+  if (watch_hub_) watch_hub_->job_deleted(last);
   spdlog::info("job {} deleted by a client", job->id());
   return grpc::Status::OK;
 }

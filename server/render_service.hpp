@@ -3,9 +3,11 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 
 #include "server/job_id.hpp"
 #include "server/job_registry.hpp"
+#include "server/job_watch.hpp"
 #include "server/scheduler.hpp"
 #include "server/stream_write_watchdog.hpp"
 #include "tessera/v1/render.grpc.pb.h"
@@ -59,6 +61,26 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   // RESOURCE_EXHAUSTED before its scene is converted; 0 (the default): no limit. Call
   // before serving.
   void set_memory_budget(std::size_t bytes) { memory_budget_ = bytes; }
+  // Job control and WatchJobs (render_service_control.cpp).
+  grpc::Status StreamedPauseJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::PauseJobRequest, v1::PauseJobResponse>* streamer) override;
+  grpc::Status StreamedResumeJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::ResumeJobRequest, v1::ResumeJobResponse>* streamer) override;
+  grpc::Status StreamedRetryJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::RetryJobRequest, v1::RetryJobResponse>* streamer) override;
+  grpc::Status StreamedUpdateJob(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::UpdateJobRequest, v1::UpdateJobResponse>* streamer) override;
+  grpc::Status StreamedWatchJobs(
+      grpc::ServerContext* context,
+      grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>* streamer) override;
+
+  // WatchJobs reads job changes from `hub` (the registry's listener); without one it
+  // answers UNIMPLEMENTED. Call before the server starts.
+  void enable_watch(JobWatchHub& hub) { watch_hub_ = &hub; }
 
   // From now on SubmitJob answers UNAVAILABLE, and streams of unfinished jobs end with
   // UNAVAILABLE (their jobs resume when the daemon restarts).
@@ -82,6 +104,17 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);
   grpc::Status cancel(const std::string& job_id, v1::CancelJobResponse& response);
   grpc::Status remove(const std::string& job_id);
+  grpc::Status pause(const std::string& job_id, v1::Job& out);
+  grpc::Status resume(const std::string& job_id, v1::Job& out);
+  grpc::Status retry(const std::string& job_id, v1::Job& out);
+  grpc::Status update(const v1::UpdateJobRequest& request, v1::Job& out);
+  grpc::Status watch(grpc::ServerContext& context, const v1::WatchJobsRequest& request,
+                     grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>& writer);
+  // RESOURCE_EXHAUSTED when one more unfinished job of `submitter` would pass the cap
+  // (RetryJob, and UpdateJob moving an unfinished job to another submitter).
+  std::optional<grpc::Status> submitter_quota(const std::string& submitter);
+  // Counts a streaming call for wait_for_streams while it lives.
+  class StreamScope;
   // The job, or the status to answer when `job_id` is empty, too long or unknown.
   std::shared_ptr<Job> find_job(const std::string& job_id, grpc::Status& status) const;
 
@@ -97,6 +130,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   mutable std::mutex streams_mutex_;
   std::condition_variable streams_ended_;
   int active_streams_ = 0;
+  JobWatchHub* watch_hub_ = nullptr;
 };
 
 }  // namespace tessera::server

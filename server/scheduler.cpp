@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "server/job_passes.hpp"
@@ -28,7 +29,20 @@ struct Scheduler::Entry {
   std::vector<bool> rendering;
   bool preparing = false;
   unsigned in_flight = 0;  // tasks of this entry running on workers
+  // Replaced by a new entry (requeue): hands out nothing more.
+  bool retired = false;
+  // Queued as a fresh entry once this one's tasks have returned (requeue): the job's live
+  // object, which may differ from `job` (a worker may still be using `job`).
+  std::shared_ptr<Job> successor;
 };
+
+// The queue's order: priority descending (it may change: UpdateJob), then submission.
+bool Scheduler::queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b) {
+  const int pa = a->job->priority();
+  const int pb = b->job->priority();
+  if (pa != pb) return pa > pb;
+  return a->sequence < b->sequence;
+}
 
 struct Scheduler::Task {
   std::shared_ptr<Entry> entry;
@@ -94,19 +108,40 @@ bool Scheduler::enqueue(std::shared_ptr<Entry> entry) {
     std::lock_guard lock(mutex_);
     if (stopping_) return false;
     entry->sequence = next_sequence_++;
-    const auto before = [](const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b) {
-      if (a->job->priority() != b->job->priority()) return a->job->priority() > b->job->priority();
-      return a->sequence < b->sequence;
-    };
-    queue_.insert(std::upper_bound(queue_.begin(), queue_.end(), entry, before), entry);
+    queue_.insert(std::upper_bound(queue_.begin(), queue_.end(), entry, queue_order), entry);
   }
   work_available_.notify_one();
   return true;
 }
 
 void Scheduler::job_changed() {
-  std::lock_guard lock(mutex_);
-  prune_locked();
+  {
+    std::lock_guard lock(mutex_);
+    // Priorities may have changed (UpdateJob): keep the queue in its order.
+    std::stable_sort(queue_.begin(), queue_.end(), queue_order);
+    prune_locked();
+  }
+  work_available_.notify_all();
+}
+
+bool Scheduler::requeue(std::shared_ptr<Job> job) {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return false;
+    bool waiting = false;
+    for (const auto& entry : queue_) {
+      if (entry->job->id() != job->id() || entry->retired) continue;
+      entry->retired = true;
+      if (entry->in_flight > 0 && !waiting) {
+        entry->successor = job;
+        waiting = true;
+      }
+    }
+    if (waiting) return true;
+  }
+  auto entry = std::make_shared<Entry>();
+  entry->job = std::move(job);
+  return enqueue(std::move(entry));
 }
 
 void Scheduler::wait_idle() {
@@ -145,15 +180,33 @@ void Scheduler::stop(std::chrono::milliseconds grace) {
   idle_.notify_all();
 }
 
-// Forgets finished jobs whose tasks have all returned, freeing their prepared scenes.
+// Forgets finished, paused and retired entries whose tasks have all returned, freeing
+// their prepared scenes (a resumed job is prepared again).
 void Scheduler::prune_locked() {
+  std::vector<std::shared_ptr<Entry>> requeued;
   const auto removed = std::remove_if(queue_.begin(), queue_.end(), [&](const auto& entry) {
-    if (entry->in_flight != 0 || !entry->job->finished()) return false;
+    if (entry->in_flight != 0) return false;
+    if (entry->retired) {
+      if (entry->successor && !entry->successor->finished()) {
+        auto fresh = std::make_shared<Entry>();
+        fresh->job = std::move(entry->successor);
+        requeued.push_back(std::move(fresh));
+      }
+      return true;
+    }
+    const JobState state = entry->job->state();
+    if (state == JobState::kPaused) return true;
+    if (!is_finished(state)) return false;
     if (options_.on_job_released) options_.on_job_released(*entry->job);
     return true;
   });
   if (removed == queue_.end()) return;
   queue_.erase(removed, queue_.end());
+  for (auto& entry : requeued) {
+    entry->sequence = next_sequence_++;
+    queue_.push_back(std::move(entry));
+  }
+  if (!requeued.empty()) std::stable_sort(queue_.begin(), queue_.end(), queue_order);
   // Submitters with nothing queued start afresh.
   std::erase_if(last_served_, [&](const auto& served) {
     return std::none_of(queue_.begin(), queue_.end(),
@@ -166,7 +219,9 @@ namespace {
 
 template <typename Entry>
 bool has_work(const Entry& entry) {
-  if (entry.job->finished()) return false;  // tasks still in flight; nothing new to hand out
+  if (entry.retired) return false;
+  // Finished (tasks still in flight) or paused: nothing new to hand out.
+  if (!is_runnable(entry.job->state())) return false;
   if (!entry.prepared) return !entry.preparing;
   if (entry.next_tile >= entry.tiles.size()) return false;  // every tile is handed out
   // The next pass of a tile whose previous pass is still rendering waits for it.
@@ -348,9 +403,12 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
 void Scheduler::render(Entry& entry, const TileWork& work) {
   Job& job = *entry.job;
   const TileRect& rect = work.rect;
-  if (job.stop_requested()) return;  // cancelled after the tile was handed out
+  // Cancelled or paused after the tile was handed out (a resumed job is queued afresh).
+  if (job.stop_requested() || !is_runnable(job.state())) return;
+  const std::uint64_t run = job.run();
   AddTileResult added = AddTileResult::kDropped;
   bool claimed = false;
+  std::optional<std::string> failure;
   try {
     if (!job.claim_tile(work.unit, options_.owner)) return;  // stored, or another's
     claimed = true;
@@ -367,19 +425,18 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
         const TileCancelScope cancel(&job.stop_flag());
         stats = entry.prepared->render_tile(rect, passes);
       }
-      // A raised flag may have cut the tile short: it is incomplete, so never stored.
-      if (!job.stop_requested()) {
+      // A raised flag may have cut the tile short: it is incomplete, so never stored. The
+      // flag first, then the run (see Job::run).
+      if (!job.stop_flag().load() && job.run() == run) {
         added = job.add_tile(rect, options_.owner,
                              tile_exr(passes, rect, entry.prepared->settings().aovs), stats.rays);
         claimed = false;  // committed or released by add_tile
       }
     }
   } catch (const std::exception& e) {
-    const std::string pass =
-        entry.prepared->settings().pass_count() > 1 ? " pass " + std::to_string(work.pass) : "";
-    fail_job(job, "tile " + std::to_string(rect.index) + pass + " failed: " + e.what());
+    failure = e.what();
   } catch (...) {
-    fail_job(job, "tile " + std::to_string(rect.index) + " failed: unknown error");
+    failure = "unknown error";
   }
   if (claimed) {
     try {
@@ -388,6 +445,8 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
       // Claims lapse anyway; nothing is lost by keeping this one.
     }
   }
+  // An attempt that failed because its job stopped meanwhile is not the tile's fault.
+  if (failure && !job.stop_flag().load() && job.run() == run) tile_failed(entry, work, *failure);
   if (options_.on_tile_rendered)
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {
@@ -396,6 +455,36 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
                  info.progress.tiles_done, info.progress.rays_traced, info.progress.elapsed_seconds,
                  info.progress.rays_per_second);
   }
+}
+
+void Scheduler::tile_failed(Entry& entry, const TileWork& work, const std::string& reason) {
+  Job& job = *entry.job;
+  const TileRect& rect = work.rect;
+  const std::string pass = entry.prepared && entry.prepared->settings().pass_count() > 1
+                               ? " pass " + std::to_string(work.pass)
+                               : "";
+  const std::string tile = "tile " + std::to_string(rect.index) + pass + " (x " +
+                           std::to_string(rect.x) + ", y " + std::to_string(rect.y) + ")";
+  std::uint32_t failures = 0;
+  try {
+    // Counted per unit of work: a tile's passes fail and retry independently.
+    failures = job.record_tile_failure(work.unit);
+  } catch (const std::exception& e) {
+    fail_job(job, tile + " failed: " + reason + "; its failure could not be counted: " + e.what());
+    return;
+  }
+  if (failures > options_.tile_retries) {
+    fail_job(job, tile + " failed " + std::to_string(failures) +
+                      (failures == 1 ? " time: " : " times: ") + reason);
+    return;
+  }
+  spdlog::warn("job {}: {} failed (attempt {} of {}), retrying: {}", job.id(), tile, failures,
+               options_.tile_retries + 1, reason);
+  {
+    std::lock_guard lock(mutex_);
+    entry.tiles.push_back(work);  // handed out again after the tiles still waiting
+  }
+  work_available_.notify_one();
 }
 
 }  // namespace tessera::server

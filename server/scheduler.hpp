@@ -47,8 +47,13 @@ struct SchedulerOptions {
   std::uint32_t yield_every = 8;
   // Called on the worker thread; for tests and instrumentation. Must not throw.
   std::function<void(const Job&)> on_job_started;
-  // Called on the worker thread just before a claimed tile starts rendering.
+  // Called on the worker thread just before a claimed tile starts rendering. May throw:
+  // the attempt then fails as a render that threw does (how tests inject tile failures
+  // without touching the render path).
   std::function<void(const Job&, const TileRect&)> on_tile_started;
+  // Failed attempts at one tile (render, encoding or storage threw) that are retried
+  // before its job fails; the count is kept in the store.
+  std::uint32_t tile_retries = 2;
   // `kept` is false when the job had finished (been cancelled) while the tile rendered.
   std::function<void(const Job&, const TileRect&, bool kept)> on_tile_rendered;
   // Called, under the scheduler's lock, when the scheduler lets go of a finished job.
@@ -97,9 +102,16 @@ class Scheduler {
   // Queues a job whose scene options.load_scene reads when the job is prepared.
   bool submit(std::shared_ptr<Job> job);
 
-  // Call after cancelling a job from outside, so its remaining tiles are not handed out
-  // and the scheduler forgets it.
+  // Call after cancelling, pausing or re-prioritising a job from outside, so a finished or
+  // paused job's remaining tiles are not handed out (the scheduler forgets it once its
+  // tiles in flight return) and the queue follows the new priorities.
   void job_changed();
+
+  // Queues again a job that was paused and resumed, or failed or cancelled and retried:
+  // it is prepared afresh and renders only the tiles the store lacks. An entry of its
+  // earlier run with tiles still in flight is retired, and the new one queued once they
+  // have returned (so no tile renders twice). Returns false once stop() has begun.
+  bool requeue(std::shared_ptr<Job> job);
 
   // Blocks until every submitted job has finished and no tile is in flight.
   void wait_idle();
@@ -116,6 +128,7 @@ class Scheduler {
   struct Entry;
   struct Task;
 
+  static bool queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b);
   void worker_loop();
   bool take_task_locked(Task& task);
   void prune_locked();
@@ -125,6 +138,9 @@ class Scheduler {
   // new one with the tile's image after the pass. Nothing when the pass was cut short (the
   // claim is then still held).
   std::optional<AddTileResult> render_pass(Entry& entry, const TileWork& work);
+  // A failed attempt at `work`: hands it out again, or fails the job once it has failed
+  // more than options_.tile_retries times.
+  void tile_failed(Entry& entry, const TileWork& work, const std::string& reason);
   bool enqueue(std::shared_ptr<Entry> entry);
 
   SchedulerOptions options_;

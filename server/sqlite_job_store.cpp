@@ -13,10 +13,11 @@ namespace tessera::server {
 namespace {
 
 // PRAGMA user_version of the schema below; a file with another version is refused rather
-// than misread. Version 2 added tile_states (progressive passes); a version 1 file is
-// upgraded in place, the new table being all it lacks.
+// than misread. Version 2 added tile_states (progressive passes), job_labels and
+// tile_failures (job control): tables only, so a version 1 file is upgraded in place by
+// creating them.
 constexpr int kSchemaVersion = 2;
-constexpr int kUpgradableVersion = 1;
+constexpr int kOldestUpgradableVersion = 1;
 
 // Tiles reference jobs by their integer sequence, not the id text, to keep the tile index
 // small. Scenes are stored once per distinct content (scene_key) and shared.
@@ -67,6 +68,19 @@ CREATE TABLE IF NOT EXISTS tile_states (
   state BLOB NOT NULL,
   PRIMARY KEY (job_sequence, tile)
 );
+CREATE TABLE IF NOT EXISTS job_labels (
+  job_sequence INTEGER NOT NULL REFERENCES jobs(sequence) ON DELETE CASCADE,
+  key TEXT NOT NULL,
+  value TEXT NOT NULL,
+  PRIMARY KEY (job_sequence, key)
+);
+CREATE INDEX IF NOT EXISTS job_labels_by_key ON job_labels(key, value);
+CREATE TABLE IF NOT EXISTS tile_failures (
+  job_sequence INTEGER NOT NULL REFERENCES jobs(sequence) ON DELETE CASCADE,
+  tile_index INTEGER NOT NULL,
+  failures INTEGER NOT NULL,
+  PRIMARY KEY (job_sequence, tile_index)
+);
 )sql";
 
 constexpr const char* kJobColumns =
@@ -80,7 +94,7 @@ JobRecord read_job(SQLite::Statement& q) {
   r.name = q.getColumn(2).getString();
   r.priority = q.getColumn(3).getInt();
   const int state = q.getColumn(4).getInt();
-  if (state < 0 || state > static_cast<int>(JobState::kCancelled))
+  if (state < 0 || state > static_cast<int>(JobState::kPaused))
     throw std::runtime_error("job " + r.id + " has an unknown state " + std::to_string(state));
   r.state = static_cast<JobState>(state);
   v1::RenderSettings settings;
@@ -102,6 +116,35 @@ JobRecord read_job(SQLite::Statement& q) {
 
 void bind_text(SQLite::Statement& q, int index, std::string_view text) {
   q.bind(index, std::string(text));
+}
+
+void read_labels(SQLite::Database& db, JobRecord& job) {
+  SQLite::Statement q(db, "SELECT key, value FROM job_labels WHERE job_sequence = ?");
+  q.bind(1, job.sequence);
+  job.labels.clear();
+  while (q.executeStep())
+    job.labels.emplace(q.getColumn(0).getString(), q.getColumn(1).getString());
+}
+
+void write_label(SQLite::Database& db, std::int64_t sequence, const std::string& key,
+                 const std::string& value) {
+  SQLite::Statement q(db,
+                      "INSERT INTO job_labels(job_sequence, key, value) VALUES (?, ?, ?) "
+                      "ON CONFLICT(job_sequence, key) DO UPDATE SET value = excluded.value");
+  q.bind(1, sequence);
+  q.bind(2, key);
+  q.bind(3, value);
+  q.exec();
+}
+
+// "state IN (...)" over the given states, as literals (they are our own enum values).
+std::string state_in(std::initializer_list<JobState> states) {
+  std::string sql = "state IN (";
+  for (const JobState state : states) {
+    if (sql.back() != '(') sql += ", ";
+    sql += std::to_string(static_cast<int>(state));
+  }
+  return sql + ")";
 }
 
 // FNV-1a, 64 bits: a content key, not a security boundary. Two different scenes with the
@@ -163,7 +206,7 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& path) {
     }
     db_->exec("PRAGMA foreign_keys = ON");
     const int version = db_->execAndGet("PRAGMA user_version").getInt();
-    if (version != 0 && version != kSchemaVersion && version != kUpgradableVersion)
+    if (version != 0 && (version < kOldestUpgradableVersion || version > kSchemaVersion))
       throw std::runtime_error("schema version " + std::to_string(version) +
                                " is not the one this tesserad knows (" +
                                std::to_string(kSchemaVersion) + ")");
@@ -219,6 +262,8 @@ JobRecord SqliteJobStore::create_job(const JobRecord& job, const SceneSource& sc
   insert.bind(8, job.submitted_unix_ms);
   insert.bind(9, job.submitter);
   insert.exec();
+  const std::int64_t sequence = db_->getLastInsertRowid();
+  for (const auto& [key, value] : job.labels) write_label(*db_, sequence, key, value);
   transaction.commit();
   return *find_locked(job.id);
 }
@@ -227,7 +272,9 @@ std::optional<JobRecord> SqliteJobStore::find_locked(std::string_view id) const 
   SQLite::Statement q(*db_, std::string("SELECT ") + kJobColumns + " FROM jobs WHERE id = ?");
   bind_text(q, 1, id);
   if (!q.executeStep()) return std::nullopt;
-  return read_job(q);
+  JobRecord job = read_job(q);
+  read_labels(*db_, job);
+  return job;
 }
 
 std::optional<JobRecord> SqliteJobStore::find_job(std::string_view id) const {
@@ -240,27 +287,38 @@ std::vector<JobRecord> SqliteJobStore::list_jobs(const JobQuery& query) const {
   std::string sql = std::string("SELECT ") + kJobColumns + " FROM jobs WHERE sequence < ?";
   if (query.state) sql += " AND state = ?";
   if (query.submitter) sql += " AND submitter = ?";
+  if (query.name) sql += " AND name = ?";
+  if (query.label_key)
+    sql += std::string(" AND sequence IN (SELECT job_sequence FROM job_labels WHERE key = ?") +
+           (query.label_value ? " AND value = ?)" : ")");
   sql += " ORDER BY sequence DESC LIMIT ?";
   SQLite::Statement q(*db_, sql);
   int at = 1;
   q.bind(at++, query.before_sequence.value_or(std::numeric_limits<std::int64_t>::max()));
   if (query.state) q.bind(at++, static_cast<int>(*query.state));
   if (query.submitter) q.bind(at++, *query.submitter);
+  if (query.name) q.bind(at++, *query.name);
+  if (query.label_key) {
+    q.bind(at++, *query.label_key);
+    if (query.label_value) q.bind(at++, *query.label_value);
+  }
   q.bind(at, static_cast<std::int64_t>(
                  std::min<std::size_t>(query.limit, std::numeric_limits<std::int64_t>::max())));
   std::vector<JobRecord> jobs;
   while (q.executeStep()) jobs.push_back(read_job(q));
+  for (JobRecord& job : jobs) read_labels(*db_, job);
   return jobs;
 }
 
 std::vector<JobRecord> SqliteJobStore::unfinished_jobs() const {
   std::lock_guard lock(mutex_);
-  SQLite::Statement q(*db_, std::string("SELECT ") + kJobColumns +
-                                " FROM jobs WHERE state IN (?, ?) ORDER BY sequence");
-  q.bind(1, static_cast<int>(JobState::kQueued));
-  q.bind(2, static_cast<int>(JobState::kRunning));
+  SQLite::Statement q(*db_,
+                      std::string("SELECT ") + kJobColumns + " FROM jobs WHERE " +
+                          state_in({JobState::kQueued, JobState::kRunning, JobState::kPaused}) +
+                          " ORDER BY sequence");
   std::vector<JobRecord> jobs;
   while (q.executeStep()) jobs.push_back(read_job(q));
+  for (JobRecord& job : jobs) read_labels(*db_, job);
   return jobs;
 }
 
@@ -277,10 +335,10 @@ std::optional<SceneSource> SqliteJobStore::scene(std::string_view id) const {
 
 std::size_t SqliteJobStore::unfinished_count(std::string_view submitter) const {
   std::lock_guard lock(mutex_);
-  SQLite::Statement q(*db_, "SELECT COUNT(*) FROM jobs WHERE submitter = ? AND state IN (?, ?)");
+  SQLite::Statement q(*db_,
+                      "SELECT COUNT(*) FROM jobs WHERE submitter = ? AND " +
+                          state_in({JobState::kQueued, JobState::kRunning, JobState::kPaused}));
   bind_text(q, 1, submitter);
-  q.bind(2, static_cast<int>(JobState::kQueued));
-  q.bind(3, static_cast<int>(JobState::kRunning));
   q.executeStep();
   return static_cast<std::size_t>(q.getColumn(0).getInt64());
 }
@@ -308,15 +366,14 @@ std::optional<JobRecord> SqliteJobStore::finish_job(std::string_view id, JobStat
   SQLite::Statement q(*db_,
                       "UPDATE jobs SET state = ?, error = ?, cancel_reason = ?, finished_ms = ?, "
                       "started_ms = CASE WHEN started_ms = 0 THEN ? ELSE started_ms END "
-                      "WHERE id = ? AND state IN (?, ?)");
+                      "WHERE id = ? AND " +
+                          state_in({JobState::kQueued, JobState::kRunning, JobState::kPaused}));
   q.bind(1, static_cast<int>(state));
   q.bind(2, state == JobState::kFailed ? message : std::string());
   q.bind(3, state == JobState::kCancelled ? message : std::string());
   q.bind(4, now_ms);
   q.bind(5, now_ms);
   bind_text(q, 6, id);
-  q.bind(7, static_cast<int>(JobState::kQueued));
-  q.bind(8, static_cast<int>(JobState::kRunning));
   if (q.exec() == 0) return std::nullopt;
   return find_locked(id);
 }
@@ -408,7 +465,7 @@ TileCommitResult SqliteJobStore::commit_locked(std::string_view id, std::uint32_
       return result;
     }
   }
-  if (job->state != JobState::kRunning) return result;
+  if (job->state != JobState::kRunning && job->state != JobState::kPaused) return result;
   if (index >= job->tiles_total)
     throw std::out_of_range("tile " + std::to_string(index) + " of job " + job->id +
                             " is outside its " + std::to_string(job->tiles_total) + " tiles");
@@ -433,7 +490,7 @@ TileCommitResult SqliteJobStore::commit_locked(std::string_view id, std::uint32_
                              "finished_ms = ? WHERE sequence = ?");
     update.bind(1, static_cast<std::int64_t>(ordinal));
     update.bind(2, static_cast<std::int64_t>(rays_after));
-    update.bind(3, static_cast<int>(last ? JobState::kCompleted : JobState::kRunning));
+    update.bind(3, static_cast<int>(last ? JobState::kCompleted : job->state));
     update.bind(4, last ? now_ms : std::int64_t{0});
     update.bind(5, job->sequence);
     update.exec();
@@ -457,6 +514,92 @@ TileCommitResult SqliteJobStore::commit_locked(std::string_view id, std::uint32_
   result.outcome = last ? TileCommit::kCompletedJob : TileCommit::kStored;
   result.job = *find_locked(id);
   return result;
+}
+
+std::optional<JobRecord> SqliteJobStore::change_state(std::string_view id,
+                                                      const std::string& from_states, JobState to,
+                                                      bool reopen) {
+  std::lock_guard lock(mutex_);
+  SQLite::Transaction transaction(*db_);
+  SQLite::Statement q(*db_,
+                      std::string("UPDATE jobs SET state = ?") +
+                          (reopen ? ", error = '', cancel_reason = '', finished_ms = 0" : "") +
+                          " WHERE id = ? AND " + from_states);
+  q.bind(1, static_cast<int>(to));
+  bind_text(q, 2, id);
+  if (q.exec() == 0) return std::nullopt;
+  if (reopen) {
+    SQLite::Statement failures(*db_,
+                               "DELETE FROM tile_failures WHERE job_sequence = (SELECT sequence "
+                               "FROM jobs WHERE id = ?)");
+    bind_text(failures, 1, id);
+    failures.exec();
+  }
+  transaction.commit();
+  return find_locked(id);
+}
+
+std::optional<JobRecord> SqliteJobStore::pause_job(std::string_view id) {
+  return change_state(id, state_in({JobState::kQueued, JobState::kRunning}), JobState::kPaused,
+                      false);
+}
+
+std::optional<JobRecord> SqliteJobStore::resume_job(std::string_view id) {
+  return change_state(id, state_in({JobState::kPaused}), JobState::kQueued, false);
+}
+
+std::optional<JobRecord> SqliteJobStore::retry_job(std::string_view id) {
+  return change_state(id, state_in({JobState::kFailed, JobState::kCancelled}), JobState::kQueued,
+                      true);
+}
+
+std::optional<JobRecord> SqliteJobStore::update_job(std::string_view id, const JobUpdate& update) {
+  std::lock_guard lock(mutex_);
+  SQLite::Transaction transaction(*db_);
+  std::optional<JobRecord> job = find_locked(id);
+  if (!job) return std::nullopt;
+  if (update.priority) {
+    SQLite::Statement q(*db_, "UPDATE jobs SET priority = ? WHERE sequence = ?");
+    q.bind(1, *update.priority);
+    q.bind(2, job->sequence);
+    q.exec();
+  }
+  if (update.submitter) {
+    SQLite::Statement q(*db_, "UPDATE jobs SET submitter = ? WHERE sequence = ?");
+    q.bind(1, *update.submitter);
+    q.bind(2, job->sequence);
+    q.exec();
+  }
+  for (const std::string& key : update.remove_labels) {
+    SQLite::Statement q(*db_, "DELETE FROM job_labels WHERE job_sequence = ? AND key = ?");
+    q.bind(1, job->sequence);
+    q.bind(2, key);
+    q.exec();
+  }
+  for (const auto& [key, value] : update.set_labels) write_label(*db_, job->sequence, key, value);
+  transaction.commit();
+  return find_locked(id);
+}
+
+std::uint32_t SqliteJobStore::record_tile_failure(std::string_view id, std::uint32_t index) {
+  std::lock_guard lock(mutex_);
+  SQLite::Transaction transaction(*db_);
+  SQLite::Statement q(*db_,
+                      "INSERT INTO tile_failures(job_sequence, tile_index, failures) SELECT "
+                      "sequence, ?, 1 FROM jobs WHERE id = ? ON CONFLICT(job_sequence, "
+                      "tile_index) DO UPDATE SET failures = failures + 1");
+  q.bind(1, static_cast<std::int64_t>(index));
+  bind_text(q, 2, id);
+  if (q.exec() == 0) return 0;
+  SQLite::Statement count(*db_,
+                          "SELECT failures FROM tile_failures JOIN jobs ON job_sequence = "
+                          "sequence WHERE id = ? AND tile_index = ?");
+  bind_text(count, 1, id);
+  count.bind(2, static_cast<std::int64_t>(index));
+  const std::uint32_t failures =
+      count.executeStep() ? static_cast<std::uint32_t>(count.getColumn(0).getInt64()) : 0;
+  transaction.commit();
+  return failures;
 }
 
 std::vector<std::uint32_t> SqliteJobStore::stored_tile_indices(std::string_view id) const {
@@ -507,11 +650,10 @@ std::uint32_t SqliteJobStore::tile_commit_count(std::string_view id, std::uint32
 }
 
 bool SqliteJobStore::delete_locked(std::string_view id) {
-  SQLite::Statement key_of(*db_, "SELECT scene_key FROM jobs WHERE id = ? AND state IN (?, ?, ?)");
+  SQLite::Statement key_of(
+      *db_, "SELECT scene_key FROM jobs WHERE id = ? AND " +
+                state_in({JobState::kCompleted, JobState::kFailed, JobState::kCancelled}));
   bind_text(key_of, 1, id);
-  key_of.bind(2, static_cast<int>(JobState::kCompleted));
-  key_of.bind(3, static_cast<int>(JobState::kFailed));
-  key_of.bind(4, static_cast<int>(JobState::kCancelled));
   if (!key_of.executeStep()) return false;
   const std::string key = key_of.getColumn(0).getString();
   SQLite::Statement remove(*db_, "DELETE FROM jobs WHERE id = ?");

@@ -38,6 +38,11 @@ class SqliteJobStore final : public JobStore {
   std::optional<JobRecord> mark_running(std::string_view id, std::int64_t now_ms) override;
   std::optional<JobRecord> finish_job(std::string_view id, JobState state,
                                       const std::string& message, std::int64_t now_ms) override;
+  std::optional<JobRecord> pause_job(std::string_view id) override;
+  std::optional<JobRecord> resume_job(std::string_view id) override;
+  std::optional<JobRecord> retry_job(std::string_view id) override;
+  std::optional<JobRecord> update_job(std::string_view id, const JobUpdate& update) override;
+  std::uint32_t record_tile_failure(std::string_view id, std::uint32_t index) override;
   bool claim_tile(std::string_view id, std::uint32_t index, std::string_view owner,
                   std::int64_t lease_until_ms, std::int64_t now_ms) override;
   void release_tile(std::string_view id, std::uint32_t index, std::string_view owner) override;
@@ -72,6 +77,10 @@ class SqliteJobStore final : public JobStore {
                                  const std::vector<std::uint8_t>& exr, std::uint64_t rays,
                                  std::int64_t now_ms, const TilePassState* state, bool last_pass);
   bool delete_locked(std::string_view id);
+  // Moves a job in one of `from_states` (an SQL condition on `state`) to `to`; `reopen`
+  // also clears its error, finish time and tile failure counts (a retried job).
+  std::optional<JobRecord> change_state(std::string_view id, const std::string& from_states,
+                                        JobState to, bool reopen);
 
   mutable std::mutex mutex_;
   std::unique_ptr<SQLite::Database> db_;

@@ -326,5 +326,45 @@ TEST_F(DaemonProcessTest, AJobNameCannotForgeALogLine) {
   EXPECT_TRUE(found_escaped);
 }
 
+// A paused job is still paused after a SIGTERM and a restart (no worker takes its tiles),
+// and after ResumeJob completes with the image of an uninterrupted render, every tile
+// committed once.
+TEST_F(DaemonProcessTest, APausedJobStaysPausedAcrossARestartAndCompletesAfterResume) {
+  const SceneDescription scene = cornell(128, 128, 64, 16);  // 64 tiles, a few seconds
+  std::string id;
+  std::uint32_t kept = 0;
+  {
+    TesseradProcess daemon(data(), log());
+    Client client(ClientOptions{.target = daemon.address()});
+    id = client.submit(make_submit_request(scene, "parked", 0)).id();
+    wait_for_tiles(client, id, 2);
+    EXPECT_EQ(client.pause(id).state(), v1::JOB_STATE_PAUSED);
+    EXPECT_EQ(daemon.terminate(), 0);
+  }
+  {
+    const server::JobRecord record = stored(id);
+    EXPECT_EQ(record.state, server::JobState::kPaused) << server::to_string(record.state);
+    kept = record.tiles_done;
+    ASSERT_LT(kept, 64u) << "the job finished before it was paused";
+  }
+  {
+    TesseradProcess daemon(data(), log());
+    Client client(ClientOptions{.target = daemon.address()});
+    // A restarted daemon does not run it: still paused, no tile added, after a while.
+    std::this_thread::sleep_for(1s);
+    const v1::Job after_restart = client.get(id);
+    EXPECT_EQ(after_restart.state(), v1::JOB_STATE_PAUSED);
+    EXPECT_EQ(after_restart.progress().tiles_done(), kept);
+    EXPECT_EQ(client.resume(id).state(), v1::JOB_STATE_QUEUED);
+    const Streamed streamed = stream_all(client, client.get(id));
+    EXPECT_EQ(client.get(id).state(), v1::JOB_STATE_COMPLETED);
+    for (std::size_t i = 0; i < streamed.times_seen.size(); ++i)
+      EXPECT_EQ(streamed.times_seen[i], 1) << "tile " << i;
+    EXPECT_TRUE(bit_equal(streamed.image, render_image(*PreparedScene::build(scene))));
+    EXPECT_EQ(daemon.terminate(), 0);
+  }
+  expect_every_tile_committed_once(id, 64);
+}
+
 }  // namespace
 }  // namespace tessera

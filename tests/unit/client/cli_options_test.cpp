@@ -91,6 +91,44 @@ TEST(CliOptions, OtherCommands) {
   EXPECT_EQ(p.result.command->kind, CommandKind::kCancel);
 }
 
+TEST(CliOptions, JobControlCommands) {
+  Parsed p = parse({"pause", "job-1"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kPause);
+  EXPECT_EQ(p.result.command->job_id, "job-1");
+  p = parse({"resume", "job-1"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kResume);
+  p = parse({"retry", "job-1"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kRetry);
+
+  p = parse({"update", "job-1", "--priority", "-2", "--label", "shot=010", "--label", "a=b=c",
+             "--remove-label", "old", "--submitter", "ana"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  const CliCommand& u = *p.result.command;
+  EXPECT_EQ(u.kind, CommandKind::kUpdate);
+  EXPECT_EQ(u.new_priority, -2);
+  EXPECT_EQ(u.labels, (std::vector<std::string>{"shot=010", "a=b=c"}));
+  EXPECT_EQ(u.remove_labels, (std::vector<std::string>{"old"}));
+  EXPECT_EQ(u.new_submitter, "ana");
+
+  p = parse({"events", "--job", "job-1", "--label", "shot"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kEvents);
+  EXPECT_EQ(p.result.command->job_id, "job-1");
+  EXPECT_EQ(p.result.command->label_filter, "shot");
+
+  p = parse({"list", "--label", "shot=010", "--name", "hero"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->label_filter, "shot=010");
+  EXPECT_EQ(p.result.command->name_filter, "hero");
+
+  p = parse({"submit", "s.yaml", "--label", "dept=fx"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->labels, (std::vector<std::string>{"dept=fx"}));
+}
+
 // Each bad invocation: no command, exit code 2, one line `tessera: ...` naming the problem.
 void expect_usage_error(std::vector<const char*> args, const std::string& mentions) {
   const Parsed p = parse(args);
@@ -120,6 +158,11 @@ TEST(CliOptions, RejectsBadArguments) {
   expect_usage_error({"list", "extra"}, "extra");
   expect_usage_error({"status"}, "job");
   expect_usage_error({"cancel", ""}, "empty");
+  expect_usage_error({"pause"}, "job");
+  expect_usage_error({"update", "job-1"}, "nothing to change");
+  expect_usage_error({"update", "job-1", "--label", "novalue"}, "KEY=VALUE");
+  expect_usage_error({"update", "job-1", "--priority", "high"}, "--priority");
+  expect_usage_error({"submit", "s.yaml", "--label", "=x"}, "KEY=VALUE");
 }
 
 TEST(CliOptions, HelpGoesToStdoutWithExitZero) {

@@ -155,6 +155,32 @@ TEST_F(ConfigFile, StreamWriteTimeoutIsReadWithItsDefault) {
   EXPECT_TRUE(cl.warnings.empty());
 }
 
+TEST_F(ConfigFile, TileRetriesAndWatchSettingsAreRead) {
+  const CommandLine defaults = parse({});
+  ASSERT_FALSE(defaults.exit_code) << defaults.message;
+  EXPECT_EQ(defaults.config.tile_retries, 2u);
+  EXPECT_EQ(defaults.config.watch_buffer, 1024u);
+  EXPECT_EQ(defaults.config.watch_write_timeout, std::chrono::seconds(10));
+
+  const CommandLine cl =
+      parse({"--config", write("tile_retries: 0\nwatch_buffer: 16\nwatch_write_timeout: 250ms\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.tile_retries, 0u);
+  EXPECT_EQ(cl.config.watch_buffer, 16u);
+  EXPECT_EQ(cl.config.watch_write_timeout, std::chrono::milliseconds(250));
+  EXPECT_TRUE(cl.warnings.empty());
+
+  for (const auto& [text, key] : std::vector<std::pair<std::string, std::string>>{
+           {"tile_retries: 101\n", "tile_retries"},
+           {"tile_retries: -1\n", "tile_retries"},
+           {"watch_buffer: 0\n", "watch_buffer"},
+           {"watch_write_timeout: 0s\n", "watch_write_timeout"}}) {
+    const CommandLine bad = parse({"--config", write(text)});
+    ASSERT_TRUE(bad.exit_code) << text;
+    EXPECT_NE(bad.message.find(key), std::string::npos) << bad.message;
+  }
+}
+
 TEST(ParseDuration, AcceptsANumberWithAUnit) {
   EXPECT_EQ(parse_duration("250ms"), std::chrono::milliseconds(250));
   EXPECT_EQ(parse_duration("30"), std::chrono::seconds(30));

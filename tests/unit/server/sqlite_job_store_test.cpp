@@ -96,7 +96,7 @@ TEST_F(SqliteJobStoreTest, PassStatesAreReplacedPerPassAndDroppedWithTheLast) {
 }
 
 // A version-1 file (before passes) opens and gains the tile_states table.
-TEST_F(SqliteJobStoreTest, AVersionOneFileIsUpgraded) {
+TEST_F(SqliteJobStoreTest, AVersionOneFileGainsTheTileStatesTable) {
   {
     SqliteJobStore store(file());
     store.create_job(record("job-a"), scene());
@@ -285,6 +285,112 @@ TEST_F(SqliteJobStoreTest, AFileOfAnotherSchemaIsRefusedNamingIt) {
   }
   std::ofstream(dir_ / "garbage") << "this is not a database, just text long enough to tell";
   EXPECT_THROW(SqliteJobStore(dir_ / "garbage"), std::runtime_error);
+}
+
+TEST_F(SqliteJobStoreTest, PauseResumeAndRetryMoveOnlyFromTheirStates) {
+  SqliteJobStore store(file());
+  store.create_job(record("a"), scene());
+  EXPECT_FALSE(store.resume_job("a"));  // queued: nothing to resume
+  EXPECT_FALSE(store.retry_job("a"));   // unfinished: nothing to retry
+  ASSERT_TRUE(store.pause_job("a"));
+  EXPECT_EQ(store.find_job("a")->state, JobState::kPaused);
+  EXPECT_FALSE(store.pause_job("a"));
+  EXPECT_FALSE(store.mark_running("a", 5));  // a paused job is not picked up
+  // A paused job is unfinished: resumed after a restart (as paused), counted for its
+  // submitter, never deleted by retention.
+  ASSERT_EQ(store.unfinished_jobs().size(), 1u);
+  EXPECT_EQ(store.unfinished_count(""), 1u);
+  RetentionPolicy policy;
+  policy.ttl_ms = 1;
+  EXPECT_TRUE(store.apply_retention(policy, 1'000'000).empty());
+  // Tiles in flight when it was paused are kept.
+  EXPECT_TRUE(store.claim_tile("a", 0, "w", 1'000'000, 10));
+  EXPECT_EQ(store.commit_tile("a", 0, "w", {1, 2, 3}, 5, 20).outcome, TileCommit::kStored);
+  EXPECT_EQ(store.find_job("a")->state, JobState::kPaused);
+
+  ASSERT_TRUE(store.resume_job("a"));
+  EXPECT_EQ(store.find_job("a")->state, JobState::kQueued);
+  ASSERT_TRUE(store.finish_job("a", JobState::kCancelled, "by hand", 30));
+  EXPECT_FALSE(store.pause_job("a"));
+  const auto retried = store.retry_job("a");
+  ASSERT_TRUE(retried);
+  EXPECT_EQ(retried->state, JobState::kQueued);
+  EXPECT_EQ(retried->cancel_reason, "");
+  EXPECT_EQ(retried->finished_unix_ms, 0);
+  EXPECT_EQ(retried->tiles_done, 1u);  // the tile is kept
+  EXPECT_EQ(store.stored_tile_indices("a"), (std::vector<std::uint32_t>{0}));
+}
+
+TEST_F(SqliteJobStoreTest, LabelsAreStoredUpdatedAndFilter) {
+  {
+    SqliteJobStore store(file());
+    JobRecord a = record("a");
+    a.labels = {{"shot", "010"}, {"dept", "fx"}};
+    store.create_job(a, scene());
+    JobRecord b = record("b");
+    b.name = "hero";
+    b.labels = {{"shot", "020"}};
+    store.create_job(b, scene());
+    store.create_job(record("c"), scene());
+  }
+  SqliteJobStore store(file());  // labels survive reopening
+  EXPECT_EQ(store.find_job("a")->labels, (JobLabels{{"dept", "fx"}, {"shot", "010"}}));
+  const auto ids = [&](std::optional<std::string> name, std::optional<std::string> key,
+                       std::optional<std::string> value = std::nullopt) {
+    JobQuery query;
+    query.name = std::move(name);
+    query.label_key = std::move(key);
+    query.label_value = std::move(value);
+    std::vector<std::string> out;
+    for (const JobRecord& job : store.list_jobs(query)) out.push_back(job.id);
+    return out;
+  };
+  EXPECT_EQ(ids({}, "shot"), (std::vector<std::string>{"b", "a"}));
+  EXPECT_EQ(ids({}, "shot", "010"), (std::vector<std::string>{"a"}));
+  EXPECT_EQ(ids("hero", {}), (std::vector<std::string>{"b"}));
+  EXPECT_EQ(ids("hero", "dept"), (std::vector<std::string>{}));
+
+  JobUpdate update;
+  update.priority = -4;
+  update.submitter = "ana";
+  update.remove_labels = {"dept"};
+  update.set_labels = {{"shot", "030"}, {"take", "2"}};
+  const auto updated = store.update_job("a", update);
+  ASSERT_TRUE(updated);
+  EXPECT_EQ(updated->priority, -4);
+  EXPECT_EQ(updated->submitter, "ana");
+  EXPECT_EQ(updated->labels, (JobLabels{{"shot", "030"}, {"take", "2"}}));
+  EXPECT_FALSE(store.update_job("nope", update));
+  // A deleted job takes its labels with it.
+  ASSERT_TRUE(store.finish_job("a", JobState::kCompleted, "", 5));
+  ASSERT_TRUE(store.delete_job("a"));
+  EXPECT_EQ(rows("job_labels"), 1);
+}
+
+// A job store of schema version 1 (before labels and tile failure counts) is upgraded in
+// place: its jobs are kept and the new tables created.
+TEST_F(SqliteJobStoreTest, AVersionOneFileGainsLabelsAndFailureCounts) {
+  {
+    SqliteJobStore store(file());
+    store.create_job(record("old"), scene());
+  }
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db,
+                           "DROP TABLE job_labels; DROP TABLE tile_failures; "
+                           "PRAGMA user_version = 1",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  SqliteJobStore store(file());
+  ASSERT_TRUE(store.find_job("old"));
+  EXPECT_EQ(store.record_tile_failure("old", 1), 1u);
+  JobUpdate update;
+  update.set_labels = {{"k", "v"}};
+  EXPECT_TRUE(store.update_job("old", update));
+  EXPECT_EQ(store.find_job("old")->labels.at("k"), "v");
 }
 
 TEST(EscapeClientText, KeepsPrintableAsciiAndEscapesEverythingElse) {
