@@ -50,6 +50,10 @@ SceneSize scene_size_of_proto(const v1::Scene& scene) {
         std::max(std::size_t{environment.image_width()} * environment.image_height(),
                  static_cast<std::size_t>(environment.image_pixels_size()) / 3);
   }
+  for (const v1::Texture& texture : scene.textures())
+    size.texture_pixels +=
+        std::max(std::size_t{texture.image_width()} * texture.image_height(),
+                 static_cast<std::size_t>(texture.image_pixels_size()) / 3);
   size.materials = static_cast<std::size_t>(scene.materials_size());
   size.lights = static_cast<std::size_t>(scene.lights_size());
   return size;

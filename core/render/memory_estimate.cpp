@@ -37,6 +37,9 @@ constexpr std::size_t kTrimPoint = 48;
 // Environment pixel: the description's three floats, the renderer's copy and its sampling
 // tables.
 constexpr std::size_t kEnvironmentPixel = 36;
+// Texture pixel: the description's three floats and the renderer's pyramid (a third more
+// than its 12-byte level 0).
+constexpr std::size_t kTexturePixel = 28;
 constexpr std::size_t kMaterial = 256;
 constexpr std::size_t kLight = 256;
 // Any job, however small: the store's page cache, the worker's tile planes and EXR
@@ -75,6 +78,8 @@ SceneSize scene_size(const SceneDescription& scene) {
   if (scene.environment)
     size.environment_pixels =
         std::size_t{scene.environment->image_width} * scene.environment->image_height;
+  for (const TextureDesc& texture : scene.textures)
+    size.texture_pixels += std::size_t{texture.image_width} * texture.image_height;
   size.materials = scene.materials.size();
   size.lights = scene.lights.size();
   return size;
@@ -98,7 +103,8 @@ MemoryEstimate estimate_memory(const SceneSize& size, const RenderSettings& sett
                                      saturating_add(saturating_multiply(size.materials, kMaterial),
                                                     saturating_multiply(size.lights, kLight)));
   estimate.accel = saturating_multiply(size.triangles, kTriangleAccel);
-  estimate.images = saturating_multiply(size.environment_pixels, kEnvironmentPixel);
+  estimate.images = saturating_add(saturating_multiply(size.environment_pixels, kEnvironmentPixel),
+                                   saturating_multiply(size.texture_pixels, kTexturePixel));
 
   const std::size_t channels = output_channels(settings.aovs).size();
   const std::size_t pixel_bytes = channels * sizeof(float);

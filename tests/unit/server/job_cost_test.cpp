@@ -18,12 +18,13 @@ void expect_same_size(const SceneSize& a, const SceneSize& b) {
   EXPECT_EQ(a.patch_control_points, b.patch_control_points);
   EXPECT_EQ(a.trim_points, b.trim_points);
   EXPECT_EQ(a.environment_pixels, b.environment_pixels);
+  EXPECT_EQ(a.texture_pixels, b.texture_pixels);
   EXPECT_EQ(a.materials, b.materials);
   EXPECT_EQ(a.lights, b.lights);
 }
 
 TEST(JobCost, TheRequestCountsMatchTheConvertedScene) {
-  for (const char* name : {"cornell.yaml", "shapes.yaml", "patches.yaml"}) {
+  for (const char* name : {"cornell.yaml", "shapes.yaml", "patches.yaml", "textures.yaml"}) {
     SCOPED_TRACE(name);
     const SceneDescription scene =
         load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/" + name).scene;
@@ -34,6 +35,14 @@ TEST(JobCost, TheRequestCountsMatchTheConvertedScene) {
     ASSERT_TRUE(back.ok()) << describe_issues(back.issues);
     expect_same_size(from_proto, scene_size(*back.scene));
   }
+  // The textures example's one image (256 x 256) is counted, and costs its pyramid.
+  const SceneDescription textured =
+      load_scene_file(std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/textures.yaml").scene;
+  EXPECT_EQ(scene_size(textured).texture_pixels, 256u * 256u);
+  SceneSize without = scene_size(textured);
+  without.texture_pixels = 0;
+  EXPECT_GT(estimate_memory(scene_size(textured), textured.render).images,
+            estimate_memory(without, textured.render).images + 256u * 256u * 12u);
 }
 
 v1::SubmitJobRequest identical_triangles(std::size_t count) {

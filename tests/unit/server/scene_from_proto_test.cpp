@@ -178,7 +178,7 @@ TEST(SceneFromProto, MissingShapeIsNamed) {
   v1::Scene scene = tiny_scene();
   scene.add_geometry()->set_material("grey");
   expect_single_issue(scene, "geometry[2].shape",
-                      "set one of sphere, rectangle, triangle, mesh, plane");
+                      "set one of sphere, displaced_sphere, rectangle, triangle, mesh, plane");
 }
 
 TEST(SceneFromProto, UnknownMaterialNameIsNamed) {

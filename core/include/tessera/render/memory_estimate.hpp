@@ -18,6 +18,7 @@ struct SceneSize {
   std::size_t patch_control_points = 0;
   std::size_t trim_points = 0;
   std::size_t environment_pixels = 0;
+  std::size_t texture_pixels = 0;  // image textures, all together, before their mip levels
   std::size_t materials = 0;
   std::size_t lights = 0;
 };
@@ -31,7 +32,7 @@ struct MemoryEstimate {
   std::size_t description = 0;  // the scene description the scene is prepared from
   std::size_t geometry = 0;     // render-ready triangles, their attributes, shapes, patches
   std::size_t accel = 0;        // BVH and triangle structures, with their build's peak
-  std::size_t images = 0;       // environment image pixels and sampling tables
+  std::size_t images = 0;       // environment and texture images, their tables and mip levels
   std::size_t film = 0;         // the whole image (only where one process assembles it)
   std::size_t tiles = 0;        // tiles in flight: one per thread, its planes and EXR bytes
 
