@@ -187,7 +187,17 @@ def make_material(m):
         # roughness is sqrt(alpha).
         alpha_x, alpha_y = m["alpha_x"], m["alpha_y"]
         smooth = max(alpha_x, alpha_y) < 1e-3
-        if m["complex_fresnel"]:
+        if m["complex_fresnel"] and not hasattr(bpy.types, "ShaderNodeBsdfMetallic"):
+            # Blender before 4.0 has no conductor Fresnel: a Glossy BSDF at the metal's
+            # normal-incidence reflectance, which misses the exact term's rise at grazing
+            # angles.
+            warn(f"material {m['name']}: this Blender has no Metallic BSDF; Glossy at the "
+                 "normal-incidence reflectance instead of the exact conductor Fresnel")
+            f0 = [((e - 1.0) ** 2 + k * k) / ((e + 1.0) ** 2 + k * k)
+                  for e, k in zip(m["eta"], m["k"])]
+            surface = nodes.new("ShaderNodeBsdfGlossy")
+            surface.inputs["Color"].default_value = [a * f for a, f in zip(albedo[:3], f0)] + [1.0]
+        elif m["complex_fresnel"]:
             surface = nodes.new("ShaderNodeBsdfMetallic")
             surface.fresnel_type = "PHYSICAL_CONDUCTOR"
             surface.inputs["IOR"].default_value = m["eta"]
