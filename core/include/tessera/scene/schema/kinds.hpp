@@ -4,6 +4,7 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <vector>
 
 #include "tessera/scene/scene_description.hpp"
 #include "tessera/scene/schema/checks.hpp"
@@ -104,6 +105,28 @@ struct BackgroundKind {
   static void check(const Desc&, Checks&) {}
 };
 
+// An image travelling as pixels (environment, texture): a size, 3 floats per pixel, each
+// finite and >= 0. A YAML scene read them from `file`, so its errors name that field.
+inline void check_image_pixels(std::uint32_t width, std::uint32_t height,
+                               const std::vector<float>& rgb, const char* missing, Checks& check) {
+  const std::size_t pixels = std::size_t{width} * height;
+  if (pixels == 0) {
+    check.fail(check.yaml() ? "file" : "image_width", missing);
+  } else if (rgb.size() != 3 * pixels) {
+    check.fail(check.yaml() ? "file" : "image_pixels", "must hold 3 floats per pixel (" +
+                                                           std::to_string(3 * pixels) + "), got " +
+                                                           std::to_string(rgb.size()));
+  } else {
+    for (std::size_t i = 0; i < rgb.size(); ++i)
+      if (!(rgb[i] >= 0.0f) || !std::isfinite(rgb[i])) {
+        check.fail(check.yaml() ? "file" : "image_pixels",
+                   "pixel values must be finite and >= 0, got " + Checks::format(rgb[i]) + " at " +
+                       std::to_string(i));
+        break;
+      }
+  }
+}
+
 // The environment (YAML and protobuf `environment`); when given it replaces the background.
 // RayON's `settings` block becomes a gradient environment of its background_intensity (RayON
 // draws that sky and ignores background_color), unless the scene gives `environment`.
@@ -150,23 +173,9 @@ struct EnvironmentKind {
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
   static void check(const Desc& env, Checks& check) {
-    if (env.type != "image") return;
-    const std::size_t pixels = std::size_t{env.image_width} * env.image_height;
-    if (pixels == 0) {
-      check.fail(check.yaml() ? "file" : "image_width", "an image environment needs an image");
-    } else if (env.image_pixels.size() != 3 * pixels) {
-      check.fail(check.yaml() ? "file" : "image_pixels",
-                 "must hold 3 floats per pixel (" + std::to_string(3 * pixels) + "), got " +
-                     std::to_string(env.image_pixels.size()));
-    } else {
-      for (std::size_t i = 0; i < env.image_pixels.size(); ++i)
-        if (!(env.image_pixels[i] >= 0.0f) || !std::isfinite(env.image_pixels[i])) {
-          check.fail(check.yaml() ? "file" : "image_pixels",
-                     "pixel values must be finite and >= 0, got " +
-                         Checks::format(env.image_pixels[i]) + " at " + std::to_string(i));
-          break;
-        }
-    }
+    if (env.type == "image")
+      check_image_pixels(env.image_width, env.image_height, env.image_pixels,
+                         "an image environment needs an image", check);
   }
 };
 
@@ -375,24 +384,9 @@ struct TextureKind {
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
   static void check(const Desc& texture, Checks& check) {
-    if (texture.type != "image") return;
-    const std::size_t pixels = std::size_t{texture.image_width} * texture.image_height;
-    const char* field = check.yaml() ? "file" : "image_width";
-    if (pixels == 0) {
-      check.fail(field, "an image texture needs an image");
-    } else if (texture.image_pixels.size() != 3 * pixels) {
-      check.fail(check.yaml() ? "file" : "image_pixels",
-                 "must hold 3 floats per pixel (" + std::to_string(3 * pixels) + "), got " +
-                     std::to_string(texture.image_pixels.size()));
-    } else {
-      for (std::size_t i = 0; i < texture.image_pixels.size(); ++i)
-        if (!(texture.image_pixels[i] >= 0.0f) || !std::isfinite(texture.image_pixels[i])) {
-          check.fail(check.yaml() ? "file" : "image_pixels",
-                     "pixel values must be finite and >= 0, got " +
-                         Checks::format(texture.image_pixels[i]) + " at " + std::to_string(i));
-          break;
-        }
-    }
+    if (texture.type == "image")
+      check_image_pixels(texture.image_width, texture.image_height, texture.image_pixels,
+                         "an image texture needs an image", check);
   }
 };
 
