@@ -81,7 +81,7 @@ class DaemonPassesTest : public ::testing::Test {
 
   Delivered stream(const std::string& job_id, std::uint64_t after_sequence = 0) {
     grpc::ClientContext context;
-    context.set_deadline(std::chrono::system_clock::now() + 60s);
+    context.set_deadline(std::chrono::system_clock::now() + 300s);
     v1::StreamTilesRequest request;
     request.set_job_id(job_id);
     request.set_after_sequence(after_sequence);
