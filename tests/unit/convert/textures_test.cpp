@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include "../scene/scene_error_of.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/image/exr.hpp"
@@ -26,7 +28,11 @@ void write_png(const std::filesystem::path& path) {
 class YamlTextures : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / "tessera_yaml_textures_test";
+    // One folder per test and process: CTest runs the tests of this file side by side.
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tessera_yaml_textures_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     std::filesystem::create_directories(dir_ / "inside");
     write_png(dir_ / "inside" / "grey.png");
   }
