@@ -56,8 +56,11 @@ void StreamWriteWatchdog::run() {
       changed_.wait(lock);
       continue;
     }
-    if (std::chrono::steady_clock::now() < next->second.deadline) {
-      changed_.wait_until(lock, next->second.deadline);
+    // A copy: the wait releases the lock, and the write may then erase its entry, which
+    // wait_until would otherwise still read (AddressSanitizer caught that).
+    const std::chrono::steady_clock::time_point deadline = next->second.deadline;
+    if (std::chrono::steady_clock::now() < deadline) {
+      changed_.wait_until(lock, deadline);
       continue;
     }
     next->second.expired = true;
