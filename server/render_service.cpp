@@ -5,9 +5,9 @@
 #include <charconv>
 
 #include "convert/scene_proto.hpp"
-#include "server/job_passes.hpp"
 #include "server/job_cost.hpp"
 #include "server/job_labels.hpp"
+#include "server/job_passes.hpp"
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
 #include "server/rpc_handler.hpp"
@@ -146,6 +146,18 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
       return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                           "submitter '" + escape_client_text(record.submitter) + "': " + e.what());
     }
+  }
+  // Storing a large scene takes time too: a client whose call ended meanwhile was told no
+  // job exists, so the job is withdrawn before any worker can see it.
+  if (context.IsCancelled() || context.deadline() <= std::chrono::system_clock::now()) {
+    job->cancel("the SubmitJob call ended before the job was accepted");
+    const JobRecord last = job->record();
+    if (jobs_.store().delete_job(job->id())) {
+      jobs_.forget(job->id());
+      if (watch_hub_) watch_hub_->job_deleted(last);
+    }
+    return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
+                        "the call ended while the job was stored; no job was created");
   }
   // The response describes the job as submitted (QUEUED), before a worker can pick it up.
   job_info_to_proto(job->info(), *response.mutable_job());
