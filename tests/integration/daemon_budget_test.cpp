@@ -39,22 +39,8 @@ constexpr bool kMeasuresMemory = true;
 using test::cornell;
 using test::TesseradProcess;
 
-class DaemonBudgetTest : public ::testing::Test {
+class DaemonBudgetTest : public test::TesseradDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tesserad-budget-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  std::filesystem::path data() const { return dir_ / "data"; }
-  std::filesystem::path log() const { return dir_ / "tesserad.log"; }
-
   // A config file with `text`, for --config.
   std::vector<std::string> config(const std::string& text) const {
     const std::filesystem::path path = dir_ / "tesserad.yaml";
@@ -66,8 +52,6 @@ class DaemonBudgetTest : public ::testing::Test {
     std::ifstream in(log());
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   }
-
-  std::filesystem::path dir_;
 };
 
 // The scene with one more geometry entry: a mesh of `triangles` triangles, all the same one

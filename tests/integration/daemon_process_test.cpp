@@ -67,21 +67,8 @@ bool bit_equal(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-class DaemonProcessTest : public ::testing::Test {
+class DaemonProcessTest : public test::TesseradDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tesserad-process-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
-  }
-
-  std::filesystem::path data() const { return dir_ / "data"; }
-  std::filesystem::path log() const { return dir_ / "tesserad.log"; }
   std::filesystem::path store_file() const { return data() / SqliteJobStore::kFileName; }
 
   // The job as the store holds it, read while no daemon runs.
@@ -98,8 +85,6 @@ class DaemonProcessTest : public ::testing::Test {
     for (std::uint32_t i = 0; i < tiles; ++i)
       EXPECT_EQ(store.tile_commit_count(id, i), 1u) << "tile " << i;
   }
-
-  std::filesystem::path dir_;
 };
 
 // Polls until the job has at least `tiles` stored tiles (or has finished).

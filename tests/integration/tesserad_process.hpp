@@ -7,6 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstddef>
 #include <filesystem>
@@ -105,6 +107,28 @@ class TesseradProcess {
   pid_t pid_ = -1;
   int stdout_fd_ = -1;
   int port_ = 0;
+};
+
+// A folder per test for a tesserad run by a test: its data directory and log, removed
+// unless the test failed (then kept for a look).
+class TesseradDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           (std::string("tesserad-") + test->test_suite_name() + "-" + std::to_string(::getpid()) +
+            "-" + test->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) std::filesystem::remove_all(dir_);
+  }
+
+  std::filesystem::path data() const { return dir_ / "data"; }
+  std::filesystem::path log() const { return dir_ / "tesserad.log"; }
+
+  std::filesystem::path dir_;
 };
 
 }  // namespace tessera::test
