@@ -478,9 +478,10 @@ VirtualPathTracer::VirtualPathTracer(const SceneDescription& d, bool light_tree)
     std::uint32_t end = 0;
     const auto walk = [&](const auto& self, std::uint32_t at) -> void {
       end = std::max(end, at + 1);
-      if (view.light_tree[at].leaf()) return;
-      self(self, at + 1);
-      self(self, view.light_tree[at].child_or_light);
+      for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+        const std::uint32_t child = view.light_tree[at].child[k];
+        if (!LightTreeNode::is_leaf(child)) self(self, child);
+      }
     };
     walk(walk, 0);
     s.light_tree.assign(view.light_tree, view.light_tree + end);

@@ -74,17 +74,28 @@ double light_power(const SceneView& shapes, std::span<const Material> materials,
   return 0.0;
 }
 
+// The binary tree the split search builds; collapse() turns it into the four-wide tree
+// the renderer walks.
+struct BinaryNode {
+  Aabb box;
+  double power = 0.0;
+  std::uint32_t left = 0, right = 0;  // children, when not a leaf
+  std::uint32_t light = 0;            // when a leaf
+  bool leaf = false;
+};
+
 struct TreeBuild {
   std::vector<LightSource>& lights;
   std::vector<Aabb> boxes;
   std::vector<double> power;
   std::vector<std::uint32_t> order;  // light indices, partitioned as the tree is built
+  std::vector<BinaryNode> binary;
   std::vector<LightTreeNode> nodes;
 
-  // Builds the subtree over order[begin, end) at `depth` with path `path`; returns its index.
-  std::uint32_t build(std::size_t begin, std::size_t end, std::uint32_t depth, std::uint64_t path) {
-    const auto at = static_cast<std::uint32_t>(nodes.size());
-    nodes.emplace_back();
+  // Builds the binary subtree over order[begin, end) at `depth`; returns its index.
+  std::uint32_t build(std::size_t begin, std::size_t end, std::uint32_t depth) {
+    const auto at = static_cast<std::uint32_t>(binary.size());
+    binary.emplace_back();
     Aabb box, centroids;
     double total = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
@@ -92,21 +103,68 @@ struct TreeBuild {
       centroids.extend(boxes[order[i]].centroid());
       total += power[order[i]];
     }
-    nodes[at].lower = box.lower;
-    nodes[at].upper = box.upper;
-    nodes[at].power = static_cast<float>(total);
+    binary[at].box = box;
+    binary[at].power = total;
     if (end - begin == 1) {
-      const std::uint32_t light = order[begin];
-      nodes[at].child_or_light = light | LightTreeNode::kLeaf;
-      lights[light].tree_depth = depth;
-      lights[light].tree_path = path;
+      binary[at].leaf = true;
+      binary[at].light = order[begin];
       return at;
     }
     const std::size_t mid = split(begin, end, centroids, depth);
-    build(begin, mid, depth + 1, path);
-    const std::uint32_t right = build(mid, end, depth + 1, path | (std::uint64_t{1} << depth));
-    nodes[at].child_or_light = right;
+    const std::uint32_t left = build(begin, mid, depth + 1);
+    const std::uint32_t right = build(mid, end, depth + 1);
+    binary[at].left = left;
+    binary[at].right = right;
     return at;
+  }
+
+  // The four-wide node standing for binary node `at` (not a leaf) at `depth` with path
+  // `path`; returns its index.
+  std::uint32_t collapse(std::uint32_t at, std::uint32_t depth, std::uint64_t path) {
+    // Each interior child is opened into its two children (a leaf stays), so every step of
+    // the walk covers two binary levels where it can and the tree is at most half as deep:
+    // at most 32 levels, since the binary tree's stay under 64 (split()).
+    std::uint32_t slots[LightTreeNode::kWidth] = {};
+    std::uint32_t used = 0;
+    for (const std::uint32_t c : {binary[at].left, binary[at].right}) {
+      if (binary[c].leaf) {
+        slots[used++] = c;
+      } else {
+        slots[used++] = binary[c].left;
+        slots[used++] = binary[c].right;
+      }
+    }
+    const auto index = static_cast<std::uint32_t>(nodes.size());
+    nodes.emplace_back();
+    for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+      LightTreeNode& node = nodes[index];
+      if (k >= used) {
+        // An empty slot: no power, so it is never taken.
+        node.lower_x[k] = node.lower_y[k] = node.lower_z[k] = 0.0f;
+        node.upper_x[k] = node.upper_y[k] = node.upper_z[k] = 0.0f;
+        node.power[k] = 0.0f;
+        node.child[k] = LightTreeNode::kLeaf;
+        continue;
+      }
+      const BinaryNode& b = binary[slots[k]];
+      node.lower_x[k] = b.box.lower.x;
+      node.lower_y[k] = b.box.lower.y;
+      node.lower_z[k] = b.box.lower.z;
+      node.upper_x[k] = b.box.upper.x;
+      node.upper_y[k] = b.box.upper.y;
+      node.upper_z[k] = b.box.upper.z;
+      node.power[k] = static_cast<float>(b.power);
+      const std::uint64_t child_path = path | (std::uint64_t{k} << (kLightTreePathBits * depth));
+      if (b.leaf) {
+        node.child[k] = b.light | LightTreeNode::kLeaf;
+        lights[b.light].tree_depth = depth + 1;
+        lights[b.light].tree_path = child_path;
+      } else {
+        const std::uint32_t child = collapse(slots[k], depth + 1, child_path);
+        nodes[index].child[k] = child;  // `node` may have moved
+      }
+    }
+    return index;
   }
 
   std::size_t split(std::size_t begin, std::size_t end, const Aabb& centroids,
@@ -172,14 +230,16 @@ std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
                                             const SceneView& shapes) {
   const std::size_t bounded = std::min<std::size_t>(shapes.first_infinite_light, lights.size());
   if (bounded == 0) return {};
-  TreeBuild b{lights, {}, {}, {}, {}};
+  TreeBuild b{lights, {}, {}, {}, {}, {}};
   for (std::size_t i = 0; i < bounded; ++i) {
     b.boxes.push_back(light_bounds(shapes, lights[i]));
     b.power.push_back(light_power(shapes, materials, lights[i], 1.0f));
     b.order.push_back(static_cast<std::uint32_t>(i));
   }
-  b.nodes.reserve(2 * bounded);
-  b.build(0, bounded, 0, 0);
+  b.binary.reserve(2 * bounded);
+  const std::uint32_t root = b.build(0, bounded, 0);
+  b.nodes.reserve(bounded);
+  b.collapse(root, 0, 0);
   return std::move(b.nodes);
 }
 

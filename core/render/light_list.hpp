@@ -49,9 +49,11 @@ float infinite_light_share(const std::vector<LightSource>& lights,
 
 // The light tree over a finished list's bounded lights (those before
 // shapes.first_infinite_light; light_tree.hpp), recording each one's path in it.
-// Split where the sum of power times bounds area of the two halves is least (the
-// orientation-free form of Conty and Kulla's cost), in 12 bins per axis; depth stays under
-// 64 because deep branches fall back to median splits.
+// Built as a binary tree split where the sum of power times bounds area of the two halves
+// is least (the orientation-free form of Conty and Kulla's cost), in 12 bins per axis, then
+// collapsed to four children per node. The binary depth stays under 64 because deep
+// branches fall back to median splits, so the four-wide tree's stays within
+// kLightTreeMaxDepth.
 std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
                                             std::span<const Material> materials,
                                             const SceneView& shapes);

@@ -1,57 +1,116 @@
 #pragma once
 // A light tree (after Conty Estevez and Kulla, "Importance Sampling of Many Lights with
-// Adaptive Tree Splitting", 2018): a binary tree over the emitters whose nodes hold their
-// bounds and total power. Picking descends from the root, choosing a child in proportion
-// to an importance bound that falls with distance and with the angle below the receiving
+// Adaptive Tree Splitting", 2018): a tree over the emitters whose nodes hold their bounds
+// and total power. Picking descends from the root, choosing a child in proportion to an
+// importance bound that falls with distance and with the angle below the receiving
 // surface's horizon, so a shading point samples the lights near it and above it instead
 // of every light by its share of the scene's power. Emitters are two-sided, so the
 // emitters' orientation does not enter the bound.
+//
+// The tree is four-wide, and a node stores its children's bounds side by side: a step of
+// the walk computes four importances at once (one SSE instruction each on the host) and
+// the walk is half as deep as a binary tree's. A binary walk over 1,024 triangles cost
+// about a third of the colour-bleed-style emissive scene's render time, more than the tree
+// saved over picking by power.
 #include <cmath>
 #include <cstdint>
 
 #include "tessera/math/vec.hpp"
 
+#if !defined(__CUDA_ARCH__) && (defined(__SSE2__) || defined(_M_X64))
+#include <emmintrin.h>
+#define TESSERA_LIGHT_TREE_SSE 1
+#endif
+
 namespace tessera {
 
-struct LightTreeNode {
-  vec3 lower{0.0f}, upper{0.0f};  // bounds of every emitter below
-  float power = 0.0f;             // their total
-  // Interior: the right child's index (the left child follows the node). Leaf: the light
-  // index, with kLeaf set.
-  std::uint32_t child_or_light = 0;
+struct alignas(16) LightTreeNode {
+  static constexpr std::uint32_t kWidth = 4;
+  // Child k's bounds (lower_x[k], ...) and total power; an unused slot has power 0.
+  float lower_x[kWidth], lower_y[kWidth], lower_z[kWidth];
+  float upper_x[kWidth], upper_y[kWidth], upper_z[kWidth];
+  float power[kWidth];
+  // Child k: the index of its node, or the light index with kLeaf set.
+  std::uint32_t child[kWidth];
   static constexpr std::uint32_t kLeaf = 1u << 31;
 
-  TESSERA_HD bool leaf() const { return (child_or_light & kLeaf) != 0; }
-  TESSERA_HD std::uint32_t light() const { return child_or_light & ~kLeaf; }
+  TESSERA_HD static bool is_leaf(std::uint32_t c) { return (c & kLeaf) != 0; }
+  TESSERA_HD static std::uint32_t light_of(std::uint32_t c) { return c & ~kLeaf; }
 };
 
-// An upper bound on how much the node's emitters can light point `p` whose surface faces
-// `n` (unit; only directions with dot(wi, n) > 0 receive), up to the common factor.
-TESSERA_HD TESSERA_INLINE float light_tree_importance(const LightTreeNode& node, const vec3& p,
-                                                      const vec3& n) {
-  if (!(node.power > 0.0f)) return 0.0f;
-  const vec3 center = 0.5f * (node.lower + node.upper);
-  const vec3 half = 0.5f * (node.upper - node.lower);
-  const float radius2 = glm::dot(half, half);
-  const vec3 to_center = center - p;
-  const float distance2 = glm::dot(to_center, to_center);
-  float cos_bound = 1.0f;
-  if (distance2 > radius2) {
-    // The bounding sphere subtends a cone of half-angle theta_u about to_center; the
-    // smallest angle between n and a direction in it is max(0, theta_n - theta_u).
-    const float distance = std::sqrt(distance2);
-    const float cos_n = glm::dot(n, to_center) / distance;
-    const float sin_u2 = radius2 / distance2;
-    const float cos_u = std::sqrt(1.0f - sin_u2);
-    if (cos_n < cos_u) {
-      const float sin_n = std::sqrt(glm::max(0.0f, 1.0f - cos_n * cos_n));
-      cos_bound = cos_n * cos_u + sin_n * std::sqrt(sin_u2);
-      if (!(cos_bound > 0.0f)) return 0.0f;
+// Bits of LightSource::tree_path per level: the child slot taken.
+inline constexpr std::uint32_t kLightTreePathBits = 2;
+// 64 path bits hold 32 levels.
+inline constexpr std::uint32_t kLightTreeMaxDepth = 64 / kLightTreePathBits;
+
+// Upper bounds on how much each child's emitters can light point `p` whose surface faces
+// `n` (unit; only directions with dot(wi, n) > 0 receive), up to a common factor. The
+// bounding sphere of a child's box subtends a cone of half-angle theta_u about the
+// direction to its centre; the smallest angle between n and a direction in it is
+// max(0, theta_n - theta_u). Inside the bounds the distance says little: it is clamped to
+// the bounds' size, so a cluster around the point does not take every sample from the
+// lights beside it. Both paths below compute the same IEEE operations in the same order,
+// so light_tree_pick and light_tree_pmf agree bit for bit.
+TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, const vec3& p,
+                                                     const vec3& n, float importance[4]) {
+#if defined(TESSERA_LIGHT_TREE_SSE)
+  const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128 lx = _mm_load_ps(node.lower_x), ly = _mm_load_ps(node.lower_y),
+               lz = _mm_load_ps(node.lower_z);
+  const __m128 ux = _mm_load_ps(node.upper_x), uy = _mm_load_ps(node.upper_y),
+               uz = _mm_load_ps(node.upper_z);
+  const __m128 power = _mm_load_ps(node.power);
+  const __m128 hx = _mm_mul_ps(half, _mm_sub_ps(ux, lx)), hy = _mm_mul_ps(half, _mm_sub_ps(uy, ly)),
+               hz = _mm_mul_ps(half, _mm_sub_ps(uz, lz));
+  const __m128 radius2 =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(hx, hx), _mm_mul_ps(hy, hy)), _mm_mul_ps(hz, hz));
+  const __m128 tx = _mm_sub_ps(_mm_mul_ps(half, _mm_add_ps(lx, ux)), _mm_set1_ps(p.x));
+  const __m128 ty = _mm_sub_ps(_mm_mul_ps(half, _mm_add_ps(ly, uy)), _mm_set1_ps(p.y));
+  const __m128 tz = _mm_sub_ps(_mm_mul_ps(half, _mm_add_ps(lz, uz)), _mm_set1_ps(p.z));
+  const __m128 distance2 =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, tx), _mm_mul_ps(ty, ty)), _mm_mul_ps(tz, tz));
+  const __m128 n_dot =
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(n.x), tx), _mm_mul_ps(_mm_set1_ps(n.y), ty)),
+                 _mm_mul_ps(_mm_set1_ps(n.z), tz));
+  const __m128 outside = _mm_cmpgt_ps(distance2, radius2);
+  const __m128 cos_n = _mm_div_ps(n_dot, _mm_sqrt_ps(distance2));
+  const __m128 sin_u2 = _mm_div_ps(radius2, distance2);
+  const __m128 cos_u = _mm_sqrt_ps(_mm_max_ps(zero, _mm_sub_ps(one, sin_u2)));
+  const __m128 narrow = _mm_and_ps(outside, _mm_cmplt_ps(cos_n, cos_u));
+  const __m128 sin_n = _mm_sqrt_ps(_mm_max_ps(zero, _mm_sub_ps(one, _mm_mul_ps(cos_n, cos_n))));
+  const __m128 bound = _mm_add_ps(_mm_mul_ps(cos_n, cos_u),
+                                  _mm_mul_ps(sin_n, _mm_sqrt_ps(_mm_max_ps(zero, sin_u2))));
+  const __m128 cos_bound = _mm_or_ps(_mm_and_ps(narrow, bound), _mm_andnot_ps(narrow, one));
+  // Lit: some power, and unless the cone is narrowed, a positive bound.
+  const __m128 lit = _mm_and_ps(_mm_cmpgt_ps(power, zero), _mm_cmpgt_ps(cos_bound, zero));
+  const __m128 value = _mm_div_ps(_mm_mul_ps(power, cos_bound), _mm_max_ps(distance2, radius2));
+  _mm_storeu_ps(importance, _mm_and_ps(lit, value));
+#else
+  for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+    const float hx = 0.5f * (node.upper_x[k] - node.lower_x[k]);
+    const float hy = 0.5f * (node.upper_y[k] - node.lower_y[k]);
+    const float hz = 0.5f * (node.upper_z[k] - node.lower_z[k]);
+    const float radius2 = (hx * hx + hy * hy) + hz * hz;
+    const float tx = 0.5f * (node.lower_x[k] + node.upper_x[k]) - p.x;
+    const float ty = 0.5f * (node.lower_y[k] + node.upper_y[k]) - p.y;
+    const float tz = 0.5f * (node.lower_z[k] + node.upper_z[k]) - p.z;
+    const float distance2 = (tx * tx + ty * ty) + tz * tz;
+    const float n_dot = (n.x * tx + n.y * ty) + n.z * tz;
+    float cos_bound = 1.0f;
+    if (distance2 > radius2) {
+      const float cos_n = n_dot / std::sqrt(distance2);
+      const float sin_u2 = radius2 / distance2;
+      const float cos_u = std::sqrt(fmaxf(0.0f, 1.0f - sin_u2));
+      if (cos_n < cos_u) {
+        const float sin_n = std::sqrt(fmaxf(0.0f, 1.0f - cos_n * cos_n));
+        cos_bound = cos_n * cos_u + sin_n * std::sqrt(fmaxf(0.0f, sin_u2));
+      }
     }
+    const float power = node.power[k];
+    importance[k] =
+        power > 0.0f && cos_bound > 0.0f ? (power * cos_bound) / fmaxf(distance2, radius2) : 0.0f;
   }
-  // Inside the bounds the distance says little: clamp it to the bounds' size, so a cluster
-  // around the point does not take every sample from the lights beside it.
-  return node.power * cos_bound / glm::max(distance2, radius2);
+#endif
 }
 
 struct TreePick {
@@ -59,47 +118,55 @@ struct TreePick {
   float pmf = 0.0f;  // 0: no emitter can light p
 };
 
-// Descends from the root with `u` in [0, 1), reusing it at each level.
+// Descends from the root with `u` in [0, 1), reusing it at each level: at a node, child
+// k is taken when u falls in its share of the summed importances, and u is rescaled to
+// that share.
 TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, const vec3& p,
                                                    const vec3& n, float u) {
   std::uint32_t at = 0;
   float pmf = 1.0f;
-  while (!nodes[at].leaf()) {
-    const std::uint32_t left = at + 1, right = nodes[at].child_or_light;
-    const float il = light_tree_importance(nodes[left], p, n);
-    const float ir = light_tree_importance(nodes[right], p, n);
-    const float total = il + ir;
+  for (;;) {
+    const LightTreeNode& node = nodes[at];
+    float importance[4];
+    light_tree_importance(node, p, n, importance);
+    const float total = ((importance[0] + importance[1]) + importance[2]) + importance[3];
     if (!(total > 0.0f)) return TreePick{0, 0.0f};
-    const float pl = il / total;
-    if (u < pl) {
-      u = glm::min(u / pl, 0x1.fffffep-1f);
-      pmf *= pl;
-      at = left;
-    } else {
-      u = glm::min((u - pl) / (1.0f - pl), 0x1.fffffep-1f);
-      pmf *= 1.0f - pl;
-      at = right;
+    const float target = u * total;
+    // The first slot whose running sum passes the target; rounding can leave the target at
+    // the total, and then the last slot with any importance.
+    std::uint32_t slot = 0;
+    float before = 0.0f, running = 0.0f;
+    for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+      if (!(importance[k] > 0.0f)) continue;
+      slot = k;
+      before = running;
+      running += importance[k];
+      if (target < running) break;
     }
+    pmf *= importance[slot] / total;
+    u = glm::min(glm::max(0.0f, (target - before) / importance[slot]), 0x1.fffffep-1f);
+    const std::uint32_t child = node.child[slot];
+    if (LightTreeNode::is_leaf(child)) return TreePick{LightTreeNode::light_of(child), pmf};
+    at = child;
   }
-  return TreePick{nodes[at].light(), pmf};
 }
 
-// The probability light_tree_pick gives the light whose root-to-leaf path is `path` (bit i
-// set: right child at depth i) of `depth` steps.
+// The probability light_tree_pick gives the light whose root-to-leaf path is `path`
+// (kLightTreePathBits per level: the slot taken at that depth) of `depth` steps.
 TESSERA_HD TESSERA_INLINE float light_tree_pmf(const LightTreeNode* nodes, const vec3& p,
                                                const vec3& n, std::uint64_t path,
                                                std::uint32_t depth) {
   std::uint32_t at = 0;
   float pmf = 1.0f;
   for (std::uint32_t level = 0; level < depth; ++level) {
-    const std::uint32_t left = at + 1, right = nodes[at].child_or_light;
-    const float il = light_tree_importance(nodes[left], p, n);
-    const float ir = light_tree_importance(nodes[right], p, n);
-    const float total = il + ir;
+    const LightTreeNode& node = nodes[at];
+    float importance[4];
+    light_tree_importance(node, p, n, importance);
+    const float total = ((importance[0] + importance[1]) + importance[2]) + importance[3];
     if (!(total > 0.0f)) return 0.0f;
-    const bool go_right = ((path >> level) & 1u) != 0;
-    pmf *= (go_right ? ir : il) / total;
-    at = go_right ? right : left;
+    const auto slot = static_cast<std::uint32_t>((path >> (kLightTreePathBits * level)) & 3u);
+    pmf *= importance[slot] / total;
+    at = node.child[slot];
   }
   return pmf;
 }

@@ -123,7 +123,7 @@ struct LightSource {
   float pmf = 0.0f;              // the probability pick_light chooses it: its share of the power
   bool visible = true;           // false: no ray can hit it, so only light sampling finds it
   std::uint32_t tree_depth = 0;  // its leaf's depth in the light tree (when there is one)
-  std::uint64_t tree_path = 0;   // bit i set: the right child at depth i
+  std::uint64_t tree_path = 0;   // the child slot taken at each depth (light_tree.hpp)
 };
 
 // The flat shape arrays of a render scene, one per primitive type. Planes carry a count

@@ -1,0 +1,192 @@
+// The four-wide light tree (render/light_tree.hpp, built by core/render/light_list.cpp) over
+// scenes with many emitters: the pick probabilities sum to one where every light is above
+// the horizon (and the rest are lost picks, counted as such), every
+// pick's pmf is the pmf light_pick_pmf gives its light (bit for bit, as MIS needs), picks
+// follow those probabilities (chi-square), the SSE and scalar importances agree, and the
+// tree stays within its path bits when every light sits at one point.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "chi2.hpp"
+#include "tessera/render/light_sampling.hpp"
+#include "tessera/render/prepared_scene.hpp"
+
+namespace tessera {
+namespace {
+
+using glm::dvec3;
+
+// A floor under `count` small emissive triangles of uneven power, scattered in a slab
+// above it (or all at one point when `coincident`).
+SceneDescription many_triangle_lights(int count, bool coincident, std::uint64_t seed) {
+  SceneDescription scene;
+  MaterialDesc white;
+  white.name = "white";
+  scene.materials.push_back(white);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  TriangleMeshDesc mesh;
+  for (int i = 0; i < count; ++i) {
+    MaterialDesc lamp;
+    lamp.name = "lamp" + std::to_string(i);
+    lamp.type = MaterialType::kLight;
+    lamp.emission = dvec3(0.5 + 20.0 * u(rng) * u(rng));
+    scene.materials.push_back(lamp);
+    const dvec3 at = coincident ? dvec3(0.0, 2.0, 0.0)
+                                : dvec3(8.0 * u(rng) - 4.0, 1.0 + 2.0 * u(rng), 8.0 * u(rng) - 4.0);
+    TriangleMeshDesc tri;
+    tri.positions = {at, at + dvec3(0.05, 0.0, 0.0), at + dvec3(0.0, 0.01, 0.05)};
+    tri.indices = {0, 1, 2};
+    tri.material = static_cast<std::uint32_t>(scene.materials.size() - 1);
+    scene.meshes.push_back(tri);
+  }
+  scene.quads.push_back(
+      QuadDesc{.corner = {-5, 0, -5}, .u = {10, 0, 0}, .v = {0, 0, 10}, .material = 0});
+  return scene;
+}
+
+struct Probe {
+  vec3 p, n;
+  // Every light is above the surface's horizon, so a pick never ends at a node whose
+  // children all lie below it and the probabilities sum to one. Elsewhere a pick can
+  // descend into a child whose bounds straddle the horizon and find nothing under it:
+  // that sample is lost (no light, pmf 0), which costs variance but not bias, since a
+  // light with pmf 0 is one the point cannot see.
+  bool all_above = true;
+};
+
+std::vector<Probe> probes() {
+  return {{vec3(0.3f, 0.0f, -0.2f), vec3(0, 1, 0)},
+          {vec3(-3.9f, 0.0f, 3.9f), vec3(0, 1, 0)},
+          {vec3(0.0f, 2.0f, 0.0f), vec3(0, 1, 0), false},  // inside the slab, facing up
+          {vec3(1.0f, 1.5f, 1.0f), glm::normalize(vec3(1, -1, 0.5f)), false},
+          {vec3(6.0f, 2.0f, 0.0f), vec3(-1, 0, 0)}};
+}
+
+TEST(LightTree, PickProbabilitiesSumToOneAndMatchEachPick) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(700, false, 11));
+  const SceneView view = prepared->view();
+  ASSERT_EQ(view.light_count, 700u);
+  ASSERT_NE(view.light_tree, nullptr);
+  std::uint32_t deepest = 0;
+  for (std::uint32_t i = 0; i < view.light_count; ++i)
+    deepest = std::max(deepest, view.lights[i].tree_depth);
+  // 700 lights need at least five four-wide levels, and a binned split keeps it shallow.
+  EXPECT_GE(deepest, 5u);
+  EXPECT_LE(deepest, 12u);
+  for (const Probe& probe : probes()) {
+    double sum = 0.0;
+    for (std::uint32_t i = 0; i < view.light_count; ++i)
+      sum += light_pick_pmf(view, probe.p, probe.n, i);
+    if (probe.all_above)
+      EXPECT_NEAR(sum, 1.0, 1e-4);
+    else
+      EXPECT_LE(sum, 1.0 + 1e-4);
+    test::UniformFloats u(5);
+    int mismatch = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const LightPick pick = pick_light(view, probe.p, probe.n, u());
+      if (probe.all_above) {
+        ASSERT_GT(pick.pmf, 0.0f);
+      }
+      if (!(pick.pmf > 0.0f)) continue;
+      // Bit for bit: MIS weights an emitter hit with light_pick_pmf and the light sample
+      // with the pick's pmf; any difference biases the image.
+      if (pick.pmf != light_pick_pmf(view, probe.p, probe.n, pick.index)) ++mismatch;
+    }
+    EXPECT_EQ(mismatch, 0);
+  }
+}
+
+TEST(LightTree, PicksFollowTheirProbabilities) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(200, false, 12));
+  const SceneView view = prepared->view();
+  const std::vector<Probe> points = probes();
+  constexpr int kPicks = 400000;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Probe& probe = points[k];
+    // One cell per light and a last one for picks that find no light.
+    std::vector<double> expected(view.light_count + 1), observed(view.light_count + 1, 0.0);
+    double sum = 0.0;
+    for (std::uint32_t i = 0; i < view.light_count; ++i) {
+      const double pmf = light_pick_pmf(view, probe.p, probe.n, i);
+      sum += pmf;
+      expected[i] = kPicks * pmf;
+    }
+    expected[view.light_count] = kPicks * std::max(0.0, 1.0 - sum);
+    test::UniformFloats u(100 + k);
+    for (int i = 0; i < kPicks; ++i) {
+      const LightPick pick = pick_light(view, probe.p, probe.n, u());
+      observed[pick.pmf > 0.0f ? pick.index : view.light_count] += 1.0;
+    }
+    const test::Chi2Result chi2 = test::pearson_chi2(observed, expected);
+    std::printf("[chi2] light tree picks, probe %zu  p = %.4g (%s)\n", k, chi2.p_value,
+                chi2.summary.c_str());
+    EXPECT_GT(chi2.p_value, test::bonferroni_alpha(static_cast<int>(points.size())))
+        << chi2.summary;
+  }
+}
+
+// Lights the receiving surface cannot see (all below its horizon) get no samples, and a
+// point where no light can reach gets none at all.
+TEST(LightTree, LightsBelowTheHorizonAreNeverPicked) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(300, false, 13));
+  const SceneView view = prepared->view();
+  // Facing down from above every light: nothing lights it.
+  const vec3 above(0.0f, 10.0f, 0.0f), up(0.0f, 1.0f, 0.0f);
+  EXPECT_EQ(pick_light(view, above, up, 0.5f).pmf, 0.0f);
+  for (std::uint32_t i = 0; i < view.light_count; ++i)
+    EXPECT_EQ(light_pick_pmf(view, above, up, i), 0.0f);
+}
+
+TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
+  // The SSE path (host) against the scalar formula written out here.
+  const auto prepared = PreparedScene::build(many_triangle_lights(64, false, 14));
+  const SceneView view = prepared->view();
+  const LightTreeNode& root = view.light_tree[0];
+  for (const Probe& probe : probes()) {
+    float importance[4];
+    light_tree_importance(root, probe.p, probe.n, importance);
+    for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+      const vec3 lower(root.lower_x[k], root.lower_y[k], root.lower_z[k]);
+      const vec3 upper(root.upper_x[k], root.upper_y[k], root.upper_z[k]);
+      const double radius2 = glm::dot(glm::dvec3(upper - lower), glm::dvec3(upper - lower)) / 4;
+      const glm::dvec3 to = 0.5 * glm::dvec3(lower + upper) - glm::dvec3(probe.p);
+      const double d2 = glm::dot(to, to);
+      double cos_bound = 1.0;
+      if (d2 > radius2) {
+        const double cos_n = glm::dot(glm::dvec3(probe.n), to) / std::sqrt(d2);
+        const double sin_u = std::sqrt(radius2 / d2), cos_u = std::sqrt(1.0 - radius2 / d2);
+        if (cos_n < cos_u)
+          cos_bound = cos_n * cos_u + std::sqrt(std::max(0.0, 1.0 - cos_n * cos_n)) * sin_u;
+      }
+      const double expected = root.power[k] > 0.0f && cos_bound > 0.0
+                                  ? root.power[k] * cos_bound / std::max(d2, radius2)
+                                  : 0.0;
+      EXPECT_NEAR(importance[k], expected, 1e-4 * expected + 1e-30) << "slot " << k;
+    }
+  }
+}
+
+// Every light at one point: the split search cannot separate them, median splits take
+// over, and the tree still fits its 2-bit-per-level paths and picks every light evenly.
+TEST(LightTree, CoincidentLightsStayWithinThePathBits) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(1000, true, 15));
+  const SceneView view = prepared->view();
+  ASSERT_NE(view.light_tree, nullptr);
+  std::uint32_t deepest = 0;
+  for (std::uint32_t i = 0; i < view.light_count; ++i)
+    deepest = std::max(deepest, view.lights[i].tree_depth);
+  EXPECT_LE(deepest, kLightTreeMaxDepth);
+  const vec3 p(0.0f, 0.0f, 0.0f), n(0.0f, 1.0f, 0.0f);
+  double sum = 0.0;
+  for (std::uint32_t i = 0; i < view.light_count; ++i) sum += light_pick_pmf(view, p, n, i);
+  EXPECT_NEAR(sum, 1.0, 1e-4);
+}
+
+}  // namespace
+}  // namespace tessera
