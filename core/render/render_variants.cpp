@@ -13,11 +13,15 @@ std::array<RenderVariant, 8> path_variants<kShapeTriangle>();
 template <>
 std::array<RenderVariant, 8> path_variants<kShapeSphere | kShapeQuad>();
 template <>
+std::array<RenderVariant, 8> path_variants<kCommonShapes>();
+template <>
 std::array<RenderVariant, 8> path_variants<kAllShapes>();
 template <>
 std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeTriangle>();
 template <>
 std::array<RenderVariant, kPreviewVariantCount> preview_variants<kShapeSphere | kShapeQuad>();
+template <>
+std::array<RenderVariant, kPreviewVariantCount> preview_variants<kCommonShapes>();
 template <>
 std::array<RenderVariant, kPreviewVariantCount> preview_variants<kAllShapes>();
 }  // namespace variants
@@ -30,9 +34,11 @@ std::vector<RenderVariant> collect_variants() {
   // Shape classes smallest first, so a first-fit search finds the smallest cover.
   append(variants::path_variants<kShapeTriangle>());
   append(variants::path_variants<kShapeSphere | kShapeQuad>());
+  append(variants::path_variants<kCommonShapes>());
   append(variants::path_variants<kAllShapes>());
   append(variants::preview_variants<kShapeTriangle>());
   append(variants::preview_variants<kShapeSphere | kShapeQuad>());
+  append(variants::preview_variants<kCommonShapes>());
   append(variants::preview_variants<kAllShapes>());
   return all;
 }

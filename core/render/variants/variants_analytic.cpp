@@ -1,5 +1,5 @@
-// Pipeline specialisations for the shape class "analytic". Each shape class lives in its own
-// translation unit so the variants compile in parallel.
+// Pipeline specialisations for the shape class "analytic" (spheres and rectangles). Each
+// shape class lives in its own translation unit so the variants compile in parallel.
 #include "tile_loop.hpp"
 
 namespace tessera::variants {

@@ -87,7 +87,16 @@ TEST(Specialisation, MixedShapesSameImageAsAllFeatures) {
   tri.indices = {0, 1, 2};
   scene.meshes.push_back(tri);
   const auto prepared = PreparedScene::build(scene);
-  EXPECT_EQ(prepared->variant().features.shapes, kAllShapes);
+  // Spheres, rectangles and a mesh: the common class, not the one with every shape.
+  EXPECT_EQ(prepared->variant().features.shapes, kCommonShapes);
+  expect_same_image(scene);
+  // A disk beside them needs every shape list.
+  DiskDesc disk;
+  disk.center = {0, 0.5, -1};
+  disk.radius = 0.2;
+  scene.disks.push_back(disk);
+  const auto with_disk = PreparedScene::build(scene);
+  EXPECT_EQ(with_disk->variant().features.shapes, kAllShapes);
   // Every feature is needed here except AOVs, so ask for none and compare with all on.
   expect_same_image(scene);
 }
