@@ -10,9 +10,10 @@
 #   - a tiny CMake project (tests/install/consumer) built against the prefix with
 #     find_package(tessera CONFIG REQUIRED), linking tessera::client, lists the daemon's jobs.
 #
-# Usage: check_install.sh BUILD_DIR WORK_DIR CXX_COMPILER PYTHON SOURCE_DIR
+# Usage: check_install.sh BUILD_DIR WORK_DIR CXX_COMPILER PYTHON SOURCE_DIR PYTHON_PACKAGE
+# (PYTHON_PACKAGE: yes when the build has the Python package, no otherwise)
 set -euo pipefail
-build_dir=$1 work=$2 cxx=$3 python=$4 source_dir=$5
+build_dir=$1 work=$2 cxx=$3 python=$4 source_dir=$5 python_package=$6
 
 fail() {
   echo "check_install: $*" >&2
@@ -37,10 +38,13 @@ for file in bin/tesserad bin/tessera lib/systemd/system/tesserad.service share/t
 done
 grep -q "^ExecStart=$prefix/bin/tesserad " \
   "$prefix/lib/systemd/system/tesserad.service" || fail "the unit's ExecStart is not $prefix/bin/tesserad"
-site=$(find "$prefix/lib" -maxdepth 3 -type d -name dist-packages | head -n 1)
-[ -f "$site/tessera_client/__init__.py" ] || fail "the Python package is not installed under $prefix/lib"
-grep -q "\"$prefix/bin/tessera\"" "$site/tessera_client/_config.py" ||
-  fail "the Python package does not name $prefix/bin/tessera"
+site=""
+if [ "$python_package" = yes ]; then
+  site=$(find "$prefix/lib" -maxdepth 3 -type d -name dist-packages | head -n 1)
+  [ -f "$site/tessera_client/__init__.py" ] || fail "the Python package is not installed under $prefix/lib"
+  grep -q "\"$prefix/bin/tessera\"" "$site/tessera_client/_config.py" ||
+    fail "the Python package does not name $prefix/bin/tessera"
+fi
 
 # The installed daemon with the example configuration; the port it reports on stdout.
 "$prefix/bin/tesserad" --config "$prefix/share/tessera/tesserad.yaml" --listen 127.0.0.1:0 \
@@ -60,7 +64,7 @@ if grep -Eiq "warn|unknown" "$work/tesserad.log"; then
 fi
 
 expected_jobs=0
-if "$python" -c "import grpc, google.protobuf, numpy, OpenImageIO, yaml" 2>/dev/null; then
+if [ -n "$site" ] && "$python" -c "import grpc, google.protobuf, numpy, OpenImageIO, yaml" 2>/dev/null; then
   PYTHONPATH="$site" PYTHONDONTWRITEBYTECODE=1 "$python" - "$address" "$source_dir" "$site" <<'PY' ||
 import sys
 import tessera_client
@@ -73,7 +77,7 @@ PY
     fail "the installed Python package could not render"
   expected_jobs=1
 else
-  echo "check_install: Python modules missing; the Python package's render is not checked"
+  echo "check_install: no Python package or modules; the Python package's render is not checked"
 fi
 
 cmake -S "$source_dir/tests/install/consumer" -B "$work/consumer" -DCMAKE_BUILD_TYPE=Release \

@@ -294,6 +294,15 @@ class Offline(unittest.TestCase):
                              capture_output=True).stdout
         self.assertEqual(from_path.SerializeToString(), cli)
 
+    def test_tuples_and_numpy_values_in_a_dict_mean_what_lists_and_floats_do(self):
+        scene = yaml.safe_load(CORNELL.read_text())
+        expected = tessera_client.submit_request(scene)
+        camera = scene["camera"]
+        camera["position"] = tuple(camera["position"])
+        camera["look_at"] = numpy.array(camera["look_at"], dtype=numpy.float64)
+        camera["fov"] = numpy.float64(camera["fov"])
+        self.assertEqual(tessera_client.submit_request(scene).scene, expected.scene)
+
     def test_relative_mesh_paths_of_a_dict_resolve_against_the_current_directory(self):
         mesh = self.folder / "tri.obj"
         mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")

@@ -48,13 +48,28 @@ def find_cli(cli=None):
     return found
 
 
+def _plain(value):
+    """`value` with tuples, numpy arrays and numbers, and paths turned into the lists, floats,
+    ints and strings yaml.safe_dump writes. Floats are written as repr() does, which reads
+    back as the same double, so a number means exactly what it meant in Python."""
+    if isinstance(value, dict):
+        return {str(key): _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):  # numpy
+        return _plain(value.tolist())
+    return value
+
+
 def _scene_source(scene):
     """(argument for tessera convert, bytes for its stdin or None)."""
     if isinstance(scene, dict):
         import yaml  # python3-yaml
 
         try:
-            text = yaml.safe_dump(scene, sort_keys=False)
+            text = yaml.safe_dump(_plain(scene), sort_keys=False)
         except yaml.YAMLError as e:
             raise SceneError(f"the scene dict cannot be written as YAML: {e}") from e
         return "-", text.encode()
