@@ -369,6 +369,15 @@ class Offline(unittest.TestCase):
         self.assertEqual(service.metadata[0].get("authorization"), "Bearer s3cret")
         self.assertNotIn("authorization", service.metadata[1])
 
+    def test_bad_arguments_name_the_field(self):
+        for kwargs, field in ((dict(token="two words"), "token"), (dict(token=""), "token"),
+                              (dict(token="caf\u00e9"), "token"), (dict(timeout=0), "timeout"),
+                              (dict(reconnect_window=-1), "reconnect_window")):
+            with self.assertRaisesRegex(ValueError, "^" + field + ": ", msg=str(kwargs)):
+                tessera_client.Client("127.0.0.1:1", **kwargs)
+        with self.assertRaisesRegex(ValueError, "^address: "):
+            tessera_client.Client("")
+
     def test_ca_makes_the_connection_tls(self):
         if not shutil.which("openssl"):
             self.skipTest("openssl not installed")

@@ -27,6 +27,10 @@ def _read_pem(ca):
         raise TesseraError(f"ca: cannot read {os.fspath(ca)}: {e.strerror}") from e
 
 
+def _is_token(token):
+    return bool(token) and all(33 <= ord(c) <= 126 for c in token)
+
+
 class Client:
     """A connection to the tesserad at `address` ("HOST:PORT").
 
@@ -43,6 +47,16 @@ class Client:
 
     def __init__(self, address="127.0.0.1:50051", token=None, ca=None, *, cli=None,
                  timeout=10.0, submit_timeout=120.0, reconnect_window=60.0):
+        if not isinstance(address, str) or not address:
+            raise ValueError(f"address: must be a non-empty \"HOST:PORT\" string, got {address!r}")
+        if token is not None and (not isinstance(token, str) or not _is_token(token)):
+            raise ValueError("token: must be a non-empty string of printable ASCII without "
+                             "spaces (it travels in an HTTP/2 header)")
+        for name, value in (("timeout", timeout), ("submit_timeout", submit_timeout)):
+            if not value > 0:
+                raise ValueError(f"{name}: must be > 0 seconds, got {value!r}")
+        if not reconnect_window >= 0:
+            raise ValueError(f"reconnect_window: must be >= 0 seconds, got {reconnect_window!r}")
         self.address = address
         self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
         self._cli = cli
