@@ -6,7 +6,6 @@ Python as from the CLI (mesh and texture files included) and there is no second 
 format to keep in step.
 """
 import os
-import pathlib
 import shutil
 import subprocess
 import warnings
