@@ -178,6 +178,28 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   submit->add_option("--submitter", cmd.submitter, "who submits (default: this host)");
   add_server_option(*submit, cmd.server);
 
+  // The scene exactly as submit would send it, for programs in other languages (the Python
+  // client): one YAML loader and one conversion, the C++ ones, for every route to the API.
+  CLI::App* convert = app.add_subcommand(
+      "convert", "write the SubmitJobRequest that submit would send for a scene (binary protobuf)");
+  convert
+      ->add_option("scene", cmd.scene_path,
+                   "scene YAML file, or - for standard input (relative file paths in it then "
+                   "resolve against the current directory)")
+      ->required();
+  convert->add_option("-o,--output", cmd.request_output, "output file, or - for standard output")
+      ->required()
+      ->check(non_empty_validator());
+  OverrideOptions convert_overrides(*convert);
+  convert->add_option("--name", cmd.name,
+                      "job name (default: the scene file's name; none for standard input)");
+  convert->add_option("--priority", cmd.priority, "higher runs first");
+  convert->add_flag("--lenient", cmd.lenient, "unknown scene keys are warnings, not errors");
+  convert->add_option("--label", cmd.labels, "a label KEY=VALUE (repeatable)")
+      ->check(label_validator());
+  convert->add_option("--submitter", cmd.submitter,
+                      "who submits (default: the host that submits it)");
+
   CLI::App* watch =
       app.add_subcommand("watch", "stream a job's tiles into an image as they finish");
   watch->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
@@ -258,7 +280,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   };
   const char* const expected =
       "expected render, submit, watch, list, status, cancel, delete, pause, resume, retry, "
-      "update, events or denoise; see 'tessera --help'";
+      "update, events, denoise or convert; see 'tessera --help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
@@ -290,6 +312,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   } else if (submit->parsed()) {
     cmd.kind = CommandKind::kSubmit;
     cmd.overrides = submit_overrides.values();
+  } else if (convert->parsed()) {
+    cmd.kind = CommandKind::kConvert;
+    cmd.overrides = convert_overrides.values();
   } else if (watch->parsed()) {
     cmd.kind = CommandKind::kWatch;
   } else if (list->parsed()) {

@@ -22,7 +22,8 @@ enum class CommandKind {
   kResume,
   kRetry,
   kUpdate,
-  kEvents
+  kEvents,
+  kConvert
 };
 
 // Values given on the command line replace the scene file's `render` section.
@@ -40,7 +41,7 @@ struct RenderOverrides {
 struct CliCommand {
   CommandKind kind = CommandKind::kList;
   std::string server = kDefaultServer;
-  std::string scene_path;   // render, submit
+  std::string scene_path;   // render, submit, convert ("-": standard input)
   std::string job_id;       // watch, status, cancel, delete, pause, resume, retry, update, events
   std::string input_exr;    // denoise
   std::string output_exr;   // render, watch, denoise
@@ -62,6 +63,7 @@ struct CliCommand {
   std::string submitter;                     // submit; list and events: filter
   std::string label_filter;                  // list, events: "key=value" or "key"
   std::string name_filter;                   // list
+  std::string request_output;  // convert: file for the SubmitJobRequest bytes; "-": stdout
 };
 
 struct ParsedCommandLine {

@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -201,6 +205,18 @@ void apply_overrides(RenderSettings& settings, const RenderOverrides& o) {
   if (o.passes) settings.passes = *o.passes;
 }
 
+// "-" for a scene or an output file: standard input or output.
+constexpr const char* kStandardStream = "-";
+constexpr const char* kStandardInputName = "<stdin>";
+
+std::string read_standard_input() {
+  std::ostringstream text;
+  text << std::cin.rdbuf();
+  if (std::cin.bad())
+    throw CommandFailure{kExitFailed, "cannot read the scene from standard input"};
+  return text.str();
+}
+
 // Loads the scene, prints the loader's warnings and applies the command-line overrides.
 // Scene problems end the command with exit code 2 and the loader's `file:line: field: reason`.
 SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
@@ -208,7 +224,10 @@ SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
   try {
     SceneLoadOptions options;
     options.lenient = cmd.lenient;
-    loaded = load_scene_file(cmd.scene_path, options);
+    loaded = cmd.scene_path == kStandardStream
+                 ? load_scene_yaml(read_standard_input(), kStandardInputName,
+                                   std::filesystem::current_path(), options)
+                 : load_scene_file(cmd.scene_path, options);
   } catch (const SceneError& e) {
     throw CommandFailure{kExitUsage, e.what()};
   }
@@ -219,7 +238,7 @@ SceneDescription load_scene(const CliCommand& cmd, std::ostream& err) {
   const std::vector<SceneIssue> issues = validate_scene(loaded.scene);
   if (!issues.empty()) {
     SceneIssue first = issues.front();
-    first.file = cmd.scene_path;
+    first.file = cmd.scene_path == kStandardStream ? kStandardInputName : cmd.scene_path;
     throw CommandFailure{kExitUsage, first.to_string() + " (after command-line overrides)"};
   }
   return std::move(loaded.scene);
@@ -232,7 +251,8 @@ SceneDescription load_scene_for_server(const CliCommand& cmd, std::ostream& err)
 }
 
 std::string job_name(const CliCommand& cmd) {
-  return cmd.name.empty() ? std::filesystem::path(cmd.scene_path).stem().string() : cmd.name;
+  if (!cmd.name.empty() || cmd.scene_path == kStandardStream) return cmd.name;
+  return std::filesystem::path(cmd.scene_path).stem().string();
 }
 
 // ---- Output -------------------------------------------------------------------------------
@@ -526,6 +546,33 @@ int submit(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+// The request submit would send, written for another program (the Python client) to send:
+// the scene goes through this loader and conversion whatever the language of the caller.
+int convert(const CliCommand& cmd, const CommandOutput& io) {
+  const SceneDescription scene = load_scene_for_server(cmd, io.err);
+  v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
+  add_labels(cmd.labels, *request.mutable_labels());
+  request.set_submitter(cmd.submitter);
+  std::string bytes;
+  if (!request.SerializeToString(&bytes))
+    throw CommandFailure{kExitFailed, "cannot encode the request (" +
+                                          std::to_string(request.ByteSizeLong()) + " bytes)"};
+  if (cmd.request_output == kStandardStream) {
+    io.out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    io.out.flush();
+    if (!io.out) throw CommandFailure{kExitFailed, "cannot write the request to standard output"};
+    return kExitOk;
+  }
+  create_parent_directory(cmd.request_output);
+  std::ofstream file(cmd.request_output, std::ios::binary | std::ios::trunc);
+  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  file.close();
+  if (!file)
+    throw CommandFailure{kExitFailed,
+                         "cannot write " + cmd.request_output + ": " + std::strerror(errno)};
+  return kExitOk;
+}
+
 int watch(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   Client client(ClientOptions{.target = cmd.server});
@@ -746,6 +793,8 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return update(command, io);
       case CommandKind::kEvents:
         return events(command, io);
+      case CommandKind::kConvert:
+        return convert(command, io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {
