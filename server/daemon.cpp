@@ -21,6 +21,7 @@
 #include "server/job_watch.hpp"
 #include "server/listen_address.hpp"
 #include "server/render_service.hpp"
+#include "server/rpc_log.hpp"
 #include "server/scheduler.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
@@ -210,6 +211,9 @@ int Daemon::start() {
   // Without this, Linux lets a second daemon bind the same port and share its traffic.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(d.service.get());
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(make_rpc_log_interceptor());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::size_t>(d.config.max_receive_message_bytes, std::numeric_limits<int>::max())));
   d.server = builder.BuildAndStart();

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "server/job_passes.hpp"
+#include "server/structured_log.hpp"
 #include "server/tile_state_codec.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
@@ -77,7 +78,9 @@ std::size_t tile_count(const RenderSettings& r) {
 // take the worker thread down with it.
 void fail_job(Job& job, const std::string& message) {
   try {
-    if (job.fail(message)) spdlog::error("job {} failed: {}", job.id(), message);
+    if (job.fail(message))
+      log_event(spdlog::level::err, "job_failed", {{"job_id", job.id()}, {"error", message}},
+                fmt::format("job {} failed: {}", job.id(), message));
   } catch (const std::exception& e) {
     spdlog::error("job {} failed ({}) and the failure could not be stored: {}", job.id(), message,
                   e.what());
@@ -341,11 +344,18 @@ void Scheduler::prepare(Entry& entry) {
   }
   if (prepared) {
     const auto& s = prepared->settings();
-    spdlog::info(
-        "job {} started: {}x{}, {} spp in {} passes, {} tile passes ({} stored before), {}; "
-        "prepared in {:.3f} s, BVH depth {}",
-        job.id(), s.width, s.height, s.samples_per_pixel, s.pass_count(), pending.size() + stored,
-        stored, prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
+    log_event(spdlog::level::info, "job_started",
+              {{"job_id", job.id()},
+               {"tiles", static_cast<std::uint64_t>(pending.size() + stored)},
+               {"tiles_stored_before", static_cast<std::uint64_t>(stored)},
+               {"features", prepared->features().summary()},
+               {"prepare_seconds", prepared->build_seconds()},
+               {"bvh_depth", static_cast<std::int64_t>(prepared->bvh_depth())}},
+              fmt::format("job {} started: {}x{}, {} spp in {} passes, {} tile passes ({} stored "
+                          "before), {}; prepared in {:.3f} s, BVH depth {}",
+                          job.id(), s.width, s.height, s.samples_per_pixel, s.pass_count(),
+                          pending.size() + stored, stored, prepared->features().summary(),
+                          prepared->build_seconds(), prepared->bvh_depth()));
     if (options_.on_job_started) options_.on_job_started(job);
   }
   std::lock_guard lock(mutex_);
@@ -451,9 +461,15 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {
     const JobInfo info = job.info();
-    spdlog::info("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s", info.id,
-                 info.progress.tiles_done, info.progress.rays_traced, info.progress.elapsed_seconds,
-                 info.progress.rays_per_second);
+    log_event(spdlog::level::info, "job_completed",
+              {{"job_id", info.id},
+               {"tiles", static_cast<std::uint64_t>(info.progress.tiles_done)},
+               {"rays", info.progress.rays_traced},
+               {"elapsed_seconds", info.progress.elapsed_seconds},
+               {"rays_per_second", info.progress.rays_per_second}},
+              fmt::format("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s", info.id,
+                          info.progress.tiles_done, info.progress.rays_traced,
+                          info.progress.elapsed_seconds, info.progress.rays_per_second));
   }
 }
 
