@@ -13,7 +13,7 @@ ARG RUNTIME_IMAGE=debian:bookworm-slim
 # The Debian packages holding the shared libraries tesserad and tessera link directly; apt
 # brings in what those need in turn. The builder stage checks this list against the binaries
 # it built (deploy/runtime-packages.sh) and the runtime stage runs ldd, so it cannot drift.
-ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0"
+ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libcpp-httplib0.11"
 
 # ---------------------------------------------------------------------------------------------
 FROM ${BASE_IMAGE} AS build

@@ -146,6 +146,8 @@ class JobStore {
   virtual std::optional<SceneSource> scene(std::string_view id) const = 0;
   // Queued, running and paused jobs of one submitter.
   virtual std::size_t unfinished_count(std::string_view submitter) const = 0;
+  // How many jobs are in each state (states without jobs are absent): /metrics.
+  virtual std::map<JobState, std::size_t> count_by_state() const = 0;
 
   // State transitions. Each applies only to an unfinished job and returns the record after
   // it, or nothing when the job is finished or unknown.

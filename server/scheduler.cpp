@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "server/job_passes.hpp"
+#include "server/metrics.hpp"
 #include "server/structured_log.hpp"
 #include "server/tile_state_codec.hpp"
 #include "tessera/image/exr.hpp"
@@ -306,7 +307,15 @@ void Scheduler::prepare(Entry& entry) {
   std::size_t stored = 0;
   std::size_t grid_tiles = 0;
   try {
+    // A job's first start is the one that ends its wait in the queue (a resumed or
+    // restarted job has a start time already).
+    const bool first_start = job.record().started_unix_ms == 0;
     if (job.mark_running()) {
+      if (options_.metrics && first_start) {
+        const JobRecord started = job.record();
+        options_.metrics->job_started(
+            static_cast<double>(started.started_unix_ms - started.submitted_unix_ms) / 1000.0);
+      }
       std::optional<SceneDescription> loaded;
       if (!entry.scene) loaded = options_.load_scene(job);
       const SceneDescription& scene = entry.scene ? *entry.scene : *loaded;
@@ -317,6 +326,7 @@ void Scheduler::prepare(Entry& entry) {
       prepared = options_.prepare(scene);
       if (!prepared) throw std::runtime_error("no scene was built");
       const std::chrono::duration<double> took = std::chrono::steady_clock::now() - prepare_start;
+      if (options_.metrics) options_.metrics->scene_prepared(took.count());
       if (options_.prepare_timeout.count() > 0 && took > options_.prepare_timeout)
         throw std::runtime_error(
             fmt::format("it took {:.1f} s, longer than the daemon's limit of {:.1f} s "
@@ -377,6 +387,37 @@ std::vector<std::uint8_t> tile_exr(const TilePasses& passes, const TileRect& rec
 
 }  // namespace
 
+void Scheduler::count_trace(const TileStats& stats,
+                            std::chrono::steady_clock::time_point start) const {
+  if (!options_.metrics) return;
+  const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+  options_.metrics->tile_traced(stats.rays, took.count());
+}
+
+std::uint64_t Scheduler::tile_samples(const PreparedScene& scene, const TileWork& work) {
+  const PassLayout layout(scene.settings());
+  const std::uint64_t pixels = std::uint64_t{work.rect.width} * work.rect.height;
+  const std::uint32_t before = work.pass > 1 ? layout.samples_after(work.pass - 1) : 0;
+  return pixels * (layout.samples_after(work.pass) - before);
+}
+
+SchedulerLoad Scheduler::load() {
+  std::lock_guard lock(mutex_);
+  SchedulerLoad load;
+  load.in_flight = in_flight_;
+  for (const auto& entry : queue_) {
+    if (entry->retired || !is_runnable(entry->job->state())) continue;
+    if (!entry->prepared) {
+      ++load.jobs_with_work;
+      continue;
+    }
+    const std::size_t left = entry->tiles.size() - std::min(entry->next_tile, entry->tiles.size());
+    if (left > 0) ++load.jobs_with_work;
+    load.pending_tiles += left;
+  }
+  return load;
+}
+
 std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork& work) {
   Job& job = *entry.job;
   const PreparedScene& scene = *entry.prepared;
@@ -396,7 +437,9 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
   TileStats stats;
   {
     const TileCancelScope cancel(&job.stop_flag());
+    const auto trace_start = std::chrono::steady_clock::now();
     stats = scene.accumulate_tile(rect, state, layout.samples_after(work.pass));
+    count_trace(stats, trace_start);
   }
   // A raised flag may have cut the pass short: it is incomplete, so never stored.
   if (job.stop_requested()) return std::nullopt;
@@ -433,7 +476,9 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
       TileStats stats;
       {
         const TileCancelScope cancel(&job.stop_flag());
+        const auto trace_start = std::chrono::steady_clock::now();
         stats = entry.prepared->render_tile(rect, passes);
+        count_trace(stats, trace_start);
       }
       // A raised flag may have cut the tile short: it is incomplete, so never stored. The
       // flag first, then the run (see Job::run).
@@ -457,6 +502,8 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
   }
   // An attempt that failed because its job stopped meanwhile is not the tile's fault.
   if (failure && !job.stop_flag().load() && job.run() == run) tile_failed(entry, work, *failure);
+  if (options_.metrics && added != AddTileResult::kDropped)
+    options_.metrics->tile_stored(tile_samples(*entry.prepared, work));
   if (options_.on_tile_rendered)
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {

@@ -343,6 +343,18 @@ std::size_t SqliteJobStore::unfinished_count(std::string_view submitter) const {
   return static_cast<std::size_t>(q.getColumn(0).getInt64());
 }
 
+std::map<JobState, std::size_t> SqliteJobStore::count_by_state() const {
+  std::lock_guard lock(mutex_);
+  SQLite::Statement q(*db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
+  std::map<JobState, std::size_t> counts;
+  while (q.executeStep()) {
+    const int state = q.getColumn(0).getInt();
+    if (state < 0 || state > static_cast<int>(JobState::kPaused)) continue;
+    counts[static_cast<JobState>(state)] = static_cast<std::size_t>(q.getColumn(1).getInt64());
+  }
+  return counts;
+}
+
 std::optional<JobRecord> SqliteJobStore::mark_running(std::string_view id, std::int64_t now_ms) {
   std::lock_guard lock(mutex_);
   // started_ms keeps the first start: a job resumed after a restart has been running since.
