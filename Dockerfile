@@ -3,6 +3,7 @@
 #
 #   docker build -t tessera .
 #   docker run -p 50051:50051 -v tessera-data:/var/lib/tessera tessera
+#   docker run -e TESSERAD_LISTEN=0.0.0.0:6000 -p 6000:6000 ... tessera   (another port)
 #
 # deploy/check-image.sh builds and checks this image without a Docker engine (buildah + podman).
 
@@ -13,7 +14,7 @@ ARG RUNTIME_IMAGE=debian:bookworm-slim
 # The Debian packages holding the shared libraries tesserad and tessera link directly; apt
 # brings in what those need in turn. The builder stage checks this list against the binaries
 # it built (deploy/runtime-packages.sh) and the runtime stage runs ldd, so it cannot drift.
-ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0"
+ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libcpp-httplib0.11"
 
 # ---------------------------------------------------------------------------------------------
 FROM ${BASE_IMAGE} AS build
@@ -64,11 +65,20 @@ RUN if ldd /usr/local/bin/tesserad /usr/local/bin/tessera | grep "not found"; th
 
 USER tessera
 WORKDIR /var/lib/tessera
-EXPOSE 50051
+# The gRPC port. tesserad reads its settings from TESSERAD_* variables (README:
+# "Configuration"), so the listen address is set once, here, and the HEALTHCHECK reads the
+# port back from the same variable at run time: `docker run -e TESSERAD_LISTEN=0.0.0.0:6000`
+# moves both. (A --listen flag would override the variable for tesserad but not for the
+# check: set the variable instead.)
+ARG PORT=50051
+ENV TESSERAD_LISTEN=0.0.0.0:${PORT} \
+    TESSERAD_DATA=/var/lib/tessera
+EXPOSE ${PORT}
 VOLUME ["/var/lib/tessera"]
-# bash (always in Debian) opens a TCP connection to the gRPC port: no curl or probe binary
-# needed. It checks the default port only; change it too when overriding --listen.
+# `tessera health` asks the gRPC health service, which answers SERVING only once tesserad
+# has opened its store and started its workers (and NOT_SERVING while it shuts down), not
+# merely when the port accepts connections. ${TESSERAD_LISTEN##*:} is its port; any
+# failure is exit status 1, the one Docker reads as unhealthy.
 HEALTHCHECK --interval=30s --timeout=5s --start-period=10s --retries=3 \
-  CMD ["bash", "-c", "exec 3<>/dev/tcp/127.0.0.1/50051"]
+  CMD ["sh", "-c", "tessera health --address \"127.0.0.1:${TESSERAD_LISTEN##*:}\" || exit 1"]
 ENTRYPOINT ["tesserad"]
-CMD ["--listen", "0.0.0.0:50051", "--data", "/var/lib/tessera"]

@@ -11,6 +11,13 @@ find_package(gRPC CONFIG REQUIRED)
 find_package(assimp CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
+# tesserad's JSON log lines (Debian: nlohmann-json3-dev).
+find_package(nlohmann_json 3 CONFIG REQUIRED)
+# tesserad's /metrics endpoint (Debian: libcpp-httplib-dev), through pkg-config: Debian ships
+# no CMake config, and the .pc file carries the CPPHTTPLIB_*_SUPPORT definitions the library
+# was built with, which every includer of the header must share.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 
 # Debian's OpenImageIO config lists /usr/include/opencv4 among its include
 # directories although OpenCV is not a dependency; CMake refuses to generate when

@@ -33,6 +33,10 @@ CLI::Validator log_level_validator() {
 }  // namespace
 
 CommandLine parse_command_line(int argc, const char* const argv[]) {
+  return parse_command_line(argc, argv, process_environment());
+}
+
+CommandLine parse_command_line(int argc, const char* const argv[], const Environment& environment) {
   CommandLine result;
   DaemonConfig defaults;
   defaults.data_dir = kDefaultDataDir;
@@ -41,6 +45,8 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   unsigned threads = defaults.threads;
   std::string data = defaults.data_dir.string();
   std::string log_level = defaults.log_level;
+  std::string log_format = defaults.log_format;
+  std::string metrics_listen;
   std::string config_file;
 
   CLI::App app(
@@ -62,16 +68,29 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
                               ->type_name("DIR")
                               ->default_str(data);
   app.add_option("--config", config_file,
-                 "YAML file with listen, threads, data, log_level, shutdown_grace, job_ttl, "
-                 "max_jobs, max_jobs_per_submitter and the budgets (max_receive_message_bytes, "
-                 "max_width, max_height, max_pixels, max_samples_per_pixel, max_primitives, "
-                 "memory_budget, prepare_timeout) and stream_write_timeout; flags override it")
+                 "YAML file with listen, threads, data, log_level, log_format, metrics_listen, "
+                 "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter and the budgets "
+                 "(max_receive_message_bytes, max_width, max_height, max_pixels, "
+                 "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) and "
+                 "stream_write_timeout (default: $TESSERAD_CONFIG). Every key can also be set "
+                 "as TESSERAD_<KEY> (TESSERAD_MAX_PIXELS); flags override the environment, "
+                 "which overrides the file")
       ->type_name("FILE");
   CLI::Option* log_opt =
       app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")
           ->type_name("LEVEL")
           ->check(log_level_validator())
           ->default_str(defaults.log_level);
+  CLI::Option* format_opt =
+      app.add_option("--log-format", log_format, "text, or json: one JSON object per line")
+          ->type_name("FORMAT")
+          ->check(CLI::IsMember({"text", "json"}))
+          ->default_str(defaults.log_format);
+  CLI::Option* metrics_opt =
+      app.add_option("--metrics-listen", metrics_listen,
+                     "serve Prometheus metrics at http://HOST:PORT/metrics (default: off)")
+          ->type_name("HOST:PORT")
+          ->check(listen_address_validator());
 
   try {
     app.parse(argc, argv);
@@ -84,8 +103,13 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
   }
 
   try {
+    // Precedence: defaults, then the file, then the environment, then the flags.
     DaemonConfig config = defaults;
+    if (config_file.empty())
+      for (const auto& [name, value] : environment)
+        if (name == kConfigFileVariable) config_file = value;
     if (!config_file.empty()) config = load_config_file(config_file, config, result.warnings);
+    config = apply_environment(environment, std::move(config), result.warnings);
     if (listen_opt->count() > 0) config.listen = listen;
     if (threads_opt->count() > 0) config.threads = threads;
     if (data_opt->count() > 0) {
@@ -93,6 +117,8 @@ CommandLine parse_command_line(int argc, const char* const argv[]) {
       config.data_dir = data;
     }
     if (log_opt->count() > 0) config.log_level = log_level;
+    if (format_opt->count() > 0) config.log_format = log_format;
+    if (metrics_opt->count() > 0) config.metrics_listen = metrics_listen;
     validate_config(config);
     result.config = std::move(config);
   } catch (const ConfigError& e) {

@@ -2,13 +2,16 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <limits>
 #include <sstream>
-#include <thread>
 #include <variant>
 
+#include "server/cpu_limits.hpp"
 #include "server/job_cost.hpp"
 #include "server/listen_address.hpp"
 
@@ -16,8 +19,15 @@ namespace tessera::server {
 namespace {
 
 constexpr const char* kLogLevels = "trace, debug, info, warn, error, critical or off";
+// The display name under which settings from the environment are applied.
+constexpr const char* kEnvironmentSource = "<environment>";
+
+bool apply_setting(DaemonConfig& config, const std::string& display_name, const std::string& key,
+                   const YAML::Node& value);
 
 std::string located(const std::string& file, const YAML::Node& node, const std::string& key) {
+  // A setting from the environment is named by its variable, whatever the key.
+  if (file == kEnvironmentSource) return environment_variable_for(key);
   // Appended piecewise: `":" + std::to_string(...)` trips a false -Wrestrict in GCC 12.
   std::string where = file;
   if (!node.Mark().is_null()) where.append(":").append(std::to_string(node.Mark().line + 1));
@@ -80,8 +90,9 @@ constexpr std::uint32_t kLargestSamplesPerPixel = 65536;  // Sobol sample indice
 constexpr std::size_t kLargestPrimitives = (std::size_t{1} << 27) - 1;  // reference index bits
 
 constexpr const char* kKeys =
-    "listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs, "
-    "max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, max_pixels, "
+    "listen, threads, data, log_level, log_format, metrics_listen, shutdown_grace, job_ttl, "
+    "max_jobs, max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, "
+    "max_pixels, "
     "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout, "
     "tile_retries, watch_buffer, watch_write_timeout";
 
@@ -159,8 +170,48 @@ std::optional<std::chrono::milliseconds> parse_duration(const std::string& text)
 }
 
 unsigned default_thread_count() {
-  const unsigned n = std::thread::hardware_concurrency();
-  return n == 0 ? 1 : n;
+  static const unsigned threads = thread_count_for(current_cpu_limits());
+  return threads;
+}
+
+std::optional<LogFormat> parse_log_format(const std::string& name) {
+  if (name == "text") return LogFormat::kText;
+  if (name == "json") return LogFormat::kJson;
+  return std::nullopt;
+}
+
+std::string environment_variable_for(const std::string& key) {
+  std::string name = kEnvironmentPrefix;
+  for (const char c : key) name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return name;
+}
+
+DaemonConfig apply_environment(const Environment& environment, DaemonConfig config,
+                               std::vector<std::string>& warnings) {
+  const std::string prefix = kEnvironmentPrefix;
+  for (const auto& [name, value] : environment) {
+    if (name.rfind(prefix, 0) != 0 || value.empty()) continue;
+    if (name == kConfigFileVariable) continue;  // names the file, read before this
+    std::string key = name.substr(prefix.size());
+    for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    // The variable's exact spelling: TESSERAD_threads is not TESSERAD_THREADS.
+    if (environment_variable_for(key) != name || key.empty() ||
+        !apply_setting(config, kEnvironmentSource, key, YAML::Node(value)))
+      warnings.push_back(name + ": not a tesserad setting, ignored");
+  }
+  return config;
+}
+
+Environment process_environment() {
+  Environment environment;
+  for (char** entry = environ; entry && *entry; ++entry) {
+    const std::string_view text(*entry);
+    const auto equals = text.find('=');
+    if (equals == std::string_view::npos) continue;
+    environment.emplace_back(std::string(text.substr(0, equals)),
+                             std::string(text.substr(equals + 1)));
+  }
+  return environment;
 }
 
 std::optional<spdlog::level::level_enum> parse_log_level(const std::string& name) {
@@ -208,25 +259,22 @@ void validate_config(const DaemonConfig& config) {
   if (config.watch_buffer < 1) throw ConfigError("watch_buffer: must be at least 1 event");
   if (config.watch_write_timeout <= std::chrono::milliseconds(0))
     throw ConfigError("watch_write_timeout: must be longer than 0");
+  if (!config.metrics_listen.empty()) {
+    const auto metrics = parse_listen_address(config.metrics_listen);
+    if (const auto* problem = std::get_if<std::string>(&metrics))
+      throw ConfigError("metrics_listen: " + *problem);
+  }
+  if (!parse_log_format(config.log_format))
+    throw ConfigError("log_format: must be text or json, got '" + config.log_format + "'");
 }
 
-DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
-                              DaemonConfig config, std::vector<std::string>& warnings) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    std::string where = display_name;
-    if (!e.mark.is_null()) where.append(":").append(std::to_string(e.mark.line + 1));
-    throw ConfigError(where + ": YAML syntax error: " + e.msg);
-  }
-  if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
-  if (!root.IsMap())
-    throw ConfigError(display_name + ": must be a YAML map of settings (" + kKeys + ")");
+namespace {
 
-  for (const auto& entry : root) {
-    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
-    const YAML::Node& value = entry.second;
+// One setting, from a file or (display_name kEnvironmentSource) an environment variable:
+// the one list of keys, so every key has its variable. False for an unknown key.
+bool apply_setting(DaemonConfig& config, const std::string& display_name, const std::string& key,
+                   const YAML::Node& value) {
+  {
     if (key == "listen") {
       config.listen = read_string(display_name, value, key);
       const auto listen = parse_listen_address(config.listen);
@@ -307,9 +355,45 @@ DaemonConfig load_config_yaml(const std::string& text, const std::string& displa
       config.watch_write_timeout = read_duration(display_name, value, key);
       if (config.watch_write_timeout <= std::chrono::milliseconds(0))
         throw ConfigError(located(display_name, value, key) + ": must be longer than 0");
+    } else if (key == "metrics_listen") {
+      config.metrics_listen = read_string(display_name, value, key);
+      if (!config.metrics_listen.empty()) {
+        const auto listen = parse_listen_address(config.metrics_listen);
+        if (const auto* problem = std::get_if<std::string>(&listen))
+          throw ConfigError(located(display_name, value, key) + ": " + *problem);
+      }
+    } else if (key == "log_format") {
+      config.log_format = read_string(display_name, value, key);
+      if (!parse_log_format(config.log_format))
+        throw ConfigError(located(display_name, value, key) + ": must be text or json, got '" +
+                          config.log_format + "'");
     } else {
-      warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
+      return false;
     }
+  }
+  return true;
+}
+
+}  // namespace
+
+DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
+                              DaemonConfig config, std::vector<std::string>& warnings) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::string where = display_name;
+    if (!e.mark.is_null()) where.append(":").append(std::to_string(e.mark.line + 1));
+    throw ConfigError(where + ": YAML syntax error: " + e.msg);
+  }
+  if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
+  if (!root.IsMap())
+    throw ConfigError(display_name + ": must be a YAML map of settings (" + kKeys + ")");
+
+  for (const auto& entry : root) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "?";
+    if (!apply_setting(config, display_name, key, entry.second))
+      warnings.push_back(located(display_name, entry.first, key) + ": unknown key, ignored");
   }
   return config;
 }

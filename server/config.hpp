@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <spdlog/common.h>
@@ -20,8 +21,12 @@ inline constexpr unsigned kMaxThreads = 1024;
 inline constexpr std::size_t kMemoryBudgetAuto = static_cast<std::size_t>(-1);
 inline constexpr std::size_t kMaxTileRetries = 100;
 
-// std::thread::hardware_concurrency(), or 1 where it is unknown.
+// The CPUs this process may use: min(hardware threads, affinity mask, ceil(cgroup CPU
+// quota)), at least 1 (cpu_limits.hpp). Read once.
 unsigned default_thread_count();
+
+enum class LogFormat { kText, kJson };
+std::optional<LogFormat> parse_log_format(const std::string& name);
 
 // Everything a Daemon needs; tesserad fills it from flags and an optional YAML file.
 struct DaemonConfig {
@@ -34,6 +39,11 @@ struct DaemonConfig {
   // trace, debug, info, warn, error, critical, off. Process-wide, so tesserad's main()
   // applies it; an in-process Daemon leaves the host's logging alone.
   std::string log_level = "info";
+  // text (spdlog's lines) or json (one object per line: log_format.hpp). Process-wide
+  // like log_level.
+  std::string log_format = "text";
+  // HOST:PORT of the Prometheus /metrics endpoint (plain HTTP, its own port); empty: off.
+  std::string metrics_listen;
   // Budgets. gRPC refuses a larger request before the daemon sees it (RESOURCE_EXHAUSTED);
   // 256 MiB carries inline meshes of ~20M triangles.
   std::size_t max_receive_message_bytes = std::size_t{256} << 20;
@@ -98,17 +108,34 @@ std::size_t effective_memory_budget(const DaemonConfig& config);
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data, log_level, shutdown_grace, job_ttl, max_jobs,
-// max_jobs_per_submitter, tile_retries, watch_buffer, watch_write_timeout, stream_write_timeout
-// and the budgets (max_receive_message_bytes, max_width, max_height, max_pixels,
-// max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) from a YAML file on
-// top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d; sizes a number
-// with an optional unit: 512MiB, 8GiB. Unknown keys are reported in `warnings`; bad values
+// Reads the keys listen, threads, data, log_level, log_format, metrics_listen, shutdown_grace,
+// job_ttl, max_jobs, max_jobs_per_submitter, tile_retries, watch_buffer, watch_write_timeout,
+// stream_write_timeout and the budgets (max_receive_message_bytes, max_width, max_height,
+// max_pixels, max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) from a YAML
+// file on top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d; sizes a
+// number with an optional unit: 512MiB, 8GiB. Unknown keys are reported in `warnings`; bad values
 // throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);
 // The same from text; `display_name` appears in messages.
 DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
                               DaemonConfig base, std::vector<std::string>& warnings);
+
+// Environment variables: every configuration key has one, TESSERAD_ and the key in capitals
+// (listen: TESSERAD_LISTEN, max_pixels: TESSERAD_MAX_PIXELS), derived from the key so a new
+// key gets its variable without a list to keep. Values are read as the file's are; an
+// empty variable counts as unset.
+inline constexpr const char* kEnvironmentPrefix = "TESSERAD_";
+// Names the config file when --config is not given (it is not a key of the file).
+inline constexpr const char* kConfigFileVariable = "TESSERAD_CONFIG";
+using Environment = std::vector<std::pair<std::string, std::string>>;
+std::string environment_variable_for(const std::string& key);
+// Applies the TESSERAD_* variables of `environment` on top of `base`. Bad values throw
+// ConfigError naming the variable; TESSERAD_* variables that name no key are reported in
+// `warnings`.
+DaemonConfig apply_environment(const Environment& environment, DaemonConfig base,
+                               std::vector<std::string>& warnings);
+// This process's environment.
+Environment process_environment();
 
 }  // namespace tessera::server

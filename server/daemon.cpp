@@ -20,7 +20,10 @@
 #include "server/job_registry.hpp"
 #include "server/job_watch.hpp"
 #include "server/listen_address.hpp"
+#include "server/metrics.hpp"
+#include "server/metrics_http.hpp"
 #include "server/render_service.hpp"
+#include "server/rpc_log.hpp"
 #include "server/scheduler.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
@@ -78,10 +81,15 @@ struct Daemon::Impl {
 
   std::unique_ptr<JobStore> store;
   std::unique_ptr<JobWatchHub> watch_hub;  // outlives the jobs, which report to it
+  DaemonMetrics metrics;
+  std::unique_ptr<MetricsJobListener> metrics_listener;  // before the hub, like the jobs
   std::unique_ptr<JobRegistry> jobs;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<RenderServiceImpl> service;
   std::unique_ptr<grpc::Server> server;
+  // Declared last, so destroyed first: its handler reads the store and the scheduler.
+  std::unique_ptr<MetricsHttpServer> metrics_server;
+  int metrics_port = 0;
 
   // Retention runs on its own thread, woken when a job finishes, so no RPC or worker
   // waits on deletions.
@@ -133,6 +141,30 @@ struct Daemon::Impl {
     retention_cv.notify_one();
   }
 
+  // What a scrape of /metrics returns: the counters, and the gauges read now.
+  std::string metrics_text() {
+    MetricsSnapshot snapshot;
+    try {
+      snapshot.jobs_by_state = store->count_by_state();
+    } catch (const std::exception& e) {
+      spdlog::warn("metrics: cannot count the jobs: {}", e.what());
+    }
+    const SchedulerLoad load = scheduler->load();
+    snapshot.queued_jobs = load.jobs_with_work;
+    snapshot.pending_tiles = load.pending_tiles;
+    snapshot.tiles_in_flight = load.in_flight;
+    snapshot.render_threads = scheduler->threads();
+    if (!config.data_dir.empty())
+      for (const char* suffix : {"", "-wal", "-shm"}) {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(
+            config.data_dir / (std::string(SqliteJobStore::kFileName) + suffix), ec);
+        if (!ec) snapshot.store_bytes += size;
+      }
+    snapshot.resident_bytes = resident_memory_bytes();
+    return metrics.exposition(snapshot);
+  }
+
   void set_state(State s, int bound_port, std::string bound_host) {
     {
       std::lock_guard lock(state_mutex);
@@ -170,13 +202,15 @@ int Daemon::start() {
                                                  : d.config.data_dir / SqliteJobStore::kFileName);
   d.watch_hub = std::make_unique<JobWatchHub>(JobWatchHub::Options{
       .buffer_events = d.config.watch_buffer, .write_timeout = d.config.watch_write_timeout});
-  d.jobs = std::make_unique<JobRegistry>(*d.store, d.watch_hub.get());
+  d.metrics_listener = std::make_unique<MetricsJobListener>(d.metrics, d.watch_hub.get());
+  d.jobs = std::make_unique<JobRegistry>(*d.store, d.metrics_listener.get());
 
   SchedulerOptions options;
   options.threads = d.config.threads;
   options.owner = random_owner();
   options.prepare_timeout = d.config.prepare_timeout;
   options.tile_retries = static_cast<std::uint32_t>(d.config.tile_retries);
+  options.metrics = &d.metrics;
   options.load_scene = [&d](const Job& job) { return load_scene(*d.store, job, d.config.limits); };
   options.on_job_released = [&d](const Job& job) {
     d.jobs->forget(job.id());
@@ -200,6 +234,17 @@ int Daemon::start() {
     spdlog::info("resuming {} unfinished jobs from {}", unfinished.size(),
                  d.config.data_dir.string());
 
+  if (!d.config.metrics_listen.empty()) {
+    d.metrics_server = std::make_unique<MetricsHttpServer>([&d] { return d.metrics_text(); });
+    try {
+      d.metrics_port = d.metrics_server->start(d.config.metrics_listen);
+    } catch (...) {
+      d.metrics_server.reset();
+      d.scheduler->stop();
+      throw;
+    }
+  }
+
   // Both register process-wide hooks that ServerBuilder consults; calling them again is
   // harmless.
   grpc::EnableDefaultHealthCheckService(true);
@@ -210,11 +255,15 @@ int Daemon::start() {
   // Without this, Linux lets a second daemon bind the same port and share its traffic.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(d.service.get());
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(make_rpc_log_interceptor());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<std::size_t>(d.config.max_receive_message_bytes, std::numeric_limits<int>::max())));
   d.server = builder.BuildAndStart();
   if (!d.server || bound_port == 0) {
     d.server.reset();
+    d.metrics_server.reset();
     d.scheduler->stop();
     throw std::runtime_error("listen: cannot listen on " + d.config.listen +
                              " (address in use, or not an address of this machine?)");
@@ -226,6 +275,10 @@ int Daemon::start() {
   d.set_state(Impl::State::kRunning, bound_port, connectable_host(listen.host));
   spdlog::info("tesserad {} listening on {} with {} render threads", TESSERA_VERSION,
                listen.host + ":" + std::to_string(bound_port), d.config.threads);
+  if (d.metrics_server)
+    spdlog::info("metrics at http://{}:{}/metrics",
+                 std::get<ListenAddress>(parse_listen_address(d.config.metrics_listen)).host,
+                 d.metrics_port);
   const std::size_t budget = effective_memory_budget(d.config);
   spdlog::info("budgets: memory {} per job, messages up to {}, preparation {}",
                budget == 0 ? std::string("unlimited") : format_bytes(budget),
@@ -252,6 +305,7 @@ void Daemon::shutdown() {
   d.server->Shutdown(std::chrono::system_clock::now() + kRpcShutdownGrace);
   d.server->Wait();
   d.server.reset();
+  if (d.metrics_server) d.metrics_server->stop();
   {
     std::lock_guard lock(d.retention_mutex);
     d.retention_stop = true;
@@ -266,6 +320,17 @@ void Daemon::wait() {
   Impl& d = *impl_;
   std::unique_lock lock(d.state_mutex);
   d.stopped_cv.wait(lock, [&] { return d.state != Impl::State::kRunning; });
+}
+
+int Daemon::metrics_port() const {
+  std::lock_guard lock(impl_->state_mutex);
+  return impl_->metrics_port;
+}
+
+std::string Daemon::metrics_text() {
+  std::lock_guard lifecycle(impl_->lifecycle_mutex);
+  if (impl_->state != Impl::State::kRunning) return {};
+  return impl_->metrics_text();
 }
 
 int Daemon::port() const {

@@ -33,7 +33,11 @@ class Daemon {
   // Blocks until shutdown() has finished; returns at once if the daemon never started.
   void wait();
 
-  int port() const;             // 0 before start()
+  int port() const;  // 0 before start()
+  // The /metrics port (config().metrics_listen; 0 when off or before start()), and the
+  // text a scrape returns now (empty unless running), for tests.
+  int metrics_port() const;
+  std::string metrics_text();
   std::string address() const;  // "HOST:PORT" with the bound port, for clients
   const DaemonConfig& config() const;
   // StreamTiles calls open now, and those ended by the stream write timeout (0 before

@@ -29,17 +29,20 @@ std::int64_t unix_millis_now() {
 namespace {
 
 // Progress of a job that had `done` of `total` tiles and `rays` when `elapsed_ms` had passed
-// since it started.
+// since it started, `prepare_ms` of which went to preparing its scene.
 JobProgress progress_at(std::uint32_t done, std::uint32_t total, std::uint64_t rays,
-                        std::int64_t elapsed_ms, bool running) {
+                        std::int64_t elapsed_ms, std::int64_t prepare_ms, bool running) {
   JobProgress p;
   p.tiles_done = done;
   p.tiles_total = total;
   p.rays_traced = rays;
   p.elapsed_seconds = static_cast<double>(std::max<std::int64_t>(elapsed_ms, 0)) / 1000.0;
-  if (p.elapsed_seconds > 0.0) p.rays_per_second = static_cast<double>(rays) / p.elapsed_seconds;
+  // Rendering time only: the preparation traced no rays and is not repeated per tile.
+  const double rendering_seconds =
+      static_cast<double>(std::max<std::int64_t>(elapsed_ms - prepare_ms, 0)) / 1000.0;
+  if (rendering_seconds > 0.0) p.rays_per_second = static_cast<double>(rays) / rendering_seconds;
   if (running && done > 0 && done < total)
-    p.eta_seconds = p.elapsed_seconds * (total - done) / done;
+    p.eta_seconds = rendering_seconds * (total - done) / done;
   return p;
 }
 
@@ -55,7 +58,7 @@ JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
   info.settings = r.settings;
   const std::int64_t end = is_finished(r.state) ? r.finished_unix_ms : now_ms;
   const std::int64_t elapsed = r.started_unix_ms == 0 ? 0 : end - r.started_unix_ms;
-  info.progress = progress_at(r.tiles_done, r.tiles_total, r.rays_traced, elapsed,
+  info.progress = progress_at(r.tiles_done, r.tiles_total, r.rays_traced, elapsed, r.prepare_ms,
                               r.state == JobState::kRunning);
   info.error = r.error;
   info.cancel_reason = r.cancel_reason;
@@ -68,7 +71,7 @@ JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
 JobProgress tile_progress(const JobRecord& job, const StoredTile& tile) {
   const std::int64_t elapsed =
       job.started_unix_ms == 0 ? 0 : tile.finished_unix_ms - job.started_unix_ms;
-  return progress_at(tile.ordinal, job.tiles_total, tile.rays_after, elapsed, true);
+  return progress_at(tile.ordinal, job.tiles_total, tile.rays_after, elapsed, job.prepare_ms, true);
 }
 
 Job::Job(JobStore& store, JobRecord record, JobListener* listener)
@@ -110,6 +113,11 @@ JobRecord Job::record() const {
 JobState Job::state() const {
   std::lock_guard lock(mutex_);
   return record_.state;
+}
+
+void Job::add_prepare_time(std::chrono::milliseconds took) {
+  std::lock_guard lock(mutex_);
+  if (const auto updated = store_.add_prepare_time(id_, took.count())) set_locked(*updated);
 }
 
 bool Job::mark_running() {

@@ -18,6 +18,8 @@ struct JobProgress {
   std::uint32_t tiles_total = 0;
   std::uint64_t rays_traced = 0;
   double elapsed_seconds = 0.0;  // since the job started running
+  // Rays over the time spent rendering: elapsed time less the scene preparation, so a job
+  // whose BVH took a minute to build does not report a fraction of its real rate.
   double rays_per_second = 0.0;
   double eta_seconds = 0.0;  // 0 when unknown or finished
 };
@@ -113,6 +115,8 @@ class Job {
   // The tile's accumulated state between its passes (see JobStore::tile_pass_state).
   std::optional<TilePassState> tile_pass_state(std::uint32_t tile) const;
   bool fail(std::string error);
+  // Records time spent preparing the job's scene (JobRecord::prepare_ms).
+  void add_prepare_time(std::chrono::milliseconds took);
   CancelResult cancel(std::string reason = {});
 
   // Job control (RPCs). Pause: queued or running -> paused (kRefused once finished); tiles

@@ -44,6 +44,9 @@ struct JobRecord {
   std::int64_t submitted_unix_ms = 0;
   std::int64_t started_unix_ms = 0;   // 0 until a worker first picked it up
   std::int64_t finished_unix_ms = 0;  // 0 until finished
+  // Time spent preparing the scene (conversion, BVH build), summed over the job's starts:
+  // taken out of the elapsed time that rays per second divide by.
+  std::int64_t prepare_ms = 0;
   // Submission order, assigned by the store, increasing across restarts: orders the queue
   // and ListJobs, and is the ListJobs page token.
   std::int64_t sequence = 0;
@@ -146,6 +149,12 @@ class JobStore {
   virtual std::optional<SceneSource> scene(std::string_view id) const = 0;
   // Queued, running and paused jobs of one submitter.
   virtual std::size_t unfinished_count(std::string_view submitter) const = 0;
+  // Adds `prepare_ms` to the job's preparation time (any state); the record after, or
+  // nothing for an unknown job.
+  virtual std::optional<JobRecord> add_prepare_time(std::string_view id,
+                                                    std::int64_t prepare_ms) = 0;
+  // How many jobs are in each state (states without jobs are absent): /metrics.
+  virtual std::map<JobState, std::size_t> count_by_state() const = 0;
 
   // State transitions. Each applies only to an unfinished job and returns the record after
   // it, or nothing when the job is finished or unknown.

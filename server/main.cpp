@@ -1,5 +1,4 @@
 // tesserad: parse the configuration, run a Daemon until SIGINT or SIGTERM, shut down cleanly.
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <csignal>
@@ -8,6 +7,7 @@
 
 #include "server/command_line.hpp"
 #include "server/daemon.hpp"
+#include "server/structured_log.hpp"
 
 int main(int argc, char** argv) {
   using namespace tessera::server;
@@ -19,8 +19,7 @@ int main(int argc, char** argv) {
   const DaemonConfig& config = command_line.config;
 
   // Logs go to stderr so stdout carries only the "listening on" line scripts wait for.
-  spdlog::set_default_logger(spdlog::stderr_color_mt("tesserad"));
-  spdlog::set_level(*parse_log_level(config.log_level));
+  configure_logging(*parse_log_format(config.log_format), *parse_log_level(config.log_level));
   for (const std::string& warning : command_line.warnings) spdlog::warn("{}", warning);
 
   // Block the shutdown signals before any thread exists, so every thread inherits the

@@ -11,6 +11,7 @@
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
 #include "server/rpc_handler.hpp"
+#include "server/structured_log.hpp"
 
 namespace tessera::server {
 using rpc::guarded;
@@ -161,16 +162,28 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   }
   // The response describes the job as submitted (QUEUED), before a worker can pick it up.
   job_info_to_proto(job->info(), *response.mutable_job());
+  // Logged before the scheduler has the job, so "submitted" always comes before the
+  // "started" a worker logs. The feature summary (with light count) is logged once the
+  // scene is prepared.
+  log_event(
+      spdlog::level::info, "job_submitted",
+      {{"job_id", job->id()},
+       {"name", record.name},
+       {"submitter", record.submitter},
+       {"priority", static_cast<std::int64_t>(job->priority())},
+       {"width", static_cast<std::uint64_t>(settings.width)},
+       {"height", static_cast<std::uint64_t>(settings.height)},
+       {"samples_per_pixel", static_cast<std::uint64_t>(settings.samples_per_pixel)},
+       {"passes", static_cast<std::uint64_t>(settings.pass_count())},
+       {"tiles", static_cast<std::uint64_t>(tiles)}},
+      fmt::format("job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp in {} passes, "
+                  "depth {}, {} tile passes",
+                  job->id(), logged_name, escape_client_text(record.submitter), job->priority(),
+                  settings.width, settings.height, settings.samples_per_pixel,
+                  settings.pass_count(), settings.max_depth, tiles));
   if (!scheduler_.submit(job))
     // Stored, so not lost: the next start of the daemon runs it.
     spdlog::info("job {} stored while the daemon stops; it runs after a restart", job->id());
-  // The feature summary (with light count) is logged once the scene is prepared.
-  spdlog::info(
-      "job {} '{}' submitted by '{}': priority {}, {}x{}, {} spp in {} passes, depth {}, {} "
-      "tile passes",
-      job->id(), logged_name, escape_client_text(record.submitter), job->priority(), settings.width,
-      settings.height, settings.samples_per_pixel, settings.pass_count(), settings.max_depth,
-      tiles);
   return grpc::Status::OK;
 }
 

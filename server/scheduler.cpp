@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "server/job_passes.hpp"
+#include "server/metrics.hpp"
+#include "server/structured_log.hpp"
 #include "server/tile_state_codec.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/output_channels.hpp"
@@ -77,7 +79,9 @@ std::size_t tile_count(const RenderSettings& r) {
 // take the worker thread down with it.
 void fail_job(Job& job, const std::string& message) {
   try {
-    if (job.fail(message)) spdlog::error("job {} failed: {}", job.id(), message);
+    if (job.fail(message))
+      log_event(spdlog::level::err, "job_failed", {{"job_id", job.id()}, {"error", message}},
+                fmt::format("job {} failed: {}", job.id(), message));
   } catch (const std::exception& e) {
     spdlog::error("job {} failed ({}) and the failure could not be stored: {}", job.id(), message,
                   e.what());
@@ -303,7 +307,18 @@ void Scheduler::prepare(Entry& entry) {
   std::size_t stored = 0;
   std::size_t grid_tiles = 0;
   try {
+    // A job's first start is the one that ends its wait in the queue (a resumed or
+    // restarted job has a start time already).
+    const bool first_start = job.record().started_unix_ms == 0;
     if (job.mark_running()) {
+      if (options_.metrics && first_start) {
+        const JobRecord started = job.record();
+        options_.metrics->job_started(
+            static_cast<double>(started.started_unix_ms - started.submitted_unix_ms) / 1000.0);
+      }
+      // Preparation, as rays per second and /metrics count it, includes reading the scene
+      // back from the store and converting it.
+      const auto load_start = std::chrono::steady_clock::now();
       std::optional<SceneDescription> loaded;
       if (!entry.scene) loaded = options_.load_scene(job);
       const SceneDescription& scene = entry.scene ? *entry.scene : *loaded;
@@ -314,6 +329,10 @@ void Scheduler::prepare(Entry& entry) {
       prepared = options_.prepare(scene);
       if (!prepared) throw std::runtime_error("no scene was built");
       const std::chrono::duration<double> took = std::chrono::steady_clock::now() - prepare_start;
+      const std::chrono::duration<double> preparation =
+          std::chrono::steady_clock::now() - load_start;
+      if (options_.metrics) options_.metrics->scene_prepared(preparation.count());
+      job.add_prepare_time(std::chrono::duration_cast<std::chrono::milliseconds>(preparation));
       if (options_.prepare_timeout.count() > 0 && took > options_.prepare_timeout)
         throw std::runtime_error(
             fmt::format("it took {:.1f} s, longer than the daemon's limit of {:.1f} s "
@@ -341,11 +360,18 @@ void Scheduler::prepare(Entry& entry) {
   }
   if (prepared) {
     const auto& s = prepared->settings();
-    spdlog::info(
-        "job {} started: {}x{}, {} spp in {} passes, {} tile passes ({} stored before), {}; "
-        "prepared in {:.3f} s, BVH depth {}",
-        job.id(), s.width, s.height, s.samples_per_pixel, s.pass_count(), pending.size() + stored,
-        stored, prepared->features().summary(), prepared->build_seconds(), prepared->bvh_depth());
+    log_event(spdlog::level::info, "job_started",
+              {{"job_id", job.id()},
+               {"tiles", static_cast<std::uint64_t>(pending.size() + stored)},
+               {"tiles_stored_before", static_cast<std::uint64_t>(stored)},
+               {"features", prepared->features().summary()},
+               {"prepare_seconds", prepared->build_seconds()},
+               {"bvh_depth", static_cast<std::int64_t>(prepared->bvh_depth())}},
+              fmt::format("job {} started: {}x{}, {} spp in {} passes, {} tile passes ({} stored "
+                          "before), {}; prepared in {:.3f} s, BVH depth {}",
+                          job.id(), s.width, s.height, s.samples_per_pixel, s.pass_count(),
+                          pending.size() + stored, stored, prepared->features().summary(),
+                          prepared->build_seconds(), prepared->bvh_depth()));
     if (options_.on_job_started) options_.on_job_started(job);
   }
   std::lock_guard lock(mutex_);
@@ -367,6 +393,37 @@ std::vector<std::uint8_t> tile_exr(const TilePasses& passes, const TileRect& rec
 
 }  // namespace
 
+void Scheduler::count_trace(const TileStats& stats,
+                            std::chrono::steady_clock::time_point start) const {
+  if (!options_.metrics) return;
+  const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+  options_.metrics->tile_traced(stats.rays, took.count());
+}
+
+std::uint64_t Scheduler::tile_samples(const PreparedScene& scene, const TileWork& work) {
+  const PassLayout layout(scene.settings());
+  const std::uint64_t pixels = std::uint64_t{work.rect.width} * work.rect.height;
+  const std::uint32_t before = work.pass > 1 ? layout.samples_after(work.pass - 1) : 0;
+  return pixels * (layout.samples_after(work.pass) - before);
+}
+
+SchedulerLoad Scheduler::load() {
+  std::lock_guard lock(mutex_);
+  SchedulerLoad load;
+  load.in_flight = in_flight_;
+  for (const auto& entry : queue_) {
+    if (entry->retired || !is_runnable(entry->job->state())) continue;
+    if (!entry->prepared) {
+      ++load.jobs_with_work;
+      continue;
+    }
+    const std::size_t left = entry->tiles.size() - std::min(entry->next_tile, entry->tiles.size());
+    if (left > 0) ++load.jobs_with_work;
+    load.pending_tiles += left;
+  }
+  return load;
+}
+
 std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork& work) {
   Job& job = *entry.job;
   const PreparedScene& scene = *entry.prepared;
@@ -386,7 +443,9 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
   TileStats stats;
   {
     const TileCancelScope cancel(&job.stop_flag());
+    const auto trace_start = std::chrono::steady_clock::now();
     stats = scene.accumulate_tile(rect, state, layout.samples_after(work.pass));
+    count_trace(stats, trace_start);
   }
   // A raised flag may have cut the pass short: it is incomplete, so never stored.
   if (job.stop_requested()) return std::nullopt;
@@ -423,7 +482,9 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
       TileStats stats;
       {
         const TileCancelScope cancel(&job.stop_flag());
+        const auto trace_start = std::chrono::steady_clock::now();
         stats = entry.prepared->render_tile(rect, passes);
+        count_trace(stats, trace_start);
       }
       // A raised flag may have cut the tile short: it is incomplete, so never stored. The
       // flag first, then the run (see Job::run).
@@ -447,13 +508,21 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
   }
   // An attempt that failed because its job stopped meanwhile is not the tile's fault.
   if (failure && !job.stop_flag().load() && job.run() == run) tile_failed(entry, work, *failure);
+  if (options_.metrics && added != AddTileResult::kDropped)
+    options_.metrics->tile_stored(tile_samples(*entry.prepared, work));
   if (options_.on_tile_rendered)
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {
     const JobInfo info = job.info();
-    spdlog::info("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s", info.id,
-                 info.progress.tiles_done, info.progress.rays_traced, info.progress.elapsed_seconds,
-                 info.progress.rays_per_second);
+    log_event(spdlog::level::info, "job_completed",
+              {{"job_id", info.id},
+               {"tiles", static_cast<std::uint64_t>(info.progress.tiles_done)},
+               {"rays", info.progress.rays_traced},
+               {"elapsed_seconds", info.progress.elapsed_seconds},
+               {"rays_per_second", info.progress.rays_per_second}},
+              fmt::format("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s", info.id,
+                          info.progress.tiles_done, info.progress.rays_traced,
+                          info.progress.elapsed_seconds, info.progress.rays_per_second));
   }
 }
 

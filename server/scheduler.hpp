@@ -16,6 +16,8 @@
 
 namespace tessera::server {
 
+class DaemonMetrics;
+
 using PrepareSceneFn = std::function<std::shared_ptr<const PreparedScene>(const SceneDescription&)>;
 
 inline std::shared_ptr<const PreparedScene> default_prepare(const SceneDescription& scene) {
@@ -59,6 +61,16 @@ struct SchedulerOptions {
   // Called, under the scheduler's lock, when the scheduler lets go of a finished job.
   // Must be quick and must not call the scheduler.
   std::function<void(const Job&)> on_job_released;
+  // Counters for /metrics (tiles, samples, rays, trace and preparation time, queue
+  // latency); null: not counted. Must outlive the scheduler.
+  DaemonMetrics* metrics = nullptr;
+};
+
+// What the scheduler holds now (for /metrics).
+struct SchedulerLoad {
+  std::size_t jobs_with_work = 0;  // runnable jobs with tiles not yet handed out (or unprepared)
+  std::size_t pending_tiles = 0;   // tiles of prepared jobs not yet handed out
+  unsigned in_flight = 0;          // tasks running on workers
 };
 
 // Runs jobs on a pool of worker threads. Each job's scene is prepared once (by whichever
@@ -123,6 +135,7 @@ class Scheduler {
   void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(0));
 
   unsigned threads() const { return options_.threads; }
+  SchedulerLoad load();
 
  private:
   struct Entry;
@@ -142,6 +155,10 @@ class Scheduler {
   // more than options_.tile_retries times.
   void tile_failed(Entry& entry, const TileWork& work, const std::string& reason);
   bool enqueue(std::shared_ptr<Entry> entry);
+  // Adds a render call's rays and seconds to options_.metrics.
+  void count_trace(const TileStats& stats, std::chrono::steady_clock::time_point start) const;
+  // The samples a unit of work asks for: its pixels times its pass's samples.
+  static std::uint64_t tile_samples(const PreparedScene& scene, const TileWork& work);
 
   SchedulerOptions options_;
   std::mutex mutex_;

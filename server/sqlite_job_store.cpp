@@ -15,8 +15,9 @@ namespace {
 // PRAGMA user_version of the schema below; a file with another version is refused rather
 // than misread. Version 2 added tile_states (progressive passes), job_labels and
 // tile_failures (job control): tables only, so a version 1 file is upgraded in place by
-// creating them.
-constexpr int kSchemaVersion = 2;
+// creating them. Version 3 added jobs.prepare_ms (rays per second without the scene
+// preparation), added to an older file's jobs table with its default.
+constexpr int kSchemaVersion = 3;
 constexpr int kOldestUpgradableVersion = 1;
 
 // Tiles reference jobs by their integer sequence, not the id text, to keep the tile index
@@ -42,7 +43,8 @@ CREATE TABLE IF NOT EXISTS jobs (
   cancel_reason TEXT NOT NULL DEFAULT '',
   submitted_ms INTEGER NOT NULL,
   started_ms INTEGER NOT NULL DEFAULT 0,
-  finished_ms INTEGER NOT NULL DEFAULT 0
+  finished_ms INTEGER NOT NULL DEFAULT 0,
+  prepare_ms INTEGER NOT NULL DEFAULT 0
 );
 CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, sequence);
 CREATE INDEX IF NOT EXISTS jobs_by_scene ON jobs(scene_key);
@@ -85,7 +87,7 @@ CREATE TABLE IF NOT EXISTS tile_failures (
 
 constexpr const char* kJobColumns =
     "sequence, id, name, priority, state, settings, tiles_total, tiles_done, rays_traced, "
-    "error, cancel_reason, submitted_ms, started_ms, finished_ms, submitter";
+    "error, cancel_reason, submitted_ms, started_ms, finished_ms, submitter, prepare_ms";
 
 JobRecord read_job(SQLite::Statement& q) {
   JobRecord r;
@@ -111,6 +113,7 @@ JobRecord read_job(SQLite::Statement& q) {
   r.started_unix_ms = q.getColumn(12).getInt64();
   r.finished_unix_ms = q.getColumn(13).getInt64();
   r.submitter = q.getColumn(14).getString();
+  r.prepare_ms = q.getColumn(15).getInt64();
   return r;
 }
 
@@ -212,6 +215,14 @@ SqliteJobStore::SqliteJobStore(const std::filesystem::path& path) {
                                std::to_string(kSchemaVersion) + ")");
     SQLite::Transaction transaction(*db_);
     db_->exec(kSchema);
+    // Columns added since version 1 (CREATE TABLE IF NOT EXISTS leaves an old table as is).
+    bool has_prepare_ms = false;
+    SQLite::Statement columns(*db_, "PRAGMA table_info(jobs)");
+    while (columns.executeStep())
+      if (columns.getColumn(1).getString() == "prepare_ms") has_prepare_ms = true;
+    columns.reset();
+    if (!has_prepare_ms)
+      db_->exec("ALTER TABLE jobs ADD COLUMN prepare_ms INTEGER NOT NULL DEFAULT 0");
     db_->exec("PRAGMA user_version = " + std::to_string(kSchemaVersion));
     transaction.commit();
   } catch (const std::exception& e) {
@@ -341,6 +352,28 @@ std::size_t SqliteJobStore::unfinished_count(std::string_view submitter) const {
   bind_text(q, 1, submitter);
   q.executeStep();
   return static_cast<std::size_t>(q.getColumn(0).getInt64());
+}
+
+std::optional<JobRecord> SqliteJobStore::add_prepare_time(std::string_view id,
+                                                          std::int64_t prepare_ms) {
+  std::lock_guard lock(mutex_);
+  SQLite::Statement q(*db_, "UPDATE jobs SET prepare_ms = prepare_ms + ? WHERE id = ?");
+  q.bind(1, prepare_ms);
+  bind_text(q, 2, id);
+  if (q.exec() == 0) return std::nullopt;
+  return find_locked(id);
+}
+
+std::map<JobState, std::size_t> SqliteJobStore::count_by_state() const {
+  std::lock_guard lock(mutex_);
+  SQLite::Statement q(*db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
+  std::map<JobState, std::size_t> counts;
+  while (q.executeStep()) {
+    const int state = q.getColumn(0).getInt();
+    if (state < 0 || state > static_cast<int>(JobState::kPaused)) continue;
+    counts[static_cast<JobState>(state)] = static_cast<std::size_t>(q.getColumn(1).getInt64());
+  }
+  return counts;
 }
 
 std::optional<JobRecord> SqliteJobStore::mark_running(std::string_view id, std::int64_t now_ms) {

@@ -35,6 +35,8 @@ class SqliteJobStore final : public JobStore {
   std::vector<JobRecord> unfinished_jobs() const override;
   std::optional<SceneSource> scene(std::string_view id) const override;
   std::size_t unfinished_count(std::string_view submitter) const override;
+  std::map<JobState, std::size_t> count_by_state() const override;
+  std::optional<JobRecord> add_prepare_time(std::string_view id, std::int64_t prepare_ms) override;
   std::optional<JobRecord> mark_running(std::string_view id, std::int64_t now_ms) override;
   std::optional<JobRecord> finish_job(std::string_view id, JobState state,
                                       const std::string& message, std::int64_t now_ms) override;

@@ -393,6 +393,43 @@ TEST_F(SqliteJobStoreTest, AVersionOneFileGainsLabelsAndFailureCounts) {
   EXPECT_EQ(store.find_job("old")->labels.at("k"), "v");
 }
 
+// A version-2 file (before prepare_ms) gains the column, its jobs reading 0.
+TEST_F(SqliteJobStoreTest, AVersionTwoFileGainsThePreparationTime) {
+  {
+    SqliteJobStore store(file());
+    store.create_job(record("old"), scene());
+  }
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "ALTER TABLE jobs DROP COLUMN prepare_ms; PRAGMA user_version = 2",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  SqliteJobStore store(file());
+  ASSERT_TRUE(store.find_job("old"));
+  EXPECT_EQ(store.find_job("old")->prepare_ms, 0);
+  EXPECT_EQ(store.add_prepare_time("old", 1500)->prepare_ms, 1500);
+  EXPECT_EQ(store.add_prepare_time("old", 250)->prepare_ms, 1750);
+  EXPECT_FALSE(store.add_prepare_time("nobody", 1));
+}
+
+TEST_F(SqliteJobStoreTest, CountsJobsByState) {
+  SqliteJobStore store(file());
+  EXPECT_TRUE(store.count_by_state().empty());
+  store.create_job(record("a"), scene());
+  store.create_job(record("b"), scene());
+  store.create_job(record("c"), scene());
+  ASSERT_TRUE(store.mark_running("b", 1));
+  ASSERT_TRUE(store.finish_job("c", JobState::kCancelled, "", 2));
+  const auto counts = store.count_by_state();
+  EXPECT_EQ(counts.at(JobState::kQueued), 1u);
+  EXPECT_EQ(counts.at(JobState::kRunning), 1u);
+  EXPECT_EQ(counts.at(JobState::kCancelled), 1u);
+  EXPECT_EQ(counts.count(JobState::kCompleted), 0u);
+}
+
 TEST(EscapeClientText, KeepsPrintableAsciiAndEscapesEverythingElse) {
   EXPECT_EQ(escape_client_text("plain name 1"), "plain name 1");
   EXPECT_EQ(escape_client_text("a\nb\r\x1b[31m"), "a\\x0ab\\x0d\\x1b[31m");
