@@ -64,6 +64,27 @@ CLI::Validator extension_validator(std::string extension) {
       "FILE" + extension);
 }
 
+// The server's rule for SubmitJobRequest.request_id, checked before the scene is loaded.
+CLI::Validator request_id_validator() {
+  return CLI::Validator(
+      [](std::string& value) {
+        if (value.empty() || value.size() > 128)
+          return "must be 1 to 128 characters, got " + std::to_string(value.size());
+        for (const char c : value)
+          if (c < 0x20 || c > 0x7e) return std::string("must be printable ASCII");
+        return std::string();
+      },
+      "ID");
+}
+
+void add_request_id_option(CLI::App& command, std::string& request_id) {
+  command
+      .add_option("--request-id", request_id,
+                  "idempotency key: resubmitting with the same id returns the job it created "
+                  "instead of a new one (default: a random id, retried on timeouts)")
+      ->check(request_id_validator());
+}
+
 CLI::Validator non_empty_validator() {
   return CLI::Validator(
       [](std::string& value) {
@@ -164,6 +185,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   render->add_flag("--denoise", cmd.denoise,
                    "also render the albedo, normal and variance AOVs and add a denoised pass "
                    "(channels denoised.R/G/B; the PNG preview shows it)");
+  add_request_id_option(*render, cmd.request_id);
   add_server_option(*render, cmd.server);
 
   CLI::App* submit =
@@ -176,6 +198,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   submit->add_option("--label", cmd.labels, "a label KEY=VALUE (repeatable)")
       ->check(label_validator());
   submit->add_option("--submitter", cmd.submitter, "who submits (default: this host)");
+  add_request_id_option(*submit, cmd.request_id);
   add_server_option(*submit, cmd.server);
 
   CLI::App* watch =

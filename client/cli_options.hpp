@@ -62,6 +62,8 @@ struct CliCommand {
   std::string submitter;                     // submit; list and events: filter
   std::string label_filter;                  // list, events: "key=value" or "key"
   std::string name_filter;                   // list
+  // render, submit: SubmitJobRequest.request_id; empty: a random one per invocation.
+  std::string request_id;
 };
 
 struct ParsedCommandLine {

@@ -5,6 +5,8 @@
 #include <grpcpp/support/channel_arguments.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <random>
 #include <thread>
 
 namespace tessera {
@@ -41,12 +43,34 @@ Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
 
 Client::~Client() = default;
 
+std::string make_request_id() {
+  std::random_device random;
+  std::string id;
+  for (int word = 0; word < 4; ++word) {
+    char hex[9];
+    std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(random()));
+    id += hex;
+  }
+  return id;
+}
+
 v1::Job Client::submit(const v1::SubmitJobRequest& request) {
-  grpc::ClientContext context;
-  set_deadline(context, options_.submit_deadline);
-  v1::SubmitJobResponse response;
-  check(stub_->SubmitJob(&context, request, &response));
-  return response.job();
+  const int attempts = request.request_id().empty() ? 1 : std::max(options_.submit_attempts, 1);
+  auto pause = options_.submit_retry_pause;
+  for (int attempt = 1;; ++attempt) {
+    grpc::ClientContext context;
+    set_deadline(context, options_.submit_deadline);
+    v1::SubmitJobResponse response;
+    const grpc::Status status = stub_->SubmitJob(&context, request, &response);
+    const bool retryable = status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED ||
+                           status.error_code() == grpc::StatusCode::UNAVAILABLE;
+    if (status.ok() || !retryable || attempt >= attempts) {
+      check(status);
+      return response.job();
+    }
+    std::this_thread::sleep_for(pause);
+    pause *= 2;
+  }
 }
 
 void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile) {

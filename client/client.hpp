@@ -19,6 +19,11 @@ struct ClientOptions {
   std::chrono::milliseconds unary_deadline{10'000};
   // Submit carries the whole scene, meshes inline, so it may take a while to send.
   std::chrono::milliseconds submit_deadline{120'000};
+  // Attempts of a submit whose request has a request_id, when an attempt ends with
+  // DEADLINE_EXCEEDED or UNAVAILABLE (the request id makes a retry safe: the daemon returns
+  // the job an earlier attempt created). Waits submit_retry_pause, doubling, in between.
+  int submit_attempts = 4;
+  std::chrono::milliseconds submit_retry_pause{500};
   // How long stream_tiles keeps re-attaching to a daemon that went away (restarting)
   // since the last tile it received; 0: not at all.
   std::chrono::milliseconds reconnect_window{60'000};
@@ -36,6 +41,9 @@ class Client {
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;
 
+  // Submits a job. With request.request_id() set, retries on DEADLINE_EXCEEDED and
+  // UNAVAILABLE (options.submit_attempts in all) with the same id, so a timeout never leaves
+  // the caller with two jobs; without one, a single attempt.
   v1::Job submit(const v1::SubmitJobRequest& request);
 
   using TileCallback = std::function<void(const v1::Tile&)>;
@@ -79,6 +87,10 @@ class Client {
 // Trailing metadata key of a StreamTiles that ended UNAVAILABLE because the daemon is
 // stopping with the job kept: the stream can be re-attached once it is back.
 inline constexpr const char* kJobResumesMetadataKey = "tessera-job-resumes";
+
+// A fresh random request id for SubmitJobRequest.request_id: 32 hex digits (128 bits from
+// std::random_device), so two clients never pick the same one.
+std::string make_request_id();
 
 // A channel to `target` with message limits large enough for big tiles.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& target);

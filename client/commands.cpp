@@ -430,7 +430,9 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   Client client(ClientOptions{.target = cmd.server});
   v1::Job job;
   try {
-    job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
+    v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
+    request.set_request_id(cmd.request_id.empty() ? make_request_id() : cmd.request_id);
+    job = client.submit(request);
   } catch (const ClientError& e) {
     discard_output(*assembler, cmd);
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
@@ -518,6 +520,7 @@ int submit(const CliCommand& cmd, const CommandOutput& io) {
     v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
     add_labels(cmd.labels, *request.mutable_labels());
     request.set_submitter(cmd.submitter);
+    request.set_request_id(cmd.request_id.empty() ? make_request_id() : cmd.request_id);
     const v1::Job job = client.submit(request);
     io.out << job.id() << '\n' << std::flush;
   } catch (const ClientError& e) {

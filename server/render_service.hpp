@@ -99,6 +99,10 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
  private:
   grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
                       v1::SubmitJobResponse& response);
+  // SubmitJob of a request id that already created `existing`: that job when `fingerprint`
+  // (the request's scene and settings) is the one it was created with, ALREADY_EXISTS if not.
+  grpc::Status answer_retry(const JobRecord& existing, const std::string& fingerprint,
+                            v1::SubmitJobResponse& response);
   grpc::Status stream(grpc::ServerContext& context, const v1::StreamTilesRequest& request,
                       grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer);
   grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);

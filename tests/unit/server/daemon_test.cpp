@@ -555,6 +555,73 @@ TEST_F(DaemonTest, UnfinishedJobsArePerSubmitterCapped) {
   EXPECT_EQ(status.error_message(), "submitter: must be at most 128 bytes, got 129");
 }
 
+// SubmitJob with a request id is idempotent per submitter: the same request again returns
+// the first job and creates none (also after a restart), another scene under the id is
+// ALREADY_EXISTS naming the job, and a malformed id is INVALID_ARGUMENT naming the field.
+TEST_F(DaemonTest, ARequestIdMakesSubmitJobIdempotent) {
+  v1::SubmitJobRequest request;
+  *request.mutable_scene() = tiny_scene();
+  *request.mutable_settings() = long_settings();
+  request.set_name("first");
+  request.set_submitter("alice");
+  request.set_request_id("3f2a9c0e4b1d4c8e");
+  v1::Job first;
+  ASSERT_TRUE(submit(request, &first).ok());
+  EXPECT_EQ(first.request_id(), "3f2a9c0e4b1d4c8e");
+  const auto job_count = [&] {
+    grpc::ClientContext context;
+    v1::ListJobsResponse list;
+    EXPECT_TRUE(stub_->ListJobs(&context, v1::ListJobsRequest(), &list).ok());
+    return list.jobs_size();
+  };
+
+  // A retry may rename; it is still the first job, as it is now.
+  request.set_name("renamed by the retry");
+  v1::Job again;
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_EQ(again.id(), first.id());
+  EXPECT_EQ(again.name(), "first");
+  EXPECT_EQ(job_count(), 1);
+
+  v1::SubmitJobRequest different = request;
+  different.mutable_settings()->set_samples_per_pixel(2);
+  grpc::Status status = submit(different);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::ALREADY_EXISTS);
+  EXPECT_NE(status.error_message().find("request_id: '3f2a9c0e4b1d4c8e' already created job " +
+                                        first.id()),
+            std::string::npos)
+      << status.error_message();
+  EXPECT_EQ(job_count(), 1);
+
+  // Another submitter's id is its own.
+  v1::SubmitJobRequest bobs = request;
+  bobs.set_submitter("bob");
+  v1::Job bob_job;
+  ASSERT_TRUE(submit(bobs, &bob_job).ok());
+  EXPECT_NE(bob_job.id(), first.id());
+
+  v1::SubmitJobRequest bad = request;
+  bad.set_request_id(std::string(129, 'r'));
+  status = submit(bad);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "request_id: must be at most 128 characters, got 129");
+  bad.set_request_id("line\nbreak");
+  EXPECT_EQ(submit(bad).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  restart();
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_EQ(again.id(), first.id());
+  EXPECT_EQ(job_count(), 2);
+
+  // Deleting the job frees its id.
+  ASSERT_TRUE(cancel(first.id()).ok());
+  ASSERT_TRUE(remove(first.id()).ok());
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_NE(again.id(), first.id());
+  EXPECT_TRUE(cancel(again.id()).ok());
+  EXPECT_TRUE(cancel(bob_job.id()).ok());
+}
+
 TEST(Daemon, ShutdownFromAnotherThreadReleasesWait) {
   DaemonConfig config;
   config.listen = "127.0.0.1:0";
