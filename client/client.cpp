@@ -1,11 +1,13 @@
 #include "client/client.hpp"
 
 #include <grpcpp/create_channel.h>
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/security/credentials.h>
 #include <grpcpp/support/channel_arguments.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <future>
 #include <random>
 #include <thread>
 
@@ -224,6 +226,39 @@ v1::Job Client::update(const v1::UpdateJobRequest& request) {
   v1::UpdateJobResponse response;
   check(stub_->UpdateJob(&context, request, &response));
   return response.job();
+}
+
+v1::ServerInfo Client::server_info() {
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  v1::ServerInfo info;
+  check(stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), &info));
+  return info;
+}
+
+bool Client::healthy() {
+  // grpc.health.v1 by hand (a generic call): Debian ships no generated health stubs, and
+  // the two messages are one field each. HealthCheckRequest{service = field 1, string}.
+  const std::string service = "tessera.v1.RenderService";
+  std::string request_bytes = std::string("\x0a", 1) + static_cast<char>(service.size()) + service;
+  grpc::GenericStub generic(channel_);
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  grpc::Slice slice(request_bytes);
+  grpc::ByteBuffer request(&slice, 1);
+  grpc::ByteBuffer response;
+  std::promise<grpc::Status> done;
+  generic.UnaryCall(&context, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request,
+                    &response, [&](grpc::Status status) { done.set_value(std::move(status)); });
+  check(done.get_future().get());
+  std::vector<grpc::Slice> slices;
+  if (!response.Dump(&slices).ok())
+    throw ClientError(grpc::StatusCode::INTERNAL, "unreadable health check response");
+  std::string bytes;
+  for (const grpc::Slice& part : slices)
+    bytes.append(reinterpret_cast<const char*>(part.begin()), part.size());
+  // HealthCheckResponse{status = field 1, enum}: SERVING is 1.
+  return bytes == std::string("\x08\x01", 2);
 }
 
 void Client::watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event) {

@@ -76,6 +76,12 @@ class Client {
   // ClientError with the server's status: a watch never ends on its own with OK).
   void watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event);
 
+  // GetServerInfo: the daemon's version, build, devices, limits and capabilities.
+  v1::ServerInfo server_info();
+  // The grpc.health.v1 check of the daemon's RenderService: true when SERVING. Throws
+  // ClientError when the daemon cannot be reached or answers with an error.
+  bool healthy();
+
   const std::string& target() const { return options_.target; }
 
  private:

@@ -336,6 +336,15 @@ grpc::Status RenderServiceImpl::StreamedGetJob(
   });
 }
 
+grpc::Status RenderServiceImpl::StreamedGetServerInfo(
+    grpc::ServerContext*,
+    grpc::ServerUnaryStreamer<v1::GetServerInfoRequest, v1::ServerInfo>* streamer) {
+  return unary("GetServerInfo", *streamer, [&](const auto&, v1::ServerInfo& response) {
+    response = server_info_;
+    return grpc::Status::OK;
+  });
+}
+
 grpc::Status RenderServiceImpl::StreamedListJobs(
     grpc::ServerContext*,
     grpc::ServerUnaryStreamer<v1::ListJobsRequest, v1::ListJobsResponse>* streamer) {

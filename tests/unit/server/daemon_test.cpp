@@ -622,6 +622,56 @@ TEST_F(DaemonTest, ARequestIdMakesSubmitJobIdempotent) {
   EXPECT_TRUE(cancel(bob_job.id()).ok());
 }
 
+// GetServerInfo reports the configured limits (not the defaults), the worker threads, the
+// version, and capabilities read from the renderer's tables.
+TEST_F(DaemonTest, GetServerInfoReportsVersionLimitsDevicesAndCapabilities) {
+  restart([](DaemonConfig& config) {
+    config.limits.max_width = 2048;
+    config.limits.max_samples_per_pixel = 1024;
+    config.memory_budget = std::size_t{3} << 30;
+    config.max_jobs_per_submitter = 7;
+    config.max_receive_message_bytes = std::size_t{64} << 20;
+  });
+  grpc::ClientContext context;
+  v1::ServerInfo info;
+  const grpc::Status status = stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), &info);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(info.version(), TESSERA_VERSION);
+  EXPECT_FALSE(info.build().compiler().empty());
+  ASSERT_EQ(info.devices_size(), 1);
+  EXPECT_EQ(info.devices(0).kind(), "cpu");
+  EXPECT_EQ(info.devices(0).threads(), 2u);
+  EXPECT_EQ(info.limits().max_width(), 2048u);
+  EXPECT_EQ(info.limits().max_height(), SceneLimits().max_height);
+  EXPECT_EQ(info.limits().max_samples_per_pixel(), 1024u);
+  EXPECT_EQ(info.limits().memory_budget_bytes(), std::uint64_t{3} << 30);
+  EXPECT_EQ(info.limits().max_jobs_per_submitter(), 7u);
+  EXPECT_EQ(info.limits().max_receive_message_bytes(), std::uint64_t{64} << 20);
+  EXPECT_EQ(info.limits().prepare_timeout_seconds(), 600.0);
+
+  const v1::Capabilities& c = info.capabilities();
+  EXPECT_EQ(static_cast<std::size_t>(c.integrators_size()), integrator_names().size());
+  EXPECT_EQ(static_cast<std::size_t>(c.material_types_size()), material_type_names().size());
+  EXPECT_EQ(static_cast<std::size_t>(c.aovs_size()), aov_names().size());
+  const auto has = [](const auto& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  EXPECT_TRUE(has(c.integrators(), "path"));
+  EXPECT_TRUE(has(c.samplers(), "sobol"));
+  EXPECT_TRUE(has(c.light_strategies(), "mis"));
+  EXPECT_TRUE(has(c.material_types(), "glass"));
+  EXPECT_TRUE(has(c.pixel_filters(), "blackman_harris"));
+  EXPECT_TRUE(has(c.texture_types(), "checker"));
+  // Every shape of the API's Geometry oneof, and nothing else.
+  const auto* shape = v1::Geometry::descriptor()->FindOneofByName("shape");
+  ASSERT_NE(shape, nullptr);
+  ASSERT_EQ(c.geometry_kinds_size(), shape->field_count());
+  for (int i = 0; i < shape->field_count(); ++i)
+    EXPECT_TRUE(has(c.geometry_kinds(), shape->field(i)->name())) << shape->field(i)->name();
+  EXPECT_TRUE(c.progressive_passes());
+  EXPECT_TRUE(c.idempotent_submit());
+}
+
 TEST(Daemon, ShutdownFromAnotherThreadReleasesWait) {
   DaemonConfig config;
   config.listen = "127.0.0.1:0";
