@@ -23,6 +23,8 @@ void set_deadline(grpc::ClientContext& context, std::chrono::milliseconds timeou
   context.set_deadline(std::chrono::system_clock::now() + timeout);
 }
 
+constexpr const char* kStreamStopped = "the stream was stopped by the caller";
+
 void check(const grpc::Status& status) {
   if (!status.ok()) throw ClientError::from_status(status);
 }
@@ -94,6 +96,18 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
       request.set_after_sequence(received);
     else
       request.set_after_tiles(static_cast<std::uint32_t>(received));
+    {
+      std::lock_guard lock(streams_mutex_);
+      if (streams_stopped_) throw ClientError(grpc::StatusCode::CANCELLED, kStreamStopped);
+      open_stream_ = &context;
+    }
+    struct Unregister {
+      Client& client;
+      ~Unregister() {
+        std::lock_guard lock(client.streams_mutex_);
+        client.open_stream_ = nullptr;
+      }
+    } unregister{*this};
     std::unique_ptr<grpc::ClientReader<v1::Tile>> reader = stub_->StreamTiles(&context, request);
     v1::Tile tile;
     try {
@@ -111,6 +125,10 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
       throw;
     }
     const grpc::Status status = reader->Finish();
+    {
+      std::lock_guard lock(streams_mutex_);
+      if (streams_stopped_) throw ClientError(grpc::StatusCode::CANCELLED, kStreamStopped);
+    }
     // Worth waiting for: a daemon that said it stops and keeps the job, or one that was
     // streaming this job until the connection broke. A call made while a daemon shuts down
     // may also be cut off with CANCELLED (not the job's own, which a re-attached stream
@@ -133,6 +151,12 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::milliseconds(2000));
   }
+}
+
+void Client::stop_streams() {
+  std::lock_guard lock(streams_mutex_);
+  streams_stopped_ = true;
+  if (open_stream_) open_stream_->TryCancel();
 }
 
 v1::Job Client::get(const std::string& job_id) {

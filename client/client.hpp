@@ -4,6 +4,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,10 @@ class Client {
   // `on_tile` throws, the stream is cancelled and the exception propagates.
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
 
+  // Ends a stream_tiles running on another thread (Ctrl-C): it throws ClientError with
+  // CANCELLED, and later calls of stream_tiles do at once. Thread-safe.
+  void stop_streams();
+
   v1::Job get(const std::string& job_id);
   // Every job matching the request's filters (state, submitter, label, name), newest
   // first, page after page; the request's page fields are ignored.
@@ -88,6 +93,9 @@ class Client {
   ClientOptions options_;
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::RenderService::Stub> stub_;
+  std::mutex streams_mutex_;
+  grpc::ClientContext* open_stream_ = nullptr;  // the stream stop_streams() cancels
+  bool streams_stopped_ = false;
 };
 
 // Trailing metadata key of a StreamTiles that ended UNAVAILABLE because the daemon is
