@@ -169,7 +169,7 @@ void add_preview_options(CLI::App& command, CliCommand& cmd) {
       ->check(CLI::IsMember({"clamp", "aces"}));
 }
 
-// " (did you mean '--spp'?)" for the first argument that looks like a flag of `command`
+// "; for '--spd' did you mean '--spp'?" for the first argument that looks like a flag of `command`
 // but is none, or "" when there is none or nothing is close.
 std::string unknown_flag_hint(const CLI::App& command, int argc, const char* const* argv) {
   const std::vector<std::string> names = flag_names(command);
@@ -181,8 +181,9 @@ std::string unknown_flag_hint(const CLI::App& command, int argc, const char* con
     if (word.rfind("--", 0) != 0 || word.size() == 2) continue;
     word = word.substr(0, word.find('='));
     if (std::find(names.begin(), names.end(), word) != names.end()) continue;
-    const std::string hint = schema::did_you_mean(word, long_names);
-    if (!hint.empty()) return "; for '" + std::string(word) + "'" + hint.substr(1);
+    const std::string match = schema::closest_match(word, long_names);
+    if (!match.empty())
+      return "; for '" + std::string(word) + "' did you mean '" + match + "'?";
   }
   return {};
 }

@@ -88,13 +88,17 @@ class StopOnInterrupt {
         err_(err),
         interactive_(interactive),
         thread_([this] { run(); }) {}
-  ~StopOnInterrupt() {
+  ~StopOnInterrupt() { stop(); }
+
+  // Stops watching for Ctrl-C, after finishing what a Ctrl-C already started (the cancel),
+  // so interrupted() and cancelled() are final.
+  void stop() {
     {
       std::lock_guard lock(mutex_);
       done_ = true;
     }
     wake_.notify_all();
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
   }
 
   // Whether Ctrl-C was pressed (and the stream stopped).
@@ -105,9 +109,11 @@ class StopOnInterrupt {
  private:
   void run() {
     std::unique_lock lock(mutex_);
-    while (!done_) {
+    // A Ctrl-C pressed just before stop() is still handled: the user asked for it.
+    for (bool last = false; !last;) {
       wake_.wait_for(lock, std::chrono::milliseconds(100));
-      if (done_ || !g_interrupted.exchange(false)) continue;
+      last = done_;
+      if (!g_interrupted.exchange(false)) continue;
       interrupted_.store(true);
       err_ << (interactive_ ? "\n" : "") << "tessera: interrupted"
            << (cancel_job_ ? "; cancelling job " + job_id_ : "") << '\n'
@@ -410,6 +416,8 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
     progress.finish();
     const std::string received = std::to_string(assembler->tiles_received()) + " of " +
                                  std::to_string(assembler->tiles_total()) + " tiles";
+    // A Ctrl-C's cancel may end the stream (CANCELLED) before the cancel call returns.
+    stopper->stop();
     if (stopper->interrupted()) {
       const bool cancelled = stopper->cancelled();
       stopper.reset();
