@@ -849,8 +849,9 @@ int version(const CliCommand& cmd, const CommandOutput& io) {
            << (details.empty() ? "" : " (" + details + ")") << '\n';
   } catch (const ClientError& e) {
     io.out << "server: "
-           << (e.code() == grpc::StatusCode::UNIMPLEMENTED ? "a tesserad older than 0.1.0"
-                                                           : "unreachable")
+           << (e.code() == grpc::StatusCode::UNIMPLEMENTED
+                   ? "a tesserad without GetServerInfo (older than this client)"
+                   : "unreachable")
            << " (" << cmd.server << ": " << e.what() << ")\n";
   }
   io.out << std::flush;
