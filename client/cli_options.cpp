@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "client/cli_completion.hpp"
+#include "client/job_json.hpp"
 #include "tessera/scene/scene_description.hpp"
 #include "tessera/scene/schema/suggest.hpp"
 
@@ -169,6 +170,17 @@ void add_preview_options(CLI::App& command, CliCommand& cmd) {
       ->check(CLI::IsMember({"clamp", "aces"}));
 }
 
+// The API's job states as the CLI writes them ("queued", ...), from the protobuf enum.
+std::vector<std::string> job_state_names() {
+  std::vector<std::string> names;
+  const google::protobuf::EnumDescriptor* states = v1::JobState_descriptor();
+  for (int i = 0; i < states->value_count(); ++i) {
+    const auto state = static_cast<v1::JobState>(states->value(i)->number());
+    if (state != v1::JOB_STATE_UNSPECIFIED) names.push_back(job_state_name(state));
+  }
+  return names;
+}
+
 // "; for '--spd' did you mean '--spp'?" for the first argument that looks like a flag of `command`
 // but is none, or "" when there is none or nothing is close.
 std::string unknown_flag_hint(const CLI::App& command, int argc, const char* const* argv) {
@@ -182,8 +194,7 @@ std::string unknown_flag_hint(const CLI::App& command, int argc, const char* con
     word = word.substr(0, word.find('='));
     if (std::find(names.begin(), names.end(), word) != names.end()) continue;
     const std::string match = schema::closest_match(word, long_names);
-    if (!match.empty())
-      return "; for '" + std::string(word) + "' did you mean '" + match + "'?";
+    if (!match.empty()) return "; for '" + std::string(word) + "' did you mean '" + match + "'?";
   }
   return {};
 }
@@ -259,7 +270,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   list->add_option("--name", cmd.name_filter, "only jobs with exactly this name");
   list->add_option("--submitter", cmd.submitter, "only jobs of this submitter");
   list->add_option("--state", cmd.state_filter, "only jobs in this state")
-      ->check(CLI::IsMember({"queued", "running", "paused", "completed", "failed", "cancelled"}));
+      ->check(CLI::IsMember(job_state_names()));
   list->add_option("--limit", cmd.limit, "at most this many jobs (the newest)")
       ->check(CLI::Range(1u, 1'000'000u));
   list->add_flag("--json", cmd.json, "print {\"jobs\": [...]} as JSON");
