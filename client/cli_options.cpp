@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdlib>
 #include <filesystem>
 
 #include "client/cli_completion.hpp"
@@ -353,12 +352,12 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     command_names.push_back(sub->get_name());
 
-  // `tessera --version` is `tessera version`: it asks the server too.
-  if (argc == 2 && std::string_view(argv[1]) == "--version") {
-    cmd.kind = CommandKind::kVersion;
-    if (const char* env = std::getenv("TESSERA_SERVER"); env && !check_server_address(env))
-      cmd.server = env;
-    return {cmd, kExitOk};
+  // `tessera --version [--server ADDR]` is `tessera version`: it asks the server too.
+  std::vector<const char*> version_argv;
+  if (argc >= 2 && std::string_view(argv[1]) == "--version") {
+    version_argv.assign(argv, argv + argc);
+    version_argv[1] = "version";
+    argv = version_argv.data();
   }
 
   // CLI11 reports an unknown first word only as "A subcommand is required".

@@ -207,6 +207,10 @@ TEST(CliScriptingOptions, VersionHealthAndTheirServer) {
   Parsed p = parse_words({"--version"});
   ASSERT_TRUE(p.result.command) << p.err;
   EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
+  p = parse_words({"--version", "--server", "render-box:7001"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
+  EXPECT_EQ(p.result.command->server, "render-box:7001");
   p = parse_words({"version", "--server", "render-box:7000"});
   ASSERT_TRUE(p.result.command) << p.err;
   EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
