@@ -6,7 +6,10 @@
 #include <cctype>
 #include <filesystem>
 
+#include "client/cli_completion.hpp"
+#include "client/job_json.hpp"
 #include "tessera/scene/scene_description.hpp"
+#include "tessera/scene/schema/suggest.hpp"
 
 namespace tessera {
 
@@ -62,6 +65,39 @@ CLI::Validator extension_validator(std::string extension) {
         return std::string();
       },
       "FILE" + extension);
+}
+
+// The server's rule for SubmitJobRequest.request_id, checked before the scene is loaded.
+CLI::Validator request_id_validator() {
+  return CLI::Validator(
+      [](std::string& value) {
+        if (value.empty() || value.size() > 128)
+          return "must be 1 to 128 characters, got " + std::to_string(value.size());
+        for (const char c : value)
+          if (c < 0x20 || c > 0x7e) return std::string("must be printable ASCII");
+        return std::string();
+      },
+      "ID");
+}
+
+void add_request_id_option(CLI::App& command, std::string& request_id) {
+  command
+      .add_option("--request-id", request_id,
+                  "idempotency key: resubmitting with the same id returns the job it created "
+                  "instead of a new one (default: a random id, retried on timeouts)")
+      ->check(request_id_validator());
+}
+
+// An EXR path, or "-" for standard output.
+CLI::Validator exr_output_validator() {
+  const CLI::Validator exr = extension_validator(".exr");
+  return CLI::Validator(
+      [exr](std::string& value) {
+        if (value == kStdoutPath) return std::string();
+        std::string copy = value;
+        return exr(copy);
+      },
+      "FILE.exr|-");
 }
 
 CLI::Validator non_empty_validator() {
@@ -133,6 +169,35 @@ void add_preview_options(CLI::App& command, CliCommand& cmd) {
       ->check(CLI::IsMember({"clamp", "aces"}));
 }
 
+// The API's job states as the CLI writes them ("queued", ...), from the protobuf enum.
+std::vector<std::string> job_state_names() {
+  std::vector<std::string> names;
+  const google::protobuf::EnumDescriptor* states = v1::JobState_descriptor();
+  for (int i = 0; i < states->value_count(); ++i) {
+    const auto state = static_cast<v1::JobState>(states->value(i)->number());
+    if (state != v1::JOB_STATE_UNSPECIFIED) names.push_back(job_state_name(state));
+  }
+  return names;
+}
+
+// "; for '--spd' did you mean '--spp'?" for the first argument that looks like a flag of `command`
+// but is none, or "" when there is none or nothing is close.
+std::string unknown_flag_hint(const CLI::App& command, int argc, const char* const* argv) {
+  const std::vector<std::string> names = flag_names(command);
+  std::vector<std::string_view> long_names;
+  for (const std::string& name : names)
+    if (name.rfind("--", 0) == 0) long_names.push_back(name);
+  for (int i = 1; i < argc; ++i) {
+    std::string_view word = argv[i];
+    if (word.rfind("--", 0) != 0 || word.size() == 2) continue;
+    word = word.substr(0, word.find('='));
+    if (std::find(names.begin(), names.end(), word) != names.end()) continue;
+    const std::string match = schema::closest_match(word, long_names);
+    if (!match.empty()) return "; for '" + std::string(word) + "' did you mean '" + match + "'?";
+  }
+  return {};
+}
+
 }  // namespace
 
 ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
@@ -144,9 +209,11 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   CLI::App* render =
       app.add_subcommand("render", "render a scene through the server (or --local) and save it");
   render->add_option("scene", cmd.scene_path, "scene YAML file")->required();
-  render->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR)")
+  render->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR; - for stdout)")
       ->required()
-      ->check(extension_validator(".exr"));
+      ->check(exr_output_validator());
+  render->add_flag("--keep-partial", cmd.keep_partial,
+                   "on Ctrl-C, write the tiles received so far (the rest black, alpha 0)");
   render->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
       ->check(extension_validator(".png"));
   add_preview_options(*render, cmd);
@@ -164,6 +231,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   render->add_flag("--denoise", cmd.denoise,
                    "also render the albedo, normal and variance AOVs and add a denoised pass "
                    "(channels denoised.R/G/B; the PNG preview shows it)");
+  add_request_id_option(*render, cmd.request_id);
   add_server_option(*render, cmd.server);
 
   CLI::App* submit =
@@ -176,6 +244,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   submit->add_option("--label", cmd.labels, "a label KEY=VALUE (repeatable)")
       ->check(label_validator());
   submit->add_option("--submitter", cmd.submitter, "who submits (default: this host)");
+  add_request_id_option(*submit, cmd.request_id);
+  submit->add_flag("--json", cmd.json, "print the job as JSON instead of its id");
   add_server_option(*submit, cmd.server);
 
   // The scene exactly as submit would send it, for programs in other languages (the Python
@@ -203,9 +273,14 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   CLI::App* watch =
       app.add_subcommand("watch", "stream a job's tiles into an image as they finish");
   watch->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
-  watch->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR)")
+  watch->add_option("-o,--output", cmd.output_exr, "output image (tiled EXR; - for stdout)")
       ->required()
-      ->check(extension_validator(".exr"));
+      ->check(exr_output_validator());
+  watch->add_flag("--keep-partial", cmd.keep_partial,
+                  "on Ctrl-C, write the tiles received so far (the rest black, alpha 0)");
+  watch->add_flag("--cancel", cmd.cancel_on_interrupt,
+                  "on Ctrl-C, also cancel the job on the server (default: only stop watching)");
+  watch->add_flag("--json", cmd.json, "one JSON object per line per tile and at the end");
   watch->add_option("--png", cmd.preview_png, "also write an 8-bit sRGB PNG preview")
       ->check(extension_validator(".png"));
   add_preview_options(*watch, cmd);
@@ -215,10 +290,16 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   list->add_option("--label", cmd.label_filter, "only jobs with this label (KEY=VALUE or KEY)");
   list->add_option("--name", cmd.name_filter, "only jobs with exactly this name");
   list->add_option("--submitter", cmd.submitter, "only jobs of this submitter");
+  list->add_option("--state", cmd.state_filter, "only jobs in this state")
+      ->check(CLI::IsMember(job_state_names()));
+  list->add_option("--limit", cmd.limit, "at most this many jobs (the newest)")
+      ->check(CLI::Range(1u, 1'000'000u));
+  list->add_flag("--json", cmd.json, "print {\"jobs\": [...]} as JSON");
   add_server_option(*list, cmd.server);
 
   CLI::App* status = app.add_subcommand("status", "show one job");
   status->add_option("job", cmd.job_id, "job id")->required()->check(non_empty_validator());
+  status->add_flag("--json", cmd.json, "print the job as JSON");
   add_server_option(*status, cmd.server);
 
   CLI::App* cancel = app.add_subcommand("cancel", "cancel a queued or running job");
@@ -272,21 +353,55 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".png"));
   add_preview_options(*denoise, cmd);
 
+  CLI::App* version = app.add_subcommand(
+      "version", "print this client's version and the server's (when it can be reached)");
+  add_server_option(*version, cmd.server);
+
+  CLI::App* health = app.add_subcommand(
+      "health", "check the server's gRPC health service: exit 0 when it is serving, 1 if not");
+  health->add_option("--address", cmd.server, "tesserad address (the same as --server)")
+      ->check(server_address_validator());
+  add_server_option(*health, cmd.server);
+
+  std::string completion_shell;
+  CLI::App* completion =
+      app.add_subcommand("completion", "print a shell completion script (bash or zsh)");
+  completion->add_option("shell", completion_shell, "bash or zsh")
+      ->required()
+      ->check(CLI::IsMember(completion_shells()));
+
+  std::vector<std::string_view> command_names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    command_names.push_back(sub->get_name());
+
+  // `tessera --version [--server ADDR]` is `tessera version`: it asks the server too.
+  std::vector<const char*> version_argv;
+  if (argc >= 2 && std::string_view(argv[1]) == "--version") {
+    version_argv.assign(argv, argv + argc);
+    version_argv[1] = "version";
+    argv = version_argv.data();
+  }
+
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {
     const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
     return std::any_of(commands.begin(), commands.end(),
                        [&](const CLI::App* c) { return c->get_name() == word; });
   };
-  const char* const expected =
-      "expected render, submit, watch, list, status, cancel, delete, pause, resume, retry, "
-      "update, events, denoise or convert; see 'tessera --help'";
+  std::string expected = "expected ";
+  for (std::size_t i = 0; i < command_names.size(); ++i)
+    expected += std::string(i == 0                          ? ""
+                            : i + 1 == command_names.size() ? " or "
+                                                            : ", ") +
+                std::string(command_names[i]);
+  expected += "; see 'tessera --help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
   }
   if (argv[1][0] != '-' && !is_command(argv[1])) {
-    err << "tessera: unknown command '" << argv[1] << "' (" << expected << ")\n";
+    err << "tessera: unknown command '" << argv[1] << "'"
+        << schema::did_you_mean(argv[1], command_names) << " (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
   }
   try {
@@ -299,11 +414,21 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     return {std::nullopt, app.exit(e, out, err)};
   } catch (const CLI::ParseError& e) {
     std::string where = "tessera";
+    const CLI::App* command = &app;
     for (const CLI::App* sub : app.get_subcommands({})) {
-      if (sub->parsed()) where += " " + sub->get_name();
+      if (sub->parsed()) {
+        where += " " + sub->get_name();
+        command = sub;
+      }
     }
-    err << "tessera: " << e.what() << " (see '" << where << " --help')\n";
+    err << "tessera: " << e.what() << unknown_flag_hint(*command, argc, argv) << " (see '" << where
+        << " --help')\n";
     return {std::nullopt, kExitUsage};
+  }
+
+  if (completion->parsed()) {
+    out << completion_script(app, completion_shell, "tessera") << std::flush;
+    return {std::nullopt, kExitOk};
   }
 
   if (render->parsed()) {
@@ -317,6 +442,10 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     cmd.overrides = convert_overrides.values();
   } else if (watch->parsed()) {
     cmd.kind = CommandKind::kWatch;
+    if (cmd.json && cmd.output_exr == kStdoutPath) {
+      err << "tessera: watch: --json and -o - would both write to stdout; name an output file\n";
+      return {std::nullopt, kExitUsage};
+    }
   } else if (list->parsed()) {
     cmd.kind = CommandKind::kList;
   } else if (status->parsed()) {
@@ -339,6 +468,10 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     }
   } else if (events->parsed()) {
     cmd.kind = CommandKind::kEvents;
+  } else if (version->parsed()) {
+    cmd.kind = CommandKind::kVersion;
+  } else if (health->parsed()) {
+    cmd.kind = CommandKind::kHealth;
   } else if (denoise->parsed()) {
     cmd.kind = CommandKind::kDenoise;
     if (cmd.output_exr.empty()) cmd.output_exr = cmd.input_exr;

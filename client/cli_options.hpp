@@ -23,7 +23,9 @@ enum class CommandKind {
   kRetry,
   kUpdate,
   kEvents,
-  kConvert
+  kConvert,
+  kVersion,  // tessera --version, tessera version
+  kHealth
 };
 
 // Values given on the command line replace the scene file's `render` section.
@@ -64,7 +66,21 @@ struct CliCommand {
   std::string label_filter;                  // list, events: "key=value" or "key"
   std::string name_filter;                   // list
   std::string request_output;  // convert: file for the SubmitJobRequest bytes; "-": stdout
+  // render, submit: SubmitJobRequest.request_id; empty: a random one per invocation.
+  std::string request_id;
+  bool json = false;                 // submit, list, status, watch: machine-readable output
+  std::string state_filter;          // list: queued, running, paused, completed, failed, cancelled
+  std::uint32_t limit = 0;           // list: at most this many jobs, newest first; 0: all
+  bool keep_partial = false;         // render, watch: on Ctrl-C, write the tiles received so far
+  bool cancel_on_interrupt = false;  // watch: Ctrl-C also cancels the job (render always does)
+  // Set by the commands for `-o -`: output_exr is then a temporary file copied to stdout.
+  bool output_to_stdout = false;
 };
+
+// The exit code of a command ended by Ctrl-C (128 + SIGINT, as shells report it).
+inline constexpr int kExitInterrupted = 130;
+// `-o -`: the EXR goes to standard output.
+inline constexpr const char* kStdoutPath = "-";
 
 struct ParsedCommandLine {
   std::optional<CliCommand> command;  // empty: nothing to run, exit with exit_code

@@ -1,10 +1,14 @@
 #include "client/client.hpp"
 
 #include <grpcpp/create_channel.h>
+#include <grpcpp/generic/generic_stub.h>
 #include <grpcpp/security/credentials.h>
 #include <grpcpp/support/channel_arguments.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <future>
+#include <random>
 #include <thread>
 
 namespace tessera {
@@ -18,6 +22,8 @@ constexpr int kMaxReceiveBytes = 64 * 1024 * 1024;
 void set_deadline(grpc::ClientContext& context, std::chrono::milliseconds timeout) {
   context.set_deadline(std::chrono::system_clock::now() + timeout);
 }
+
+constexpr const char* kStreamStopped = "the stream was stopped by the caller";
 
 void check(const grpc::Status& status) {
   if (!status.ok()) throw ClientError::from_status(status);
@@ -41,12 +47,34 @@ Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
 
 Client::~Client() = default;
 
+std::string make_request_id() {
+  std::random_device random;
+  std::string id;
+  for (int word = 0; word < 4; ++word) {
+    char hex[9];
+    std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(random()));
+    id += hex;
+  }
+  return id;
+}
+
 v1::Job Client::submit(const v1::SubmitJobRequest& request) {
-  grpc::ClientContext context;
-  set_deadline(context, options_.submit_deadline);
-  v1::SubmitJobResponse response;
-  check(stub_->SubmitJob(&context, request, &response));
-  return response.job();
+  const int attempts = request.request_id().empty() ? 1 : std::max(options_.submit_attempts, 1);
+  auto pause = options_.submit_retry_pause;
+  for (int attempt = 1;; ++attempt) {
+    grpc::ClientContext context;
+    set_deadline(context, options_.submit_deadline);
+    v1::SubmitJobResponse response;
+    const grpc::Status status = stub_->SubmitJob(&context, request, &response);
+    const bool retryable = status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED ||
+                           status.error_code() == grpc::StatusCode::UNAVAILABLE;
+    if (status.ok() || !retryable || attempt >= attempts) {
+      check(status);
+      return response.job();
+    }
+    std::this_thread::sleep_for(pause);
+    pause *= 2;
+  }
 }
 
 void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile) {
@@ -68,6 +96,18 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
       request.set_after_sequence(received);
     else
       request.set_after_tiles(static_cast<std::uint32_t>(received));
+    {
+      std::lock_guard lock(streams_mutex_);
+      if (streams_stopped_) throw ClientError(grpc::StatusCode::CANCELLED, kStreamStopped);
+      open_stream_ = &context;
+    }
+    struct Unregister {
+      Client& client;
+      ~Unregister() {
+        std::lock_guard lock(client.streams_mutex_);
+        client.open_stream_ = nullptr;
+      }
+    } unregister{*this};
     std::unique_ptr<grpc::ClientReader<v1::Tile>> reader = stub_->StreamTiles(&context, request);
     v1::Tile tile;
     try {
@@ -85,6 +125,10 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
       throw;
     }
     const grpc::Status status = reader->Finish();
+    {
+      std::lock_guard lock(streams_mutex_);
+      if (streams_stopped_) throw ClientError(grpc::StatusCode::CANCELLED, kStreamStopped);
+    }
     // Worth waiting for: a daemon that said it stops and keeps the job, or one that was
     // streaming this job until the connection broke. A call made while a daemon shuts down
     // may also be cut off with CANCELLED (not the job's own, which a re-attached stream
@@ -107,6 +151,12 @@ void Client::stream_tiles(const std::string& job_id, const TileCallback& on_tile
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::milliseconds(2000));
   }
+}
+
+void Client::stop_streams() {
+  std::lock_guard lock(streams_mutex_);
+  streams_stopped_ = true;
+  if (open_stream_) open_stream_->TryCancel();
 }
 
 v1::Job Client::get(const std::string& job_id) {
@@ -200,6 +250,39 @@ v1::Job Client::update(const v1::UpdateJobRequest& request) {
   v1::UpdateJobResponse response;
   check(stub_->UpdateJob(&context, request, &response));
   return response.job();
+}
+
+v1::ServerInfo Client::server_info() {
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  v1::ServerInfo info;
+  check(stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), &info));
+  return info;
+}
+
+bool Client::healthy() {
+  // grpc.health.v1 by hand (a generic call): Debian ships no generated health stubs, and
+  // the two messages are one field each. HealthCheckRequest{service = field 1, string}.
+  const std::string service = "tessera.v1.RenderService";
+  std::string request_bytes = std::string("\x0a", 1) + static_cast<char>(service.size()) + service;
+  grpc::GenericStub generic(channel_);
+  grpc::ClientContext context;
+  set_deadline(context, options_.unary_deadline);
+  grpc::Slice slice(request_bytes);
+  grpc::ByteBuffer request(&slice, 1);
+  grpc::ByteBuffer response;
+  std::promise<grpc::Status> done;
+  generic.UnaryCall(&context, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request,
+                    &response, [&](grpc::Status status) { done.set_value(std::move(status)); });
+  check(done.get_future().get());
+  std::vector<grpc::Slice> slices;
+  if (!response.Dump(&slices).ok())
+    throw ClientError(grpc::StatusCode::INTERNAL, "unreadable health check response");
+  std::string bytes;
+  for (const grpc::Slice& part : slices)
+    bytes.append(reinterpret_cast<const char*>(part.begin()), part.size());
+  // HealthCheckResponse{status = field 1, enum}: SERVING is 1.
+  return bytes == std::string("\x08\x01", 2);
 }
 
 void Client::watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,11 @@ struct ClientOptions {
   std::chrono::milliseconds unary_deadline{10'000};
   // Submit carries the whole scene, meshes inline, so it may take a while to send.
   std::chrono::milliseconds submit_deadline{120'000};
+  // Attempts of a submit whose request has a request_id, when an attempt ends with
+  // DEADLINE_EXCEEDED or UNAVAILABLE (the request id makes a retry safe: the daemon returns
+  // the job an earlier attempt created). Waits submit_retry_pause, doubling, in between.
+  int submit_attempts = 4;
+  std::chrono::milliseconds submit_retry_pause{500};
   // How long stream_tiles keeps re-attaching to a daemon that went away (restarting)
   // since the last tile it received; 0: not at all.
   std::chrono::milliseconds reconnect_window{60'000};
@@ -36,6 +42,9 @@ class Client {
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;
 
+  // Submits a job. With request.request_id() set, retries on DEADLINE_EXCEEDED and
+  // UNAVAILABLE (options.submit_attempts in all) with the same id, so a timeout never leaves
+  // the caller with two jobs; without one, a single attempt.
   v1::Job submit(const v1::SubmitJobRequest& request);
 
   using TileCallback = std::function<void(const v1::Tile&)>;
@@ -47,6 +56,10 @@ class Client {
   // cancelled, ABORTED (and the reason) when it failed, or the transport's error. If
   // `on_tile` throws, the stream is cancelled and the exception propagates.
   void stream_tiles(const std::string& job_id, const TileCallback& on_tile);
+
+  // Ends a stream_tiles running on another thread (Ctrl-C): it throws ClientError with
+  // CANCELLED, and later calls of stream_tiles do at once. Thread-safe.
+  void stop_streams();
 
   v1::Job get(const std::string& job_id);
   // Every job matching the request's filters (state, submitter, label, name), newest
@@ -68,17 +81,30 @@ class Client {
   // ClientError with the server's status: a watch never ends on its own with OK).
   void watch_jobs(const v1::WatchJobsRequest& request, const JobEventCallback& on_event);
 
+  // GetServerInfo: the daemon's version, build, devices, limits and capabilities.
+  v1::ServerInfo server_info();
+  // The grpc.health.v1 check of the daemon's RenderService: true when SERVING. Throws
+  // ClientError when the daemon cannot be reached or answers with an error.
+  bool healthy();
+
   const std::string& target() const { return options_.target; }
 
  private:
   ClientOptions options_;
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::RenderService::Stub> stub_;
+  std::mutex streams_mutex_;
+  grpc::ClientContext* open_stream_ = nullptr;  // the stream stop_streams() cancels
+  bool streams_stopped_ = false;
 };
 
 // Trailing metadata key of a StreamTiles that ended UNAVAILABLE because the daemon is
 // stopping with the job kept: the stream can be re-attached once it is back.
 inline constexpr const char* kJobResumesMetadataKey = "tessera-job-resumes";
+
+// A fresh random request id for SubmitJobRequest.request_id: 32 hex digits (128 bits from
+// std::random_device), so two clients never pick the same one.
+std::string make_request_id();
 
 // A channel to `target` with message limits large enough for big tiles.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& target);

@@ -15,11 +15,15 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <thread>
 
+#include <unistd.h>
+
 #include "client/client.hpp"
 #include "client/denoise_file.hpp"
+#include "client/job_json.hpp"
 #include "client/local_render.hpp"
 #include "client/progress.hpp"
 #include "client/tile_assembler.hpp"
@@ -72,49 +76,72 @@ class InterruptScope {
   void (*previous_)(int) = SIG_DFL;
 };
 
-// Cancels `job_id` on the server when Ctrl-C is pressed; the tile stream then ends with
-// CANCELLED. gRPC cannot be called from a signal handler, hence the polling thread.
-class CancelOnInterrupt {
+// On Ctrl-C: cancels `job_id` on the server when `cancel_job` (render, watch --cancel), and
+// ends the tile stream either way (Client::stop_streams), so the command stops at once even
+// when the job has no tile to send. gRPC cannot be called from a signal handler, hence the
+// polling thread.
+class StopOnInterrupt {
  public:
   // `interactive`: a progress line may be open on `err` and must be ended first.
-  CancelOnInterrupt(Client& client, std::string job_id, std::ostream& err, bool interactive)
+  StopOnInterrupt(Client& client, std::string job_id, bool cancel_job, std::ostream& err,
+                  bool interactive)
       : client_(client),
         job_id_(std::move(job_id)),
+        cancel_job_(cancel_job),
         err_(err),
         interactive_(interactive),
         thread_([this] { run(); }) {}
-  ~CancelOnInterrupt() {
+  ~StopOnInterrupt() { stop(); }
+
+  // Stops watching for Ctrl-C, after finishing what a Ctrl-C already started (the cancel),
+  // so interrupted() and cancelled() are final.
+  void stop() {
     {
       std::lock_guard lock(mutex_);
       done_ = true;
     }
     wake_.notify_all();
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
   }
+
+  // Whether Ctrl-C was pressed (and the stream stopped).
+  bool interrupted() const { return interrupted_.load(); }
+  // Whether the job was cancelled on the server because of it.
+  bool cancelled() const { return cancelled_.load(); }
 
  private:
   void run() {
     std::unique_lock lock(mutex_);
-    while (!done_) {
+    // A Ctrl-C pressed just before stop() is still handled: the user asked for it.
+    for (bool last = false; !last;) {
       wake_.wait_for(lock, std::chrono::milliseconds(100));
-      if (done_ || !g_interrupted.exchange(false)) continue;
-      err_ << (interactive_ ? "\n" : "") << "tessera: interrupted; cancelling job " << job_id_
-           << '\n'
+      last = done_;
+      if (!g_interrupted.exchange(false)) continue;
+      interrupted_.store(true);
+      err_ << (interactive_ ? "\n" : "") << "tessera: interrupted"
+           << (cancel_job_ ? "; cancelling job " + job_id_ : "") << '\n'
            << std::flush;
-      try {
-        client_.cancel(job_id_);
-      } catch (const ClientError& e) {
-        err_ << "tessera: could not cancel job " << job_id_ << ": " << e.what() << '\n'
-             << std::flush;
+      if (cancel_job_) {
+        try {
+          client_.cancel(job_id_);
+          cancelled_.store(true);
+        } catch (const ClientError& e) {
+          err_ << "tessera: could not cancel job " << job_id_ << ": " << e.what() << '\n'
+               << std::flush;
+        }
       }
+      client_.stop_streams();
     }
   }
 
   InterruptScope scope_;
   Client& client_;
   std::string job_id_;
+  bool cancel_job_;
   std::ostream& err_;
   bool interactive_;
+  std::atomic<bool> interrupted_{false};
+  std::atomic<bool> cancelled_{false};
   std::mutex mutex_;
   std::condition_variable wake_;
   bool done_ = false;
@@ -133,15 +160,6 @@ std::string describe(const ClientError& e, const std::string& server, const std:
     default:
       return doing + ": " + e.what();
   }
-}
-
-std::string job_state_name(v1::JobState state) {
-  std::string name = v1::JobState_Name(state);
-  const std::string prefix = "JOB_STATE_";
-  if (name.rfind(prefix, 0) == 0) name.erase(0, prefix.size());
-  std::transform(name.begin(), name.end(), name.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return name.empty() ? "unknown" : name;
 }
 
 // "key=value" arguments (checked by the parser to hold '=') into a label map.
@@ -257,6 +275,11 @@ std::string job_name(const CliCommand& cmd) {
 
 // ---- Output -------------------------------------------------------------------------------
 
+// Where the image goes, as the user named it ("stdout" for -o -).
+std::string output_name(const CliCommand& cmd) {
+  return cmd.output_to_stdout ? "stdout" : cmd.output_exr;
+}
+
 void create_parent_directory(const std::string& file) {
   const std::filesystem::path parent = std::filesystem::path(file).parent_path();
   if (parent.empty()) return;
@@ -322,14 +345,13 @@ PreviewOptions preview_options(const CliCommand& cmd) {
   return options;
 }
 
-// Closes the EXR (rewritten with `metadata` and the render time), writes the PNG preview
-// and prints the summary line; the time reported runs from `start` until both files are
-// written.
+// Closes the EXR (rewritten with `metadata` and `seconds`, the render time), writes the PNG
+// preview and prints the summary line.
 void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::string& what,
-                   Clock::time_point start, double rays_per_second, std::ostream& out,
+                   double seconds, double rays_per_second, std::ostream& out,
                    ImageMetadata metadata) {
   try {
-    metadata.render_seconds = seconds_since(start);
+    metadata.render_seconds = seconds;
     assembler.finish(metadata);
     if (!cmd.preview_png.empty())
       write_image(cmd.preview_png, assembler.image(), preview_options(cmd));
@@ -339,8 +361,8 @@ void finish_output(TileAssembler& assembler, const CliCommand& cmd, const std::s
     discard_output(assembler, cmd);
     throw CommandFailure{kExitFailed, e.what()};
   }
-  out << "tessera: rendered " << what << " in " << format_duration(seconds_since(start)) << ", "
-      << format_rate(rays_per_second) << ": " << cmd.output_exr;
+  out << "tessera: rendered " << what << " in " << format_duration(seconds) << ", "
+      << format_rate(rays_per_second) << ": " << output_name(cmd);
   if (!cmd.preview_png.empty()) out << ", " << cmd.preview_png;
   out << '\n' << std::flush;
 }
@@ -374,13 +396,12 @@ bool add_streamed_tile(TileAssembler& assembler, const v1::Tile& tile) {
   return assembler.add_tile(rect, pixels.pixels, std::max(tile.pass_index(), 1u));
 }
 
-// Streams `job`'s tiles into the output until the job ends. `start`: when the user's wait
-// began, for the summary.
+// Streams `job`'s tiles into the output until the job ends; Ctrl-C stops it (and cancels
+// the job when `cancel_on_interrupt`), exiting 130.
 // `scene`: the scene submitted, for the camera in the EXR header; null when unknown.
 int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
                std::unique_ptr<TileAssembler> assembler, bool cancel_on_interrupt,
-               Clock::time_point start, const CommandOutput& io,
-               const SceneDescription* scene = nullptr) {
+               const CommandOutput& io, const SceneDescription* scene = nullptr) {
   const v1::RenderSettings& s = job.settings();
   const std::uint32_t aovs = aov_mask_from_proto(s);
   // The output was opened from the scene's settings; the server's are the ones that count.
@@ -394,8 +415,11 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
 
   ProgressReporter progress(io.err, io.interactive);
   v1::JobProgress last = job.progress();
-  std::optional<CancelOnInterrupt> canceller;
-  if (cancel_on_interrupt) canceller.emplace(client, job.id(), io.err, io.interactive);
+  const auto print_json = [&](const nlohmann::json& event) {
+    if (cmd.json) io.out << event.dump() << '\n' << std::flush;
+  };
+  std::optional<StopOnInterrupt> stopper;
+  stopper.emplace(client, job.id(), cancel_on_interrupt, io.err, io.interactive);
   try {
     client.stream_tiles(job.id(), [&](const v1::Tile& tile) {
       // Each completed pass but the last rewrote the EXR; the preview follows it (the last
@@ -405,18 +429,59 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
         write_image(cmd.preview_png, assembler->image(), preview_options(cmd));
       last = tile.progress();
       progress.update(snapshot_of(last, *assembler));
+      print_json(tile_event_json(tile));
     });
   } catch (const ClientError& e) {
     progress.finish();
-    discard_output(*assembler, cmd);
     const std::string received = std::to_string(assembler->tiles_received()) + " of " +
                                  std::to_string(assembler->tiles_total()) + " tiles";
+    // A Ctrl-C's cancel may end the stream (CANCELLED) before the cancel call returns.
+    stopper->stop();
+    if (stopper->interrupted()) {
+      const bool cancelled = stopper->cancelled();
+      stopper.reset();
+      std::string kept;
+      if (cmd.keep_partial && assembler->tiles_received() > 0) {
+        try {
+          ImageMetadata metadata =
+              output_metadata(job.name(), job.id(), s.samples_per_pixel(), scene);
+          metadata.render_seconds = last.elapsed_seconds();
+          assembler->finish_partial(metadata);
+          if (!cmd.preview_png.empty())
+            write_image(cmd.preview_png, assembler->image(), preview_options(cmd));
+          kept = "; kept " + received + " in " + output_name(cmd);
+        } catch (const std::exception& write_error) {
+          discard_output(*assembler, cmd);
+          kept = "; could not keep the partial image: " + std::string(write_error.what());
+        }
+      } else {
+        discard_output(*assembler, cmd);
+      }
+      const std::string what = cancelled ? "job " + job.id() + " cancelled"
+                               : cancel_on_interrupt
+                                   ? "job " + job.id() + " may still run (the cancel failed)"
+                                   : "stopped watching job " + job.id() + " (it goes on)";
+      print_json({{"event", "interrupted"},
+                  {"job_id", job.id()},
+                  {"cancelled", cancelled},
+                  {"tiles_received", assembler->tiles_received()},
+                  {"partial_output", kept.rfind("; kept", 0) == 0 ? output_name(cmd) : ""}});
+      throw CommandFailure{kExitInterrupted, "interrupted: " + what + kept};
+    }
+    discard_output(*assembler, cmd);
+    const bool job_cancelled = e.code() == grpc::StatusCode::CANCELLED;
+    const bool job_failed = e.code() == grpc::StatusCode::ABORTED;
+    print_json({{"event", job_cancelled ? "cancelled"
+                          : job_failed  ? "failed"
+                                        : "error"},
+                {"job_id", job.id()},
+                {"message", e.message()}});
     // The server's message already names the job and the reason ("job X was cancelled (...)").
-    if (e.code() == grpc::StatusCode::CANCELLED)
+    if (job_cancelled)
       throw CommandFailure{
           kExitFailed, (e.message().empty() ? "job " + job.id() + " was cancelled" : e.message()) +
                            "; " + received + " received"};
-    if (e.code() == grpc::StatusCode::ABORTED)
+    if (job_failed)
       throw CommandFailure{kExitFailed,
                            e.message().empty() ? "job " + job.id() + " failed" : e.message()};
     throw CommandFailure{kExitFailed,
@@ -424,25 +489,41 @@ int stream_job(Client& client, const v1::Job& job, const CliCommand& cmd,
   } catch (const std::exception& e) {
     progress.finish();
     discard_output(*assembler, cmd);
+    print_json({{"event", "error"}, {"job_id", job.id()}, {"message", e.what()}});
     throw CommandFailure{kExitFailed, "job " + job.id() + ": " + e.what()};
   }
-  canceller.reset();
+  stopper.reset();
   progress.finish();
+  // The job's time as the server measured it (from its first tile's start to its finish),
+  // so `watch` and `status` agree whenever the watch began; the last tile's if GetJob fails.
+  v1::Job finished = job;
+  try {
+    finished = client.get(job.id());
+  } catch (const ClientError&) {
+    finished.mutable_progress()->CopyFrom(last);
+  }
+  const v1::JobProgress& final_progress = finished.progress();
+  const double seconds = final_progress.elapsed_seconds() > 0.0 ? final_progress.elapsed_seconds()
+                                                                : last.elapsed_seconds();
   const double rays_per_second =
-      last.rays_per_second() > 0.0 ? last.rays_per_second()
-      : last.elapsed_seconds() > 0.0
-          ? static_cast<double>(last.rays_traced()) / last.elapsed_seconds()
-          : 0.0;
+      final_progress.rays_per_second() > 0.0 ? final_progress.rays_per_second()
+      : seconds > 0.0 ? static_cast<double>(final_progress.rays_traced()) / seconds
+                      : 0.0;
   finish_output(*assembler, cmd, settings_summary(s.width(), s.height(), s.samples_per_pixel()),
-                start, rays_per_second, io.out,
+                seconds, rays_per_second, cmd.json ? io.err : io.out,
                 output_metadata(job.name(), job.id(), s.samples_per_pixel(), scene));
+  nlohmann::json done = {{"event", "completed"},
+                         {"job", job_to_json(finished)},
+                         {"elapsed_seconds", seconds},
+                         {"output", output_name(cmd)}};
+  if (!cmd.preview_png.empty()) done["png"] = cmd.preview_png;
+  print_json(done);
   return kExitOk;
 }
 
 // ---- Commands -----------------------------------------------------------------------------
 
 int render_remote(const CliCommand& cmd, const CommandOutput& io) {
-  const Clock::time_point start = Clock::now();
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
   // Open the output before queueing work, so an unwritable path fails fast.
   auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
@@ -450,7 +531,9 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   Client client(ClientOptions{.target = cmd.server});
   v1::Job job;
   try {
-    job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
+    v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
+    request.set_request_id(cmd.request_id.empty() ? make_request_id() : cmd.request_id);
+    job = client.submit(request);
   } catch (const ClientError& e) {
     discard_output(*assembler, cmd);
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
@@ -463,7 +546,7 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
                  ? " tile passes in " + std::to_string(job.settings().passes()) + " passes)\n"
                  : std::string(" tiles)\n"))
          << std::flush;
-  return stream_job(client, job, cmd, std::move(assembler), true, start, io, &scene);
+  return stream_job(client, job, cmd, std::move(assembler), true, io, &scene);
 }
 
 // render.passes is ignored here: the tiles render in one pass, which gives the image the
@@ -518,15 +601,31 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
   }
   progress.finish();
   if (result.stopped) {
+    if (cmd.keep_partial && assembler->tiles_received() > 0) {
+      ImageMetadata metadata =
+          output_metadata(job_name(cmd), "", scene.render.samples_per_pixel, &scene);
+      metadata.render_seconds = seconds_since(start);
+      try {
+        assembler->finish_partial(metadata);
+      } catch (const std::exception& e) {
+        discard_output(*assembler, cmd);
+        throw CommandFailure{kExitInterrupted, "interrupted; could not keep the partial image: " +
+                                                   std::string(e.what())};
+      }
+      throw CommandFailure{kExitInterrupted, "interrupted; kept " +
+                                                 std::to_string(assembler->tiles_received()) +
+                                                 " of " + std::to_string(assembler->tiles_total()) +
+                                                 " tiles in " + output_name(cmd)};
+    }
     discard_output(*assembler, cmd);
-    throw CommandFailure{kExitFailed, "interrupted"};
+    throw CommandFailure{kExitInterrupted, "interrupted"};
   }
   const double rays_per_second =
       result.seconds > 0.0 ? static_cast<double>(result.rays) / result.seconds : 0.0;
   finish_output(
       *assembler, cmd,
       settings_summary(scene.render.width, scene.render.height, scene.render.samples_per_pixel),
-      start, rays_per_second, io.out,
+      seconds_since(start), rays_per_second, io.out,
       output_metadata(job_name(cmd), "", scene.render.samples_per_pixel, &scene));
   return kExitOk;
 }
@@ -538,8 +637,12 @@ int submit(const CliCommand& cmd, const CommandOutput& io) {
     v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
     add_labels(cmd.labels, *request.mutable_labels());
     request.set_submitter(cmd.submitter);
+    request.set_request_id(cmd.request_id.empty() ? make_request_id() : cmd.request_id);
     const v1::Job job = client.submit(request);
-    io.out << job.id() << '\n' << std::flush;
+    if (cmd.json)
+      io.out << job_to_json(job).dump() << '\n' << std::flush;
+    else
+      io.out << job.id() << '\n' << std::flush;
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "server rejected the scene")};
   }
@@ -574,7 +677,6 @@ int convert(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int watch(const CliCommand& cmd, const CommandOutput& io) {
-  const Clock::time_point start = Clock::now();
   Client client(ClientOptions{.target = cmd.server});
   v1::Job job;
   try {
@@ -582,8 +684,8 @@ int watch(const CliCommand& cmd, const CommandOutput& io) {
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot watch job " + cmd.job_id)};
   }
-  // Ctrl-C stops watching; the job is not ours to cancel.
-  return stream_job(client, job, cmd, nullptr, false, start, io);
+  // Ctrl-C stops watching; the job is not ours to cancel unless --cancel says so.
+  return stream_job(client, job, cmd, nullptr, cmd.cancel_on_interrupt, io);
 }
 
 std::string progress_cell(const v1::Job& job) {
@@ -599,10 +701,37 @@ int list(const CliCommand& cmd, const CommandOutput& io) {
   filters.set_label(cmd.label_filter);
   filters.set_name(cmd.name_filter);
   filters.set_submitter(cmd.submitter);
+  if (!cmd.state_filter.empty()) {
+    v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
+    std::string name = "JOB_STATE_" + cmd.state_filter;
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return std::toupper(c); });
+    if (!v1::JobState_Parse(name, &state))
+      throw CommandFailure{kExitUsage, "--state: unknown state '" + cmd.state_filter + "'"};
+    filters.set_state(state);
+  }
   try {
-    jobs = client.list(filters);
+    if (cmd.limit == 0) {
+      jobs = client.list(filters);
+    } else {
+      // Page by page, newest first, until the limit: no more is fetched than printed.
+      filters.set_page_size(std::min<std::uint32_t>(cmd.limit, 1000));
+      for (;;) {
+        const v1::ListJobsResponse page = client.list_page(filters);
+        for (const v1::Job& job : page.jobs())
+          if (jobs.size() < cmd.limit) jobs.push_back(job);
+        if (jobs.size() >= cmd.limit || page.next_page_token().empty()) break;
+        filters.set_page_token(page.next_page_token());
+      }
+    }
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "listing jobs failed")};
+  }
+  if (cmd.json) {
+    nlohmann::json array = nlohmann::json::array();
+    for (const v1::Job& job : jobs) array.push_back(job_to_json(job));
+    io.out << nlohmann::json{{"jobs", array}}.dump() << '\n' << std::flush;
+    return kExitOk;
   }
   if (jobs.empty()) {
     io.out << "no jobs\n";
@@ -636,6 +765,10 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
     job = client.get(cmd.job_id);
   } catch (const ClientError& e) {
     throw CommandFailure{kExitFailed, describe(e, cmd.server, "cannot get job " + cmd.job_id)};
+  }
+  if (cmd.json) {
+    io.out << job_to_json(job).dump() << '\n' << std::flush;
+    return kExitOk;
   }
   const v1::RenderSettings& s = job.settings();
   const v1::JobProgress& p = job.progress();
@@ -746,6 +879,47 @@ int events(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+// The client's version, then the server's. The exit status is 0 whether or not the server
+// answers: the client's version is always known, and `tessera health` is the reachability
+// check.
+int version(const CliCommand& cmd, const CommandOutput& io) {
+  io.out << "tessera " << TESSERA_VERSION << '\n';
+  Client client(ClientOptions{.target = cmd.server, .unary_deadline = std::chrono::seconds(3)});
+  try {
+    const v1::ServerInfo info = client.server_info();
+    const v1::BuildInfo& build = info.build();
+    std::string details = build.git_commit().empty() ? "" : "commit " + build.git_commit();
+    for (const std::string& part : {build.compiler(), build.build_type()})
+      if (!part.empty()) details += (details.empty() ? "" : ", ") + part;
+    io.out << "server: tesserad " << info.version() << " at " << cmd.server
+           << (details.empty() ? "" : " (" + details + ")") << '\n';
+  } catch (const ClientError& e) {
+    io.out << "server: "
+           << (e.code() == grpc::StatusCode::UNIMPLEMENTED
+                   ? "a tesserad without GetServerInfo (older than this client)"
+                   : "unreachable")
+           << " (" << cmd.server << ": " << e.what() << ")\n";
+  }
+  io.out << std::flush;
+  return kExitOk;
+}
+
+// grpc.health.v1 Check of the RenderService: exit 0 when SERVING, 1 otherwise (not serving,
+// unreachable, or an error), with one line saying which.
+int health(const CliCommand& cmd, const CommandOutput& io) {
+  Client client(ClientOptions{.target = cmd.server, .unary_deadline = std::chrono::seconds(5)});
+  try {
+    if (client.healthy()) {
+      io.out << "tesserad at " << cmd.server << ": serving\n" << std::flush;
+      return kExitOk;
+    }
+    io.err << "tessera: tesserad at " << cmd.server << " is not serving\n" << std::flush;
+  } catch (const ClientError& e) {
+    io.err << "tessera: " << describe(e, cmd.server, "health check failed") << '\n' << std::flush;
+  }
+  return kExitFailed;
+}
+
 int denoise_file(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
   create_parent_directory(cmd.output_exr);
@@ -762,13 +936,52 @@ int denoise_file(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+// `-o -`: the command writes a temporary EXR, copied to stdout once it is complete (the
+// EXR is rewritten whole when it finishes, so it cannot be streamed as it is made); the
+// summary line goes to stderr so that stdout holds the image alone.
+int run_with_stdout_image(const CliCommand& command, const CommandOutput& io) {
+  CliCommand to_file = command;
+  std::random_device random;
+  const std::filesystem::path temporary =
+      std::filesystem::temp_directory_path() /
+      ("tessera-stdout-" + std::to_string(::getpid()) + "-" + std::to_string(random()) + ".exr");
+  to_file.output_exr = temporary.string();
+  to_file.output_to_stdout = true;
+  struct RemoveTemporary {
+    std::filesystem::path path;
+    ~RemoveTemporary() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  } remove_temporary{temporary};
+  const int code = run_command(to_file, CommandOutput{io.err, io.err, io.interactive});
+  std::error_code missing;
+  if ((code == kExitOk || code == kExitInterrupted) &&
+      std::filesystem::exists(temporary, missing)) {
+    std::ifstream in(temporary, std::ios::binary);
+    io.out << in.rdbuf() << std::flush;
+    if (!io.out) {
+      io.err << "tessera: cannot write the image to stdout\n" << std::flush;
+      return kExitFailed;
+    }
+  }
+  return code;
+}
+
+int run_render(const CliCommand& command, const CommandOutput& io) {
+  return command.local ? render_in_process(command, io) : render_remote(command, io);
+}
+
 }  // namespace
 
 int run_command(const CliCommand& command, const CommandOutput& io) {
+  if ((command.kind == CommandKind::kRender || command.kind == CommandKind::kWatch) &&
+      command.output_exr == kStdoutPath)
+    return run_with_stdout_image(command, io);
   try {
     switch (command.kind) {
       case CommandKind::kRender:
-        return command.local ? render_in_process(command, io) : render_remote(command, io);
+        return run_render(command, io);
       case CommandKind::kSubmit:
         return submit(command, io);
       case CommandKind::kWatch:
@@ -795,6 +1008,10 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return events(command, io);
       case CommandKind::kConvert:
         return convert(command, io);
+      case CommandKind::kVersion:
+        return version(command, io);
+      case CommandKind::kHealth:
+        return health(command, io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {

@@ -117,6 +117,14 @@ void TileAssembler::finish(const ImageMetadata& metadata) {
   write_whole(metadata);
 }
 
+void TileAssembler::finish_partial(const ImageMetadata& metadata) {
+  if (!exr_path_) return;
+  // The tiled file lacks tiles and is replaced whole: a failure to close it changes nothing.
+  abandon();
+  writer_.reset();
+  write_whole(metadata);
+}
+
 void TileAssembler::abandon() {
   if (!writer_) return;
   try {

@@ -53,6 +53,9 @@ class TileAssembler {
   // Closes the EXR and rewrites it whole with `metadata` in its header. Throws
   // std::runtime_error naming the first missing tile, if any.
   void finish(const ImageMetadata& metadata = {});
+  // Closes the EXR and rewrites it whole with the tiles received so far (the missing ones
+  // black with alpha 0): what `--keep-partial` keeps of an interrupted render.
+  void finish_partial(const ImageMetadata& metadata = {});
   // Closes the EXR without checking; for giving up on a failed job.
   void abandon();
 

@@ -25,6 +25,7 @@
 #include "server/render_service.hpp"
 #include "server/rpc_log.hpp"
 #include "server/scheduler.hpp"
+#include "server/server_info.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
 
@@ -222,6 +223,7 @@ int Daemon::start() {
       std::chrono::milliseconds(100), d.config.stream_write_timeout);
   d.service->set_memory_budget(effective_memory_budget(d.config));
   d.service->enable_watch(*d.watch_hub);
+  d.service->set_server_info(make_server_info(d.config));
 
   // Jobs a previous run left queued or running carry on where they stopped; paused ones
   // stay paused (live, so ResumeJob finds them) until resumed.

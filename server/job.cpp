@@ -65,6 +65,7 @@ JobInfo job_info(const JobRecord& r, std::int64_t now_ms) {
   info.submitted_unix_ms = r.submitted_unix_ms;
   info.finished_unix_ms = r.finished_unix_ms;
   info.labels = r.labels;
+  info.request_id = r.request_id;
   return info;
 }
 

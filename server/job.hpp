@@ -38,6 +38,7 @@ struct JobInfo {
   std::int64_t submitted_unix_ms = 0;
   std::int64_t finished_unix_ms = 0;  // 0 until finished
   JobLabels labels;
+  std::string request_id;  // SubmitJobRequest.request_id; empty: none
 };
 
 JobInfo job_info(const JobRecord& record, std::int64_t now_ms);

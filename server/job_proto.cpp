@@ -66,6 +66,7 @@ void job_info_to_proto(const JobInfo& info, v1::Job& out) {
   out.set_finished_unix_ms(info.finished_unix_ms);
   out.mutable_labels()->clear();
   for (const auto& [key, value] : info.labels) (*out.mutable_labels())[key] = value;
+  out.set_request_id(info.request_id);
 }
 
 void stored_tile_to_proto(const JobRecord& job, const StoredTile& tile, v1::Tile& out) {

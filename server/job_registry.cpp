@@ -8,6 +8,12 @@ std::shared_ptr<Job> JobRegistry::create(const JobRecord& record, const SceneSou
   // hands out a second, unshared object for it, and two submissions cannot both take the
   // last place under the cap.
   std::lock_guard lock(mutex_);
+  // A retry of a request that created a job is answered with that job even when the
+  // submitter is at its cap: it asks for nothing new. (The store checks again as it stores.)
+  if (!record.request_id.empty()) {
+    if (auto existing = store_.find_job_by_request(record.submitter, record.request_id))
+      throw RequestIdTaken(std::move(*existing));
+  }
   if (max_unfinished_per_submitter > 0) {
     const std::size_t unfinished = store_.unfinished_count(record.submitter);
     if (unfinished >= max_unfinished_per_submitter)

@@ -28,7 +28,8 @@ class JobRegistry {
   JobStore& store() { return store_; }
 
   // Stores a new job with its scene and returns its live object. Throws DuplicateJobId,
-  // and SubmitterQuotaExceeded when the job's submitter already has
+  // RequestIdTaken when the record's request id names an existing job of its submitter
+  // (checked before the cap), and SubmitterQuotaExceeded when the job's submitter already has
   // `max_unfinished_per_submitter` queued or running jobs (0: no limit).
   std::shared_ptr<Job> create(const JobRecord& record, const SceneSource& scene,
                               std::size_t max_unfinished_per_submitter = 0);

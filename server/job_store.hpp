@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "tessera/scene/scene_description.hpp"
@@ -51,6 +52,11 @@ struct JobRecord {
   // and ListJobs, and is the ListJobs page token.
   std::int64_t sequence = 0;
   JobLabels labels;
+  // The SubmitJobRequest.request_id the job was created under (empty: none), and the
+  // fingerprint of that request's scene and settings (request_id.hpp). The pair
+  // (submitter at submission, request_id) names at most one job while the job exists.
+  std::string request_id;
+  std::string request_fingerprint;
 };
 
 // What UpdateJob changes; unset fields stay as they are.
@@ -126,6 +132,21 @@ class DuplicateJobId : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// Thrown by create_job when the job's request id is taken: the same submitter created a
+// job under it that still exists. Carries that job, so the caller can tell a retry of the
+// same request (equal fingerprints) from a different one.
+class RequestIdTaken : public std::invalid_argument {
+ public:
+  explicit RequestIdTaken(JobRecord existing)
+      : std::invalid_argument("request id '" + existing.request_id + "' is already job " +
+                              existing.id),
+        existing_(std::move(existing)) {}
+  const JobRecord& existing() const { return existing_; }
+
+ private:
+  JobRecord existing_;
+};
+
 // Where jobs live: records, scenes and finished tiles, and the tile work between them
 // (claims with leases, then completion) as store operations, so the scheduler never holds
 // the only copy of anything. Every operation is atomic: a daemon killed at any instant
@@ -137,10 +158,17 @@ class JobStore {
  public:
   virtual ~JobStore() = default;
 
-  // Stores a new job (state kQueued) with its scene. Returns the record with its sequence.
-  // Throws DuplicateJobId when the id is taken.
+  // Stores a new job (state kQueued) with its scene, and its request id when it has one.
+  // Returns the record with its sequence. Throws DuplicateJobId when the id is taken, and
+  // RequestIdTaken when the job's (submitter, request_id) names an existing job; both are
+  // checked in the transaction that stores the job, so two concurrent submissions of one
+  // request create one job.
   virtual JobRecord create_job(const JobRecord& job, const SceneSource& scene) = 0;
   virtual std::optional<JobRecord> find_job(std::string_view id) const = 0;
+  // The job created by `submitter` (as it was at submission) under `request_id`, while it
+  // exists.
+  virtual std::optional<JobRecord> find_job_by_request(std::string_view submitter,
+                                                       std::string_view request_id) const = 0;
   // Newest first.
   virtual std::vector<JobRecord> list_jobs(const JobQuery& query) const = 0;
   // Queued, running and paused jobs, oldest first: what a starting daemon resumes (the

@@ -10,6 +10,7 @@
 #include "server/job_passes.hpp"
 #include "server/job_proto.hpp"
 #include "server/log_text.hpp"
+#include "server/request_id.hpp"
 #include "server/rpc_handler.hpp"
 #include "server/structured_log.hpp"
 
@@ -92,7 +93,18 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
                    " bytes, got " + std::to_string(request.submitter().size()));
   const JobLabels labels(request.labels().begin(), request.labels().end());
   if (const auto problem = labels_problem(labels, "labels")) return invalid(*problem);
+  if (const auto problem = request_id_problem(request.request_id())) return invalid(*problem);
   const std::string logged_name = escape_client_text(request.name());
+  const std::string submitter =
+      request.submitter().empty() ? peer_host(context.peer()) : request.submitter();
+  // A retry finds its job before paying for the scene again, so it answers quickly even
+  // when the first attempt's scene took longer than the client's deadline.
+  std::string fingerprint;
+  if (!request.request_id().empty()) {
+    fingerprint = request_fingerprint(request);
+    if (auto existing = jobs_.store().find_job_by_request(submitter, request.request_id()))
+      return answer_retry(*existing, fingerprint, response);
+  }
   // Before the scene is converted: a request that could never fit costs no more than the
   // memory gRPC already spent parsing it.
   const JobCostCheck cost = check_job_cost(request, limits_, memory_budget_, scheduler_.threads());
@@ -116,16 +128,22 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   conversion.scene.reset();
 
   // A client that gave up while its scene was checked must not find a job it never heard
-  // of running anyway: past this point the job exists.
-  if (context.IsCancelled())
+  // of running anyway: past this point the job exists. With a request id the job is stored
+  // all the same: the client retries with the id and is given this job, and a job that
+  // exists once is better than a retry that can never succeed because each attempt's scene
+  // outlasts its deadline.
+  const bool idempotent = !request.request_id().empty();
+  if (!idempotent && context.IsCancelled())
     return grpc::Status(grpc::StatusCode::CANCELLED, "the call was cancelled; no job was created");
-  if (context.deadline() <= std::chrono::system_clock::now())
+  if (!idempotent && context.deadline() <= std::chrono::system_clock::now())
     return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
                         "the call's deadline passed; no job was created");
 
   JobRecord record;
   record.name = request.name();
-  record.submitter = request.submitter().empty() ? peer_host(context.peer()) : request.submitter();
+  record.submitter = submitter;
+  record.request_id = request.request_id();
+  record.request_fingerprint = fingerprint;
   record.priority = request.priority();
   record.settings = settings;
   record.tiles_total = static_cast<std::uint32_t>(tiles);
@@ -141,6 +159,9 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
       job = jobs_.create(record, source, max_jobs_per_submitter_);
     } catch (const DuplicateJobId&) {
       if (attempt == 3) throw;  // ids from an earlier run collided: try fresh ones
+    } catch (const RequestIdTaken& e) {
+      // An attempt of the same request stored its job while this one checked the scene.
+      return answer_retry(e.existing(), fingerprint, response);
     } catch (const SubmitterQuotaExceeded& e) {
       spdlog::info("refused job '{}' of '{}': {}", logged_name,
                    escape_client_text(record.submitter), e.what());
@@ -149,8 +170,10 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
     }
   }
   // Storing a large scene takes time too: a client whose call ended meanwhile was told no
-  // job exists, so the job is withdrawn before any worker can see it.
-  if (context.IsCancelled() || context.deadline() <= std::chrono::system_clock::now()) {
+  // job exists, so the job is withdrawn before any worker can see it. Not with a request
+  // id: another attempt of the request may already have been given this job.
+  if (!idempotent &&
+      (context.IsCancelled() || context.deadline() <= std::chrono::system_clock::now())) {
     job->cancel("the SubmitJob call ended before the job was accepted");
     const JobRecord last = job->record();
     if (jobs_.store().delete_job(job->id())) {
@@ -184,6 +207,26 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   if (!scheduler_.submit(job))
     // Stored, so not lost: the next start of the daemon runs it.
     spdlog::info("job {} stored while the daemon stops; it runs after a restart", job->id());
+  return grpc::Status::OK;
+}
+
+grpc::Status RenderServiceImpl::answer_retry(const JobRecord& existing,
+                                             const std::string& fingerprint,
+                                             v1::SubmitJobResponse& response) {
+  // ALREADY_EXISTS rather than FAILED_PRECONDITION: what the request would create (a job
+  // under this request id) exists, and no change of the daemon's state makes the request
+  // valid; the client must choose another id. Retrying clients stop on it.
+  if (existing.request_fingerprint != fingerprint)
+    return grpc::Status(grpc::StatusCode::ALREADY_EXISTS,
+                        "request_id: '" + existing.request_id + "' already created job " +
+                            existing.id +
+                            " with a different scene or settings; use a new request id");
+  grpc::Status status;
+  const auto job = find_job(existing.id, status);
+  if (!job) return status;  // deleted since it was found
+  job_info_to_proto(job->info(), *response.mutable_job());
+  spdlog::info("job {} returned again for request id '{}' of '{}' (a retry; no job created)",
+               job->id(), existing.request_id, escape_client_text(existing.submitter));
   return grpc::Status::OK;
 }
 
@@ -303,6 +346,15 @@ grpc::Status RenderServiceImpl::StreamedGetJob(
     const auto job = find_job(request.job_id(), status);
     if (job) job_info_to_proto(job->info(), response);
     return status;
+  });
+}
+
+grpc::Status RenderServiceImpl::StreamedGetServerInfo(
+    grpc::ServerContext*,
+    grpc::ServerUnaryStreamer<v1::GetServerInfoRequest, v1::ServerInfo>* streamer) {
+  return unary("GetServerInfo", *streamer, [&](const auto&, v1::ServerInfo& response) {
+    response = server_info_;
+    return grpc::Status::OK;
   });
 }
 

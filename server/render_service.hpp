@@ -57,6 +57,12 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
       grpc::ServerContext* context,
       grpc::ServerUnaryStreamer<v1::DeleteJobRequest, v1::DeleteJobResponse>* streamer) override;
 
+  grpc::Status StreamedGetServerInfo(
+      grpc::ServerContext* context,
+      grpc::ServerUnaryStreamer<v1::GetServerInfoRequest, v1::ServerInfo>* streamer) override;
+  // What GetServerInfo answers (server_info.hpp). Call before serving.
+  void set_server_info(v1::ServerInfo info) { server_info_ = std::move(info); }
+
   // A job whose estimated memory (server/job_cost.hpp) exceeds `bytes` is refused with
   // RESOURCE_EXHAUSTED before its scene is converted; 0 (the default): no limit. Call
   // before serving.
@@ -99,6 +105,10 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
  private:
   grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
                       v1::SubmitJobResponse& response);
+  // SubmitJob of a request id that already created `existing`: that job when `fingerprint`
+  // (the request's scene and settings) is the one it was created with, ALREADY_EXISTS if not.
+  grpc::Status answer_retry(const JobRecord& existing, const std::string& fingerprint,
+                            v1::SubmitJobResponse& response);
   grpc::Status stream(grpc::ServerContext& context, const v1::StreamTilesRequest& request,
                       grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer);
   grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);
@@ -131,6 +141,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   std::condition_variable streams_ended_;
   int active_streams_ = 0;
   JobWatchHub* watch_hub_ = nullptr;
+  v1::ServerInfo server_info_;
 };
 
 }  // namespace tessera::server

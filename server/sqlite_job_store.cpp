@@ -15,8 +15,10 @@ namespace {
 // PRAGMA user_version of the schema below; a file with another version is refused rather
 // than misread. Version 2 added tile_states (progressive passes), job_labels and
 // tile_failures (job control): tables only, so a version 1 file is upgraded in place by
-// creating them. Version 3 added jobs.prepare_ms (rays per second without the scene
-// preparation), added to an older file's jobs table with its default.
+// creating them. Version 3 added job_requests (idempotent SubmitJob; created like the
+// others, an older file's jobs simply have no request id) and jobs.prepare_ms (rays per
+// second without the scene preparation), added to an older file's jobs table with its
+// default.
 constexpr int kSchemaVersion = 3;
 constexpr int kOldestUpgradableVersion = 1;
 
@@ -83,11 +85,23 @@ CREATE TABLE IF NOT EXISTS tile_failures (
   failures INTEGER NOT NULL,
   PRIMARY KEY (job_sequence, tile_index)
 );
+-- SubmitJobRequest.request_id: the submitter is the one at submission (UpdateJob may change
+-- the job's later), so a retry finds its job whatever happened to it since. Deleting the job
+-- frees the id.
+CREATE TABLE IF NOT EXISTS job_requests (
+  submitter TEXT NOT NULL,
+  request_id TEXT NOT NULL,
+  job_sequence INTEGER NOT NULL UNIQUE REFERENCES jobs(sequence) ON DELETE CASCADE,
+  fingerprint TEXT NOT NULL,
+  PRIMARY KEY (submitter, request_id)
+);
 )sql";
 
 constexpr const char* kJobColumns =
     "sequence, id, name, priority, state, settings, tiles_total, tiles_done, rays_traced, "
-    "error, cancel_reason, submitted_ms, started_ms, finished_ms, submitter, prepare_ms";
+    "error, cancel_reason, submitted_ms, started_ms, finished_ms, submitter, prepare_ms, "
+    "(SELECT request_id FROM job_requests WHERE job_sequence = jobs.sequence), "
+    "(SELECT fingerprint FROM job_requests WHERE job_sequence = jobs.sequence)";
 
 JobRecord read_job(SQLite::Statement& q) {
   JobRecord r;
@@ -114,6 +128,9 @@ JobRecord read_job(SQLite::Statement& q) {
   r.finished_unix_ms = q.getColumn(13).getInt64();
   r.submitter = q.getColumn(14).getString();
   r.prepare_ms = q.getColumn(15).getInt64();
+  // NULL (no request id) reads as "".
+  r.request_id = q.getColumn(16).getString();
+  r.request_fingerprint = q.getColumn(17).getString();
   return r;
 }
 
@@ -241,6 +258,10 @@ JobRecord SqliteJobStore::create_job(const JobRecord& job, const SceneSource& sc
     exists.bind(1, job.id);
     if (exists.executeStep()) throw DuplicateJobId("job id '" + job.id + "' is already in use");
   }
+  if (!job.request_id.empty()) {
+    if (auto existing = find_by_request_locked(job.submitter, job.request_id))
+      throw RequestIdTaken(std::move(*existing));
+  }
   std::string key = content_key(blob);
   {
     SQLite::Statement existing(*db_, "SELECT scene FROM scenes WHERE scene_key = ?");
@@ -275,8 +296,37 @@ JobRecord SqliteJobStore::create_job(const JobRecord& job, const SceneSource& sc
   insert.exec();
   const std::int64_t sequence = db_->getLastInsertRowid();
   for (const auto& [key, value] : job.labels) write_label(*db_, sequence, key, value);
+  if (!job.request_id.empty()) {
+    SQLite::Statement request(*db_,
+                              "INSERT INTO job_requests(submitter, request_id, job_sequence, "
+                              "fingerprint) VALUES (?, ?, ?, ?)");
+    request.bind(1, job.submitter);
+    request.bind(2, job.request_id);
+    request.bind(3, sequence);
+    request.bind(4, job.request_fingerprint);
+    request.exec();
+  }
   transaction.commit();
   return *find_locked(job.id);
+}
+
+std::optional<JobRecord> SqliteJobStore::find_by_request_locked(std::string_view submitter,
+                                                                std::string_view request_id) const {
+  SQLite::Statement q(*db_, std::string("SELECT ") + kJobColumns +
+                                " FROM jobs WHERE sequence = (SELECT job_sequence FROM "
+                                "job_requests WHERE submitter = ? AND request_id = ?)");
+  bind_text(q, 1, submitter);
+  bind_text(q, 2, request_id);
+  if (!q.executeStep()) return std::nullopt;
+  JobRecord job = read_job(q);
+  read_labels(*db_, job);
+  return job;
+}
+
+std::optional<JobRecord> SqliteJobStore::find_job_by_request(std::string_view submitter,
+                                                             std::string_view request_id) const {
+  std::lock_guard lock(mutex_);
+  return find_by_request_locked(submitter, request_id);
 }
 
 std::optional<JobRecord> SqliteJobStore::find_locked(std::string_view id) const {

@@ -31,6 +31,8 @@ class SqliteJobStore final : public JobStore {
 
   JobRecord create_job(const JobRecord& job, const SceneSource& scene) override;
   std::optional<JobRecord> find_job(std::string_view id) const override;
+  std::optional<JobRecord> find_job_by_request(std::string_view submitter,
+                                               std::string_view request_id) const override;
   std::vector<JobRecord> list_jobs(const JobQuery& query) const override;
   std::vector<JobRecord> unfinished_jobs() const override;
   std::optional<SceneSource> scene(std::string_view id) const override;
@@ -75,6 +77,8 @@ class SqliteJobStore final : public JobStore {
   };
 
   std::optional<JobRecord> find_locked(std::string_view id) const;
+  std::optional<JobRecord> find_by_request_locked(std::string_view submitter,
+                                                  std::string_view request_id) const;
   TileCommitResult commit_locked(std::string_view id, std::uint32_t index, std::string_view owner,
                                  const std::vector<std::uint8_t>& exr, std::uint64_t rays,
                                  std::int64_t now_ms, const TilePassState* state, bool last_pass);

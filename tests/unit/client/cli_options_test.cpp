@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -187,6 +191,155 @@ TEST(CliOptions, ServerAddressChecks) {
   EXPECT_TRUE(check_server_address("host:65536"));
   EXPECT_TRUE(check_server_address("host:12ab"));
   EXPECT_TRUE(check_server_address("::1:50051"));
+}
+
+}  // namespace
+}  // namespace tessera
+
+namespace tessera {
+namespace {
+
+Parsed parse_words(std::vector<const char*> args) {
+  return parse(std::move(args));
+}
+
+TEST(CliScriptingOptions, VersionHealthAndTheirServer) {
+  Parsed p = parse_words({"--version"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
+  p = parse_words({"--version", "--server", "render-box:7001"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
+  EXPECT_EQ(p.result.command->server, "render-box:7001");
+  p = parse_words({"version", "--server", "render-box:7000"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kVersion);
+  EXPECT_EQ(p.result.command->server, "render-box:7000");
+  p = parse_words({"health", "--address", "127.0.0.1:6000"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->kind, CommandKind::kHealth);
+  EXPECT_EQ(p.result.command->server, "127.0.0.1:6000");
+  p = parse_words({"health", "--address", "no-port"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, kExitUsage);
+}
+
+TEST(CliScriptingOptions, JsonListFiltersStdoutAndInterruptFlags) {
+  Parsed p = parse_words({"list", "--state", "running", "--limit", "5", "--json", "--label", "k"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->state_filter, "running");
+  EXPECT_EQ(p.result.command->limit, 5u);
+  EXPECT_TRUE(p.result.command->json);
+  p = parse_words({"list", "--state", "sleeping"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("--state"), std::string::npos) << p.err;
+  p = parse_words({"list", "--limit", "0"});
+  EXPECT_FALSE(p.result.command);
+
+  p = parse_words({"render", "s.yaml", "-o", "-", "--keep-partial"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->output_exr, "-");
+  EXPECT_TRUE(p.result.command->keep_partial);
+  p = parse_words({"watch", "job-1", "-o", "-", "--cancel"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_TRUE(p.result.command->cancel_on_interrupt);
+  p = parse_words({"watch", "job-1", "-o", "-", "--json"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("--json and -o -"), std::string::npos) << p.err;
+  p = parse_words({"render", "s.yaml", "-o", "image.png"});
+  EXPECT_FALSE(p.result.command);
+  for (const char* command : {"submit", "status", "list", "watch"}) {
+    std::vector<const char*> args = {command};
+    if (std::string(command) == "submit") args.push_back("s.yaml");
+    if (std::string(command) == "status" || std::string(command) == "watch") args.push_back("j");
+    if (std::string(command) == "watch") args.insert(args.end(), {"-o", "a.exr"});
+    args.push_back("--json");
+    p = parse_words(args);
+    ASSERT_TRUE(p.result.command) << command << ": " << p.err;
+    EXPECT_TRUE(p.result.command->json) << command;
+  }
+}
+
+TEST(CliScriptingOptions, RequestIdIsCheckedBeforeAnythingIsSent) {
+  Parsed p = parse_words({"submit", "s.yaml", "--request-id", "nightly-42"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->request_id, "nightly-42");
+  p = parse_words({"render", "s.yaml", "-o", "a.exr", "--request-id", "r"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->request_id, "r");
+  const std::string too_long(129, 'x');
+  p = parse_words({"submit", "s.yaml", "--request-id", too_long.c_str()});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("--request-id"), std::string::npos) << p.err;
+}
+
+TEST(CliScriptingOptions, UnknownCommandsAndFlagsGetADidYouMean) {
+  Parsed p = parse_words({"rendr", "s.yaml"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, kExitUsage);
+  EXPECT_NE(p.err.find("unknown command 'rendr' (did you mean 'render'?)"), std::string::npos)
+      << p.err;
+  p = parse_words({"render", "s.yaml", "-o", "a.exr", "--spd", "4"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("for '--spd' did you mean '--spp'?"), std::string::npos) << p.err;
+  p = parse_words({"list", "--submiter=me"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("did you mean '--submitter'?"), std::string::npos) << p.err;
+  p = parse_words({"list", "--zzzzzzzz"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.err.find("did you mean"), std::string::npos) << p.err;
+}
+
+const std::vector<std::string> kCommands = {
+    "render", "submit", "watch",  "list",   "status",  "cancel",  "delete", "pause",
+    "resume", "retry",  "update", "events", "denoise", "version", "health", "completion"};
+
+TEST(CliScriptingOptions, BashCompletionIsValidBashWithEveryCommandAndFlag) {
+  const Parsed p = parse_words({"completion", "bash"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, kExitOk) << p.err;
+  const std::filesystem::path script =
+      std::filesystem::temp_directory_path() /
+      ("tessera-completion-" + std::to_string(::getpid()) + ".bash");
+  std::ofstream(script) << p.out;
+  EXPECT_EQ(std::system(("bash -n " + script.string()).c_str()), 0) << p.out;
+  // Sourced, it registers the completion without error.
+  EXPECT_EQ(
+      std::system(
+          ("bash -c 'source " + script.string() + " && complete -p tessera > /dev/null'").c_str()),
+      0);
+  std::filesystem::remove(script);
+  for (const std::string& command : kCommands) {
+    EXPECT_NE(p.out.find(" " + command + ")"), std::string::npos) << command;
+    EXPECT_NE(p.out.find(command), std::string::npos) << command;
+  }
+  for (const char* flag : {"--keep-partial", "--request-id", "--json", "--state", "--limit",
+                           "--address", "--spp", "--server"})
+    EXPECT_NE(p.out.find(flag), std::string::npos) << flag;
+}
+
+TEST(CliScriptingOptions, ZshCompletionNamesEveryCommand) {
+  const Parsed p = parse_words({"completion", "zsh"});
+  EXPECT_EQ(p.result.exit_code, kExitOk) << p.err;
+  EXPECT_EQ(p.out.rfind("#compdef tessera\n", 0), 0u);
+  for (const std::string& command : kCommands)
+    EXPECT_NE(p.out.find("'" + command + ":"), std::string::npos) << command;
+  EXPECT_NE(p.out.find("compdef _tessera tessera"), std::string::npos);
+  // zsh is not a build dependency: its own syntax check runs where it is installed.
+  if (std::filesystem::exists("/usr/bin/zsh")) {
+    const std::filesystem::path script =
+        std::filesystem::temp_directory_path() /
+        ("tessera-completion-" + std::to_string(::getpid()) + ".zsh");
+    std::ofstream(script) << p.out;
+    EXPECT_EQ(std::system(("/usr/bin/zsh -n " + script.string()).c_str()), 0) << p.out;
+    EXPECT_EQ(std::system(("/usr/bin/zsh -c 'autoload -U compinit && compinit -u -D && source " +
+                           script.string() + " && [[ ${_comps[tessera]} == _tessera ]]'")
+                              .c_str()),
+              0);
+    std::filesystem::remove(script);
+  }
+  const Parsed bad = parse_words({"completion", "fish"});
+  EXPECT_EQ(bad.result.exit_code, kExitUsage);
 }
 
 }  // namespace

@@ -555,6 +555,123 @@ TEST_F(DaemonTest, UnfinishedJobsArePerSubmitterCapped) {
   EXPECT_EQ(status.error_message(), "submitter: must be at most 128 bytes, got 129");
 }
 
+// SubmitJob with a request id is idempotent per submitter: the same request again returns
+// the first job and creates none (also after a restart), another scene under the id is
+// ALREADY_EXISTS naming the job, and a malformed id is INVALID_ARGUMENT naming the field.
+TEST_F(DaemonTest, ARequestIdMakesSubmitJobIdempotent) {
+  v1::SubmitJobRequest request;
+  *request.mutable_scene() = tiny_scene();
+  *request.mutable_settings() = long_settings();
+  request.set_name("first");
+  request.set_submitter("alice");
+  request.set_request_id("3f2a9c0e4b1d4c8e");
+  v1::Job first;
+  ASSERT_TRUE(submit(request, &first).ok());
+  EXPECT_EQ(first.request_id(), "3f2a9c0e4b1d4c8e");
+  const auto job_count = [&] {
+    grpc::ClientContext context;
+    v1::ListJobsResponse list;
+    EXPECT_TRUE(stub_->ListJobs(&context, v1::ListJobsRequest(), &list).ok());
+    return list.jobs_size();
+  };
+
+  // A retry may rename; it is still the first job, as it is now.
+  request.set_name("renamed by the retry");
+  v1::Job again;
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_EQ(again.id(), first.id());
+  EXPECT_EQ(again.name(), "first");
+  EXPECT_EQ(job_count(), 1);
+
+  v1::SubmitJobRequest different = request;
+  different.mutable_settings()->set_samples_per_pixel(2);
+  grpc::Status status = submit(different);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::ALREADY_EXISTS);
+  EXPECT_NE(status.error_message().find("request_id: '3f2a9c0e4b1d4c8e' already created job " +
+                                        first.id()),
+            std::string::npos)
+      << status.error_message();
+  EXPECT_EQ(job_count(), 1);
+
+  // Another submitter's id is its own.
+  v1::SubmitJobRequest bobs = request;
+  bobs.set_submitter("bob");
+  v1::Job bob_job;
+  ASSERT_TRUE(submit(bobs, &bob_job).ok());
+  EXPECT_NE(bob_job.id(), first.id());
+
+  v1::SubmitJobRequest bad = request;
+  bad.set_request_id(std::string(129, 'r'));
+  status = submit(bad);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(status.error_message(), "request_id: must be at most 128 characters, got 129");
+  bad.set_request_id("line\nbreak");
+  EXPECT_EQ(submit(bad).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+
+  restart();
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_EQ(again.id(), first.id());
+  EXPECT_EQ(job_count(), 2);
+
+  // Deleting the job frees its id.
+  ASSERT_TRUE(cancel(first.id()).ok());
+  ASSERT_TRUE(remove(first.id()).ok());
+  ASSERT_TRUE(submit(request, &again).ok());
+  EXPECT_NE(again.id(), first.id());
+  EXPECT_TRUE(cancel(again.id()).ok());
+  EXPECT_TRUE(cancel(bob_job.id()).ok());
+}
+
+// GetServerInfo reports the configured limits (not the defaults), the worker threads, the
+// version, and capabilities read from the renderer's tables.
+TEST_F(DaemonTest, GetServerInfoReportsVersionLimitsDevicesAndCapabilities) {
+  restart([](DaemonConfig& config) {
+    config.limits.max_width = 2048;
+    config.limits.max_samples_per_pixel = 1024;
+    config.memory_budget = std::size_t{3} << 30;
+    config.max_jobs_per_submitter = 7;
+    config.max_receive_message_bytes = std::size_t{64} << 20;
+  });
+  grpc::ClientContext context;
+  v1::ServerInfo info;
+  const grpc::Status status = stub_->GetServerInfo(&context, v1::GetServerInfoRequest(), &info);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(info.version(), TESSERA_VERSION);
+  EXPECT_FALSE(info.build().compiler().empty());
+  ASSERT_EQ(info.devices_size(), 1);
+  EXPECT_EQ(info.devices(0).kind(), "cpu");
+  EXPECT_EQ(info.devices(0).threads(), 2u);
+  EXPECT_EQ(info.limits().max_width(), 2048u);
+  EXPECT_EQ(info.limits().max_height(), SceneLimits().max_height);
+  EXPECT_EQ(info.limits().max_samples_per_pixel(), 1024u);
+  EXPECT_EQ(info.limits().memory_budget_bytes(), std::uint64_t{3} << 30);
+  EXPECT_EQ(info.limits().max_jobs_per_submitter(), 7u);
+  EXPECT_EQ(info.limits().max_receive_message_bytes(), std::uint64_t{64} << 20);
+  EXPECT_EQ(info.limits().prepare_timeout_seconds(), 600.0);
+
+  const v1::Capabilities& c = info.capabilities();
+  EXPECT_EQ(static_cast<std::size_t>(c.integrators_size()), integrator_names().size());
+  EXPECT_EQ(static_cast<std::size_t>(c.material_types_size()), material_type_names().size());
+  EXPECT_EQ(static_cast<std::size_t>(c.aovs_size()), aov_names().size());
+  const auto has = [](const auto& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
+  EXPECT_TRUE(has(c.integrators(), "path"));
+  EXPECT_TRUE(has(c.samplers(), "sobol"));
+  EXPECT_TRUE(has(c.light_strategies(), "mis"));
+  EXPECT_TRUE(has(c.material_types(), "glass"));
+  EXPECT_TRUE(has(c.pixel_filters(), "blackman_harris"));
+  EXPECT_TRUE(has(c.texture_types(), "checker"));
+  // Every shape of the API's Geometry oneof, and nothing else.
+  const auto* shape = v1::Geometry::descriptor()->FindOneofByName("shape");
+  ASSERT_NE(shape, nullptr);
+  ASSERT_EQ(c.geometry_kinds_size(), shape->field_count());
+  for (int i = 0; i < shape->field_count(); ++i)
+    EXPECT_TRUE(has(c.geometry_kinds(), shape->field(i)->name())) << shape->field(i)->name();
+  EXPECT_TRUE(c.progressive_passes());
+  EXPECT_TRUE(c.idempotent_submit());
+}
+
 TEST(Daemon, ShutdownFromAnotherThreadReleasesWait) {
   DaemonConfig config;
   config.listen = "127.0.0.1:0";

@@ -438,5 +438,98 @@ TEST(EscapeClientText, KeepsPrintableAsciiAndEscapesEverythingElse) {
   EXPECT_EQ(escape_client_text("abcdef", 3), "abc...");
 }
 
+// A request id names one job per submitter while the job exists: taken ids are refused with
+// the job they name, other submitters have their own ids, deleting the job frees the id,
+// and all of it is in the file.
+TEST_F(SqliteJobStoreTest, ARequestIdNamesOneJobOfItsSubmitterWhileTheJobExists) {
+  JobRecord first = record("job-a");
+  first.submitter = "alice";
+  first.request_id = "req-1";
+  first.request_fingerprint = "fp-1";
+  {
+    SqliteJobStore store(file());
+    const JobRecord created = store.create_job(first, scene());
+    EXPECT_EQ(created.request_id, "req-1");
+    EXPECT_EQ(created.request_fingerprint, "fp-1");
+    JobRecord again = record("job-b");
+    again.submitter = "alice";
+    again.request_id = "req-1";
+    again.request_fingerprint = "fp-2";
+    try {
+      store.create_job(again, scene());
+      ADD_FAILURE() << "a second job took request id req-1";
+    } catch (const RequestIdTaken& e) {
+      EXPECT_EQ(e.existing().id, "job-a");
+      EXPECT_EQ(e.existing().request_fingerprint, "fp-1");
+    }
+    EXPECT_FALSE(store.find_job("job-b"));
+    // Bob's req-1 is his own.
+    again.submitter = "bob";
+    EXPECT_EQ(store.create_job(again, scene()).request_id, "req-1");
+    EXPECT_EQ(rows("jobs"), 2);
+    // Jobs without a request id never collide on it.
+    store.create_job(record("job-c"), scene());
+    store.create_job(record("job-d"), scene());
+    EXPECT_EQ(store.find_job("job-c")->request_id, "");
+    EXPECT_EQ(rows("job_requests"), 2);
+  }
+  // Across a restart, and by the submitter at submission, not the one UpdateJob set since.
+  SqliteJobStore store(file());
+  JobUpdate moved;
+  moved.submitter = "carol";
+  store.update_job("job-a", moved);
+  const auto found = store.find_job_by_request("alice", "req-1");
+  ASSERT_TRUE(found);
+  EXPECT_EQ(found->id, "job-a");
+  EXPECT_FALSE(store.find_job_by_request("carol", "req-1"));
+  EXPECT_EQ(store.find_job_by_request("bob", "req-1")->id, "job-b");
+  EXPECT_FALSE(store.find_job_by_request("alice", "req-2"));
+
+  ASSERT_TRUE(store.finish_job("job-a", JobState::kCancelled, "test", 5));
+  ASSERT_TRUE(store.delete_job("job-a"));
+  EXPECT_FALSE(store.find_job_by_request("alice", "req-1"));
+  EXPECT_EQ(rows("job_requests"), 1);
+  JobRecord reused = record("job-e");
+  reused.submitter = "alice";
+  reused.request_id = "req-1";
+  EXPECT_EQ(store.create_job(reused, scene()).id, "job-e");
+}
+
+// A version 2 file (before request ids) opens as version 3 with its jobs intact, and takes
+// request ids from then on.
+TEST_F(SqliteJobStoreTest, AVersion2FileIsUpgradedInPlace) {
+  {
+    SqliteJobStore store(file());
+    store.create_job(record("old-job"), scene("old scene"));
+  }
+  {
+    // What version 2 wrote: the same tables without job_requests.
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "DROP TABLE job_requests; PRAGMA user_version = 2;", nullptr,
+                           nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  SqliteJobStore store(file());
+  const auto old = store.find_job("old-job");
+  ASSERT_TRUE(old);
+  EXPECT_EQ(old->name, "name of old-job");
+  EXPECT_EQ(old->request_id, "");
+  EXPECT_EQ(store.scene("old-job")->scene_proto, "old scene");
+  JobRecord fresh = record("new-job");
+  fresh.request_id = "req-1";
+  store.create_job(fresh, scene());
+  EXPECT_EQ(store.find_job_by_request("", "req-1")->id, "new-job");
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(file().c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* q = nullptr;
+  sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &q, nullptr);
+  sqlite3_step(q);
+  EXPECT_EQ(sqlite3_column_int(q, 0), 3);
+  sqlite3_finalize(q);
+  sqlite3_close(db);
+}
+
 }  // namespace
 }  // namespace tessera::server

@@ -1,0 +1,13 @@
+#pragma once
+#include "server/config.hpp"
+#include "tessera/v1/render.pb.h"
+
+namespace tessera::server {
+
+// GetServerInfo's answer for a daemon running with `config`: its version and build, its
+// devices, the limits it enforces (the memory budget resolved) and what the renderer
+// supports. The capabilities are read from the renderer's own name tables and kind
+// declarations, not listed here, so a new integrator or shape appears without an edit.
+v1::ServerInfo make_server_info(const DaemonConfig& config);
+
+}  // namespace tessera::server
