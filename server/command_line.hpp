@@ -19,8 +19,9 @@ struct CommandLine {
 inline constexpr int kExitUsage = 2;
 
 // Parses `tesserad [--listen HOST:PORT] [--threads N] [--data DIR] [--config FILE.yaml]
-// [--log-level LEVEL] [--version] [--help]`. Settings come from the defaults, then the
-// config file, then the flags given explicitly; the result is validated.
+// [--log-level LEVEL] [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]]
+// [--allow-insecure-remote] [--tokens FILE] [--version] [--help]`. Settings come from the defaults,
+// then the config file, then the flags given explicitly; the result is validated.
 CommandLine parse_command_line(int argc, const char* const argv[]);
 
 }  // namespace tessera::server
