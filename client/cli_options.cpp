@@ -133,6 +133,40 @@ void add_preview_options(CLI::App& command, CliCommand& cmd) {
       ->check(CLI::IsMember({"clamp", "aces"}));
 }
 
+// The TLS and token flags, on every command that has --server (so a command added later
+// gets them too).
+void add_security_options(CLI::App& command, ConnectionSecurity& security) {
+  // Named FILE by type_name alone, not "FILE:FILE".
+  const CLI::Validator existing_file = CLI::Validator(CLI::ExistingFile).description("");
+  command
+      .add_option("--token", security.token,
+                  "bearer token for a server started with --tokens (prefer the environment "
+                  "variable: a flag shows in the process list)")
+      ->envname("TESSERA_TOKEN")
+      ->type_name("TOKEN");
+  command
+      .add_option("--ca", security.ca_file,
+                  "CA certificate (PEM) the server's TLS certificate must chain to; implies --tls")
+      ->envname("TESSERA_CA")
+      ->type_name("FILE")
+      ->check(existing_file);
+  CLI::Option* cert =
+      command
+          .add_option("--client-cert", security.client_cert_file,
+                      "this client's certificate (PEM) for a server that requires one (mTLS); "
+                      "implies --tls")
+          ->type_name("FILE")
+          ->check(existing_file);
+  CLI::Option* key =
+      command.add_option("--client-key", security.client_key_file, "the client certificate's key")
+          ->type_name("FILE")
+          ->check(existing_file);
+  cert->needs(key);
+  key->needs(cert);
+  command.add_flag("--tls", security.tls,
+                   "connect with TLS, checking the server against the system's CA certificates");
+}
+
 }  // namespace
 
 ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
@@ -250,6 +284,17 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".png"));
   add_preview_options(*denoise, cmd);
 
+  CLI::App* token = app.add_subcommand("token", "helpers for tesserad's bearer tokens");
+  token->require_subcommand(1);
+  CLI::App* token_hash = token->add_subcommand(
+      "hash",
+      "read a token from stdin and print its SHA-256 (hex) for tesserad's tokens file; one "
+      "trailing newline is ignored");
+
+  for (CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (command->get_option_no_throw("--server") != nullptr)
+      add_security_options(*command, cmd.security);
+
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {
     const auto commands = app.get_subcommands([](const CLI::App*) { return true; });
@@ -258,7 +303,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   };
   const char* const expected =
       "expected render, submit, watch, list, status, cancel, delete, pause, resume, retry, "
-      "update, events or denoise; see 'tessera --help'";
+      "update, events, denoise or token; see 'tessera --help'";
   if (argc <= 1) {
     err << "tessera: no command given (" << expected << ")\n";
     return {std::nullopt, kExitUsage};
@@ -314,6 +359,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     }
   } else if (events->parsed()) {
     cmd.kind = CommandKind::kEvents;
+  } else if (token_hash->parsed()) {
+    cmd.kind = CommandKind::kTokenHash;
   } else if (denoise->parsed()) {
     cmd.kind = CommandKind::kDenoise;
     if (cmd.output_exr.empty()) cmd.output_exr = cmd.input_exr;

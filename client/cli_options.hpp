@@ -22,7 +22,18 @@ enum class CommandKind {
   kResume,
   kRetry,
   kUpdate,
-  kEvents
+  kEvents,
+  kTokenHash
+};
+
+// How every command that talks to a server (those with --server) authenticates and
+// encrypts (client_connection.hpp turns it into ClientOptions).
+struct ConnectionSecurity {
+  std::string token;             // --token or TESSERA_TOKEN: the bearer token; empty: none
+  std::string ca_file;           // --ca or TESSERA_CA: the server's CA (PEM); implies TLS
+  std::string client_cert_file;  // --client-cert: this client's certificate (PEM), mTLS
+  std::string client_key_file;   // --client-key: its private key (PEM)
+  bool tls = false;              // --tls: TLS with the system's roots, no --ca needed
 };
 
 // Values given on the command line replace the scene file's `render` section.
@@ -62,6 +73,7 @@ struct CliCommand {
   std::string submitter;                     // submit; list and events: filter
   std::string label_filter;                  // list, events: "key=value" or "key"
   std::string name_filter;                   // list
+  ConnectionSecurity security;
 };
 
 struct ParsedCommandLine {

@@ -9,16 +9,19 @@
 #include <ctime>
 #include <filesystem>
 #include <iomanip>
+#include <iostream>
 #include <memory>
 #include <mutex>
 #include <sstream>
 #include <thread>
 
 #include "client/client.hpp"
+#include "client/client_connection.hpp"
 #include "client/denoise_file.hpp"
 #include "client/local_render.hpp"
 #include "client/progress.hpp"
 #include "client/tile_assembler.hpp"
+#include "client/token_hash.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/camera.hpp"
@@ -427,7 +430,7 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   // Open the output before queueing work, so an unwritable path fails fast.
   auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
                                scene.render.aovs, scene.render.pass_count());
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     job = client.submit(make_submit_request(scene, job_name(cmd), cmd.priority));
@@ -513,7 +516,7 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
 
 int submit(const CliCommand& cmd, const CommandOutput& io) {
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
     add_labels(cmd.labels, *request.mutable_labels());
@@ -528,7 +531,7 @@ int submit(const CliCommand& cmd, const CommandOutput& io) {
 
 int watch(const CliCommand& cmd, const CommandOutput& io) {
   const Clock::time_point start = Clock::now();
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     job = client.get(cmd.job_id);
@@ -546,7 +549,7 @@ std::string progress_cell(const v1::Job& job) {
 }
 
 int list(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   std::vector<v1::Job> jobs;
   v1::ListJobsRequest filters;
   filters.set_label(cmd.label_filter);
@@ -583,7 +586,7 @@ int list(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int status(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     job = client.get(cmd.job_id);
@@ -616,7 +619,7 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int cancel(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     const v1::Job job = client.cancel(cmd.job_id);
     io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
@@ -627,7 +630,7 @@ int cancel(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int remove(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     client.remove(cmd.job_id);
     io.out << "job " << cmd.job_id << ": deleted\n" << std::flush;
@@ -640,7 +643,7 @@ int remove(const CliCommand& cmd, const CommandOutput& io) {
 // pause, resume, retry: one call naming a job; prints the job's state after it.
 template <typename Call>
 int control(const CliCommand& cmd, const CommandOutput& io, const std::string& verb, Call&& call) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     const v1::Job job = call(client);
     io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
@@ -652,7 +655,7 @@ int control(const CliCommand& cmd, const CommandOutput& io, const std::string& v
 }
 
 int update(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::UpdateJobRequest request;
   request.set_job_id(cmd.job_id);
   if (cmd.new_priority) request.set_priority(*cmd.new_priority);
@@ -672,7 +675,7 @@ int update(const CliCommand& cmd, const CommandOutput& io) {
 
 // One line per event: time, job, state, progress, name; "(snapshot)" for the opening ones.
 int events(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::WatchJobsRequest request;
   request.set_job_id(cmd.job_id);
   request.set_submitter(cmd.submitter);
@@ -715,6 +718,17 @@ int denoise_file(const CliCommand& cmd, const CommandOutput& io) {
   return kExitOk;
 }
 
+int token_hash(const CommandOutput& io) {
+  std::string digest;
+  try {
+    digest = hash_token(std::cin);
+  } catch (const std::invalid_argument& e) {
+    throw CommandFailure{kExitUsage, std::string("token hash: ") + e.what()};
+  }
+  io.out << digest << '\n' << std::flush;
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_command(const CliCommand& command, const CommandOutput& io) {
@@ -746,6 +760,8 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return update(command, io);
       case CommandKind::kEvents:
         return events(command, io);
+      case CommandKind::kTokenHash:
+        return token_hash(io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {
