@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 
 #include "tessera/scene/scene_description.hpp"
@@ -140,14 +141,13 @@ void add_security_options(CLI::App& command, ConnectionSecurity& security) {
   const CLI::Validator existing_file = CLI::Validator(CLI::ExistingFile).description("");
   command
       .add_option("--token", security.token,
-                  "bearer token for a server started with --tokens (prefer the environment "
-                  "variable: a flag shows in the process list)")
-      ->envname("TESSERA_TOKEN")
+                  "bearer token for a server started with --tokens (default: $TESSERA_TOKEN, "
+                  "which is safer: a flag shows in the process list)")
       ->type_name("TOKEN");
   command
       .add_option("--ca", security.ca_file,
-                  "CA certificate (PEM) the server's TLS certificate must chain to; implies --tls")
-      ->envname("TESSERA_CA")
+                  "CA certificate (PEM) the server's TLS certificate must chain to; implies --tls "
+                  "(default: $TESSERA_CA)")
       ->type_name("FILE")
       ->check(existing_file);
   CLI::Option* cert =
@@ -165,6 +165,21 @@ void add_security_options(CLI::App& command, ConnectionSecurity& security) {
   key->needs(cert);
   command.add_flag("--tls", security.tls,
                    "connect with TLS, checking the server against the system's CA certificates");
+}
+
+// TESSERA_TOKEN and TESSERA_CA where the flags are not given; why TESSERA_CA is unusable,
+// or nothing. Read here rather than with CLI11's envname: CLI11 2.1 fills the environment
+// into the options of every subcommand, parsed or not, and all of them write the same
+// variable, so the environment would override the flag of the command that ran.
+std::optional<std::string> apply_security_environment(ConnectionSecurity& security) {
+  if (const char* token = std::getenv("TESSERA_TOKEN"); token && security.token.empty())
+    security.token = token;
+  if (const char* ca = std::getenv("TESSERA_CA"); ca && *ca && security.ca_file.empty()) {
+    if (!std::filesystem::is_regular_file(ca))
+      return std::string("TESSERA_CA: '") + ca + "' is not a file";
+    security.ca_file = ca;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -326,6 +341,11 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       if (sub->parsed()) where += " " + sub->get_name();
     }
     err << "tessera: " << e.what() << " (see '" << where << " --help')\n";
+    return {std::nullopt, kExitUsage};
+  }
+
+  if (const auto problem = apply_security_environment(cmd.security)) {
+    err << "tessera: " << *problem << '\n';
     return {std::nullopt, kExitUsage};
   }
 

@@ -36,8 +36,8 @@ struct ClientOptions {
   std::chrono::milliseconds reconnect_window{60'000};
   // Sent as `authorization: Bearer <token>` with every call of the channel make_channel
   // builds (tesserad --tokens); empty: none.
-  std::string token;
-  ClientTls tls;
+  std::string token{};
+  ClientTls tls{};
 };
 
 // A connection to one tesserad. Thread-safe: calls may run concurrently (a stream on one
