@@ -2,7 +2,10 @@
 # a slim runtime stage holds the two binaries, the shared libraries they link and nothing else.
 #
 #   docker build -t tessera .
-#   docker run -p 50051:50051 -v tessera-data:/var/lib/tessera tessera
+#   docker run -p 127.0.0.1:50051:50051 -v tessera-data:/var/lib/tessera tessera
+#
+# The default CMD serves plaintext without tokens: publish the port on loopback only, or
+# give tesserad a certificate, key and tokens file (README "Security") to serve a network.
 #
 # deploy/check-image.sh builds and checks this image without a Docker engine (buildah + podman).
 
@@ -13,7 +16,7 @@ ARG RUNTIME_IMAGE=debian:bookworm-slim
 # The Debian packages holding the shared libraries tesserad and tessera link directly; apt
 # brings in what those need in turn. The builder stage checks this list against the binaries
 # it built (deploy/runtime-packages.sh) and the runtime stage runs ldd, so it cannot drift.
-ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0"
+ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libssl3"
 
 # ---------------------------------------------------------------------------------------------
 FROM ${BASE_IMAGE} AS build
@@ -71,4 +74,9 @@ VOLUME ["/var/lib/tessera"]
 HEALTHCHECK --interval=30s --timeout=5s --start-period=10s --retries=3 \
   CMD ["bash", "-c", "exec 3<>/dev/tcp/127.0.0.1/50051"]
 ENTRYPOINT ["tesserad"]
-CMD ["--listen", "0.0.0.0:50051", "--data", "/var/lib/tessera"]
+# Inside the container 0.0.0.0 is what a published port reaches, and plaintext there is
+# refused unless allowed explicitly; whether the network sees it is up to how the port is
+# published. To serve other machines, mount the files and run with
+#   --listen 0.0.0.0:50051 --data /var/lib/tessera --tls-cert /etc/tessera/server.crt
+#   --tls-key /etc/tessera/server.key --tokens /etc/tessera/tokens.yaml
+CMD ["--listen", "0.0.0.0:50051", "--data", "/var/lib/tessera", "--allow-insecure-remote"]

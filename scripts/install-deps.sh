@@ -10,6 +10,7 @@ packages=(
   libyaml-cpp-dev libspdlog-dev libglm-dev libsqlite3-dev libsqlitecpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  libssl-dev openssl
 )
 # Optional: Embree is only a benchmark yardstick; never a dependency of tesserad. clang and
 # its runtime libraries (libFuzzer) build `make fuzz`; `make test` does without them.
