@@ -126,7 +126,13 @@ class CancelOnInterrupt {
 std::string describe(const ClientError& e, const std::string& server, const std::string& doing) {
   switch (e.code()) {
     case grpc::StatusCode::UNAVAILABLE:
-      return "cannot reach the server at " + server + " (is tesserad running?): " + e.what();
+      if (e.message().find("andshake failed") != std::string::npos)
+        return "the TLS handshake with the server at " + server +
+               " failed (does --ca name the CA that signed its certificate? does it require "
+               "--client-cert?): " +
+               e.what();
+      return "cannot reach the server at " + server +
+             " (is tesserad running? if it serves TLS, give --ca or --tls): " + e.what();
     case grpc::StatusCode::DEADLINE_EXCEEDED:
       return "the server at " + server + " did not answer in time: " + e.what();
     default:
