@@ -14,9 +14,12 @@
 #include <future>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <thread>
 
+#include "client/cli_options.hpp"
 #include "client/client.hpp"
+#include "client/commands.hpp"
 #include "client/token_hash.hpp"
 #include "convert/scene_proto.hpp"
 #include "cornell_scene.hpp"
@@ -407,6 +410,73 @@ TEST_F(SecurityTest, TesseradRefusesABadTokensFileNamingEntryAndField) {
             std::string::npos)
       << output;
   EXPECT_EQ(output.find("listening"), std::string::npos) << output;
+}
+
+// ---- The CLI ------------------------------------------------------------------------------
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+// `tessera ARGS...` in this process: parsed as the command line is, then run.
+CliRun run_tessera(std::vector<std::string> args) {
+  args.insert(args.begin(), "tessera");
+  std::vector<const char*> argv;
+  for (const std::string& arg : args) argv.push_back(arg.c_str());
+  std::ostringstream out, err;
+  const ParsedCommandLine parsed =
+      parse_command_line(static_cast<int>(argv.size()), argv.data(), out, err);
+  if (!parsed.command) return {parsed.exit_code, out.str(), err.str()};
+  const int code = run_command(*parsed.command, {out, err, false});
+  return {code, out.str(), err.str()};
+}
+
+TEST_F(SecurityTest, TheCliRendersThroughMutualTlsWithAToken) {
+  server::DaemonConfig config = base_config();
+  config.tls_cert = certificates().server_cert();
+  config.tls_key = certificates().server_key();
+  config.tls_client_ca = certificates().ca();
+  config.tokens_file = tokens_file();
+  start(config);
+  const test::TestCertificates& files = certificates();
+  const std::vector<std::string> connection = {"--server",      daemon_->address(),
+                                               "--ca",          files.ca().string(),
+                                               "--client-cert", files.path("client.crt").string(),
+                                               "--client-key",  files.path("client.key").string()};
+  const auto with = [&](std::vector<std::string> args, const std::vector<std::string>& extra) {
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  const std::string output = (dir_ / "cornell.exr").string();
+
+  const CliRun render =
+      run_tessera(with({"render", test::kCornell, "-o", output, "--width", "16", "--height", "16",
+                        "--spp", "1", "--tile-size", "16", "--token", kAliceToken},
+                       connection));
+  EXPECT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_TRUE(std::filesystem::exists(output));
+  const CliRun listed = run_tessera(with({"list", "--token", kAliceToken}, connection));
+  EXPECT_EQ(listed.exit_code, 0) << listed.err;
+  EXPECT_NE(listed.out.find("completed"), std::string::npos) << listed.out;
+  EXPECT_NE(listed.out.find("cornell"), std::string::npos) << listed.out;
+
+  const CliRun no_token = run_tessera(with({"list"}, connection));
+  EXPECT_EQ(no_token.exit_code, 1);
+  EXPECT_NE(no_token.err.find("UNAUTHENTICATED"), std::string::npos) << no_token.err;
+
+  const CliRun plaintext =
+      run_tessera({"list", "--server", daemon_->address(), "--token", kAliceToken});
+  EXPECT_EQ(plaintext.exit_code, 1);
+  EXPECT_NE(plaintext.err.find("if it serves TLS, give --ca or --tls"), std::string::npos)
+      << plaintext.err;
+
+  const CliRun wrong_ca =
+      run_tessera({"list", "--server", daemon_->address(), "--token", kAliceToken, "--ca",
+                   files.other_ca().string(), "--client-cert", files.path("client.crt").string(),
+                   "--client-key", files.path("client.key").string()});
+  EXPECT_EQ(wrong_ca.exit_code, 1);
+  EXPECT_NE(wrong_ca.err.find("TLS handshake"), std::string::npos) << wrong_ca.err;
 }
 
 }  // namespace
