@@ -181,9 +181,7 @@ grpc::Status RenderServiceImpl::update(const Caller& caller, const v1::UpdateJob
   if (!job) return status;
   // Handing a job to another submitter would charge their cap and hide it from its owner.
   if (change.submitter && !caller.may_act_on(*change.submitter))
-    return permission_denied(
-        "submitter: only an admin token may give a job to another "
-        "submitter");
+    return permission_denied("submitter: only an admin token may give a job to another submitter");
   JobLabels labels = job->record().labels;
   for (const std::string& key : change.remove_labels) labels.erase(key);
   for (const auto& [key, value] : change.set_labels) labels[key] = value;
