@@ -397,6 +397,14 @@ TEST_F(SecurityTest, ASubmitTokenReachesOnlyItsOwnJobsAndAnAdminReachesAll) {
   EXPECT_EQ(bob.get(theirs.id()).state(), v1::JOB_STATE_CANCELLED);
   EXPECT_EQ(alice.cancel(mine.id()).state(), v1::JOB_STATE_CANCELLED);
   EXPECT_NO_THROW(admin.remove(theirs.id()));
+
+  // Only the admin moves a job between submitters; then it is the new owner's alone.
+  v1::UpdateJobRequest hand_over;
+  hand_over.set_job_id(mine.id());
+  hand_over.set_submitter("bob");
+  EXPECT_EQ(admin.update(hand_over).submitter(), "bob");
+  EXPECT_EQ(bob.get(mine.id()).submitter(), "bob");
+  EXPECT_EQ(code_of([&] { alice.get(mine.id()); }), grpc::StatusCode::PERMISSION_DENIED);
 }
 
 TEST_F(SecurityTest, TesseradRefusesABadTokensFileNamingEntryAndField) {
