@@ -2,8 +2,11 @@
 # a slim runtime stage holds the two binaries, the shared libraries they link and nothing else.
 #
 #   docker build -t tessera .
-#   docker run -p 50051:50051 -v tessera-data:/var/lib/tessera tessera
-#   docker run -e TESSERAD_LISTEN=0.0.0.0:6000 -p 6000:6000 ... tessera   (another port)
+#   docker run -p 127.0.0.1:50051:50051 -v tessera-data:/var/lib/tessera tessera
+#   docker run -e TESSERAD_LISTEN=0.0.0.0:6000 -p 127.0.0.1:6000:6000 ... tessera   (another port)
+#
+# The image serves plaintext without tokens: publish the port on loopback only, or give
+# tesserad a certificate, key and tokens file (README "Security") to serve a network.
 #
 # deploy/check-image.sh builds and checks this image without a Docker engine (buildah + podman).
 
@@ -14,7 +17,7 @@ ARG RUNTIME_IMAGE=debian:bookworm-slim
 # The Debian packages holding the shared libraries tesserad and tessera link directly; apt
 # brings in what those need in turn. The builder stage checks this list against the binaries
 # it built (deploy/runtime-packages.sh) and the runtime stage runs ldd, so it cannot drift.
-ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libcpp-httplib0.11"
+ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libcpp-httplib0.11 libssl3"
 
 # ---------------------------------------------------------------------------------------------
 FROM ${BASE_IMAGE} AS build
@@ -71,8 +74,15 @@ WORKDIR /var/lib/tessera
 # moves both. (A --listen flag would override the variable for tesserad but not for the
 # check: set the variable instead.)
 ARG PORT=50051
+# Inside the container 0.0.0.0 is what a published port reaches, and tesserad refuses
+# plaintext there unless allowed explicitly; whether the network sees it is up to how the
+# port is published. To serve other machines, mount the files and set instead
+#   TESSERAD_ALLOW_INSECURE_REMOTE=false TESSERAD_TLS_CERT=/etc/tessera/server.crt
+#   TESSERAD_TLS_KEY=/etc/tessera/server.key TESSERAD_TOKENS=/etc/tessera/tokens.yaml
+#   TESSERA_CA=/etc/tessera/ca.crt   (so the HEALTHCHECK's client trusts the certificate)
 ENV TESSERAD_LISTEN=0.0.0.0:${PORT} \
-    TESSERAD_DATA=/var/lib/tessera
+    TESSERAD_DATA=/var/lib/tessera \
+    TESSERAD_ALLOW_INSECURE_REMOTE=true
 EXPOSE ${PORT}
 VOLUME ["/var/lib/tessera"]
 # `tessera health` asks the gRPC health service, which answers SERVING only once tesserad

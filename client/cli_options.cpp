@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 
 #include "client/cli_completion.hpp"
@@ -198,6 +199,54 @@ std::string unknown_flag_hint(const CLI::App& command, int argc, const char* con
   return {};
 }
 
+// The TLS and token flags, on every command that has --server (so a command added later
+// gets them too).
+void add_security_options(CLI::App& command, ConnectionSecurity& security) {
+  // Named FILE by type_name alone, not "FILE:FILE".
+  const CLI::Validator existing_file = CLI::Validator(CLI::ExistingFile).description("");
+  command
+      .add_option("--token", security.token,
+                  "bearer token for a server started with --tokens (default: $TESSERA_TOKEN, "
+                  "which is safer: a flag shows in the process list)")
+      ->type_name("TOKEN");
+  command
+      .add_option("--ca", security.ca_file,
+                  "CA certificate (PEM) the server's TLS certificate must chain to; implies --tls "
+                  "(default: $TESSERA_CA)")
+      ->type_name("FILE")
+      ->check(existing_file);
+  CLI::Option* cert =
+      command
+          .add_option("--client-cert", security.client_cert_file,
+                      "this client's certificate (PEM) for a server that requires one (mTLS); "
+                      "implies --tls")
+          ->type_name("FILE")
+          ->check(existing_file);
+  CLI::Option* key =
+      command.add_option("--client-key", security.client_key_file, "the client certificate's key")
+          ->type_name("FILE")
+          ->check(existing_file);
+  cert->needs(key);
+  key->needs(cert);
+  command.add_flag("--tls", security.tls,
+                   "connect with TLS, checking the server against the system's CA certificates");
+}
+
+// TESSERA_TOKEN and TESSERA_CA where the flags are not given; why TESSERA_CA is unusable,
+// or nothing. Read here rather than with CLI11's envname: CLI11 2.1 fills the environment
+// into the options of every subcommand, parsed or not, and all of them write the same
+// variable, so the environment would override the flag of the command that ran.
+std::optional<std::string> apply_security_environment(ConnectionSecurity& security) {
+  if (const char* token = std::getenv("TESSERA_TOKEN"); token && security.token.empty())
+    security.token = token;
+  if (const char* ca = std::getenv("TESSERA_CA"); ca && *ca && security.ca_file.empty()) {
+    if (!std::filesystem::is_regular_file(ca))
+      return std::string("TESSERA_CA: '") + ca + "' is not a file";
+    security.ca_file = ca;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ostream& out,
@@ -353,6 +402,13 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
       ->check(extension_validator(".png"));
   add_preview_options(*denoise, cmd);
 
+  CLI::App* token = app.add_subcommand("token", "helpers for tesserad's bearer tokens");
+  token->require_subcommand(1);
+  CLI::App* token_hash = token->add_subcommand(
+      "hash",
+      "read a token from stdin and print its SHA-256 (hex) for tesserad's tokens file; one "
+      "trailing newline is ignored");
+
   CLI::App* version = app.add_subcommand(
       "version", "print this client's version and the server's (when it can be reached)");
   add_server_option(*version, cmd.server);
@@ -381,6 +437,10 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     version_argv[1] = "version";
     argv = version_argv.data();
   }
+
+  for (CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (command->get_option_no_throw("--server") != nullptr)
+      add_security_options(*command, cmd.security);
 
   // CLI11 reports an unknown first word only as "A subcommand is required".
   const auto is_command = [&app](const std::string& word) {
@@ -430,6 +490,10 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     out << completion_script(app, completion_shell, "tessera") << std::flush;
     return {std::nullopt, kExitOk};
   }
+  if (const auto problem = apply_security_environment(cmd.security)) {
+    err << "tessera: " << *problem << '\n';
+    return {std::nullopt, kExitUsage};
+  }
 
   if (render->parsed()) {
     cmd.kind = CommandKind::kRender;
@@ -472,6 +536,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
     cmd.kind = CommandKind::kVersion;
   } else if (health->parsed()) {
     cmd.kind = CommandKind::kHealth;
+  } else if (token_hash->parsed()) {
+    cmd.kind = CommandKind::kTokenHash;
   } else if (denoise->parsed()) {
     cmd.kind = CommandKind::kDenoise;
     if (cmd.output_exr.empty()) cmd.output_exr = cmd.input_exr;

@@ -25,7 +25,18 @@ enum class CommandKind {
   kEvents,
   kConvert,
   kVersion,  // tessera --version, tessera version
-  kHealth
+  kHealth,
+  kTokenHash
+};
+
+// How every command that talks to a server (those with --server) authenticates and
+// encrypts (client_connection.hpp turns it into ClientOptions).
+struct ConnectionSecurity {
+  std::string token;             // --token or TESSERA_TOKEN: the bearer token; empty: none
+  std::string ca_file;           // --ca or TESSERA_CA: the server's CA (PEM); implies TLS
+  std::string client_cert_file;  // --client-cert: this client's certificate (PEM), mTLS
+  std::string client_key_file;   // --client-key: its private key (PEM)
+  bool tls = false;              // --tls: TLS with the system's roots, no --ca needed
 };
 
 // Values given on the command line replace the scene file's `render` section.
@@ -75,6 +86,7 @@ struct CliCommand {
   bool cancel_on_interrupt = false;  // watch: Ctrl-C also cancels the job (render always does)
   // Set by the commands for `-o -`: output_exr is then a temporary file copied to stdout.
   bool output_to_stdout = false;
+  ConnectionSecurity security;
 };
 
 // The exit code of a command ended by Ctrl-C (128 + SIGINT, as shells report it).

@@ -13,6 +13,18 @@
 
 namespace tessera {
 
+// How a client proves who it is and whom it talks to. Over plaintext (the default) the
+// server must be on loopback or allow insecure remotes.
+struct ClientTls {
+  bool enabled = false;
+  // The CA certificates (PEM) the server's certificate must chain to; empty: gRPC's default
+  // roots (the system's, or GRPC_DEFAULT_SSL_ROOTS_FILE_PATH).
+  std::string root_certs_pem;
+  // For mutual TLS: this client's certificate chain and private key (PEM), both or neither.
+  std::string client_cert_pem;
+  std::string client_key_pem;
+};
+
 struct ClientOptions {
   // A gRPC target: "host:port", "dns:///host:port", "unix:/path".
   std::string target = "127.0.0.1:50051";
@@ -28,6 +40,10 @@ struct ClientOptions {
   // How long stream_tiles keeps re-attaching to a daemon that went away (restarting)
   // since the last tile it received; 0: not at all.
   std::chrono::milliseconds reconnect_window{60'000};
+  // Sent as `authorization: Bearer <token>` with every call of the channel make_channel
+  // builds (tesserad --tokens); empty: none.
+  std::string token{};
+  ClientTls tls{};
 };
 
 // A connection to one tesserad. Thread-safe: calls may run concurrently (a stream on one
@@ -35,8 +51,10 @@ struct ClientOptions {
 // message.
 class Client {
  public:
+  // Over make_channel(options): TLS and the token as the options say.
   explicit Client(ClientOptions options = {});
-  // Over an existing channel (in-process servers in tests).
+  // Over an existing channel (in-process servers in tests); the channel carries the
+  // credentials, so options.tls and options.token are not used.
   Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options = {});
   ~Client();
   Client(const Client&) = delete;
@@ -106,7 +124,11 @@ inline constexpr const char* kJobResumesMetadataKey = "tessera-job-resumes";
 // std::random_device), so two clients never pick the same one.
 std::string make_request_id();
 
-// A channel to `target` with message limits large enough for big tiles.
+// A plaintext channel to `target` with message limits large enough for big tiles.
 std::shared_ptr<grpc::Channel> make_channel(const std::string& target);
+// The same to options.target, over TLS when options.tls.enabled, adding options.token to
+// every call's metadata (an interceptor, so every stub on the channel sends it, over
+// plaintext too: gRPC's call credentials would refuse a plaintext channel).
+std::shared_ptr<grpc::Channel> make_channel(const ClientOptions& options);
 
 }  // namespace tessera

@@ -22,11 +22,13 @@
 #include <unistd.h>
 
 #include "client/client.hpp"
+#include "client/client_connection.hpp"
 #include "client/denoise_file.hpp"
 #include "client/job_json.hpp"
 #include "client/local_render.hpp"
 #include "client/progress.hpp"
 #include "client/tile_assembler.hpp"
+#include "client/token_hash.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/image/exr.hpp"
 #include "tessera/render/camera.hpp"
@@ -154,7 +156,13 @@ class StopOnInterrupt {
 std::string describe(const ClientError& e, const std::string& server, const std::string& doing) {
   switch (e.code()) {
     case grpc::StatusCode::UNAVAILABLE:
-      return "cannot reach the server at " + server + " (is tesserad running?): " + e.what();
+      if (e.message().find("andshake failed") != std::string::npos)
+        return "the TLS handshake with the server at " + server +
+               " failed (does --ca name the CA that signed its certificate? does it require "
+               "--client-cert?): " +
+               e.what();
+      return "cannot reach the server at " + server +
+             " (is tesserad running? if it serves TLS, give --ca or --tls): " + e.what();
     case grpc::StatusCode::DEADLINE_EXCEEDED:
       return "the server at " + server + " did not answer in time: " + e.what();
     default:
@@ -528,7 +536,7 @@ int render_remote(const CliCommand& cmd, const CommandOutput& io) {
   // Open the output before queueing work, so an unwritable path fails fast.
   auto assembler = open_output(cmd, scene.render.width, scene.render.height, scene.render.tile_size,
                                scene.render.aovs, scene.render.pass_count());
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
@@ -632,7 +640,7 @@ int render_in_process(const CliCommand& cmd, const CommandOutput& io) {
 
 int submit(const CliCommand& cmd, const CommandOutput& io) {
   const SceneDescription scene = load_scene_for_server(cmd, io.err);
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     v1::SubmitJobRequest request = make_submit_request(scene, job_name(cmd), cmd.priority);
     add_labels(cmd.labels, *request.mutable_labels());
@@ -677,7 +685,7 @@ int convert(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int watch(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     job = client.get(cmd.job_id);
@@ -695,7 +703,7 @@ std::string progress_cell(const v1::Job& job) {
 }
 
 int list(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   std::vector<v1::Job> jobs;
   v1::ListJobsRequest filters;
   filters.set_label(cmd.label_filter);
@@ -759,7 +767,7 @@ int list(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int status(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::Job job;
   try {
     job = client.get(cmd.job_id);
@@ -796,7 +804,7 @@ int status(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int cancel(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     const v1::Job job = client.cancel(cmd.job_id);
     io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
@@ -807,7 +815,7 @@ int cancel(const CliCommand& cmd, const CommandOutput& io) {
 }
 
 int remove(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     client.remove(cmd.job_id);
     io.out << "job " << cmd.job_id << ": deleted\n" << std::flush;
@@ -820,7 +828,7 @@ int remove(const CliCommand& cmd, const CommandOutput& io) {
 // pause, resume, retry: one call naming a job; prints the job's state after it.
 template <typename Call>
 int control(const CliCommand& cmd, const CommandOutput& io, const std::string& verb, Call&& call) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   try {
     const v1::Job job = call(client);
     io.out << "job " << job.id() << ": " << job_state_name(job.state()) << '\n' << std::flush;
@@ -832,7 +840,7 @@ int control(const CliCommand& cmd, const CommandOutput& io, const std::string& v
 }
 
 int update(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::UpdateJobRequest request;
   request.set_job_id(cmd.job_id);
   if (cmd.new_priority) request.set_priority(*cmd.new_priority);
@@ -852,7 +860,7 @@ int update(const CliCommand& cmd, const CommandOutput& io) {
 
 // One line per event: time, job, state, progress, name; "(snapshot)" for the opening ones.
 int events(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server});
+  Client client(client_options(cmd));
   v1::WatchJobsRequest request;
   request.set_job_id(cmd.job_id);
   request.set_submitter(cmd.submitter);
@@ -884,7 +892,9 @@ int events(const CliCommand& cmd, const CommandOutput& io) {
 // check.
 int version(const CliCommand& cmd, const CommandOutput& io) {
   io.out << "tessera " << TESSERA_VERSION << '\n';
-  Client client(ClientOptions{.target = cmd.server, .unary_deadline = std::chrono::seconds(3)});
+  ClientOptions options = client_options(cmd);
+  options.unary_deadline = std::chrono::seconds(3);
+  Client client(options);
   try {
     const v1::ServerInfo info = client.server_info();
     const v1::BuildInfo& build = info.build();
@@ -907,7 +917,9 @@ int version(const CliCommand& cmd, const CommandOutput& io) {
 // grpc.health.v1 Check of the RenderService: exit 0 when SERVING, 1 otherwise (not serving,
 // unreachable, or an error), with one line saying which.
 int health(const CliCommand& cmd, const CommandOutput& io) {
-  Client client(ClientOptions{.target = cmd.server, .unary_deadline = std::chrono::seconds(5)});
+  ClientOptions options = client_options(cmd);
+  options.unary_deadline = std::chrono::seconds(5);
+  Client client(options);
   try {
     if (client.healthy()) {
       io.out << "tesserad at " << cmd.server << ": serving\n" << std::flush;
@@ -970,6 +982,15 @@ int run_with_stdout_image(const CliCommand& command, const CommandOutput& io) {
 
 int run_render(const CliCommand& command, const CommandOutput& io) {
   return command.local ? render_in_process(command, io) : render_remote(command, io);
+int token_hash(const CommandOutput& io) {
+  std::string digest;
+  try {
+    digest = hash_token(std::cin);
+  } catch (const std::invalid_argument& e) {
+    throw CommandFailure{kExitUsage, std::string("token hash: ") + e.what()};
+  }
+  io.out << digest << '\n' << std::flush;
+  return kExitOk;
 }
 
 }  // namespace
@@ -1012,6 +1033,8 @@ int run_command(const CliCommand& command, const CommandOutput& io) {
         return version(command, io);
       case CommandKind::kHealth:
         return health(command, io);
+      case CommandKind::kTokenHash:
+        return token_hash(io);
     }
     return kExitUsage;
   } catch (const CommandFailure& failure) {

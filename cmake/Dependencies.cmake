@@ -52,3 +52,7 @@ if(TESSERA_BUILD_BENCH)
   find_package(benchmark CONFIG QUIET)
   find_package(embree 3 CONFIG QUIET)
 endif()
+
+# SHA-256 of bearer tokens and the checks of the TLS files in tesserad, and
+# `tessera token hash`. Debian: libssl-dev (OpenSSL, as gRPC's own TLS).
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)

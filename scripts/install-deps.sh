@@ -10,6 +10,7 @@ packages=(
   libyaml-cpp-dev libspdlog-dev libglm-dev libsqlite3-dev libsqlitecpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev libcli11-dev nlohmann-json3-dev libtbb-dev libcpp-httplib-dev
+  libssl-dev openssl
   python3-grpcio python3-protobuf python3-numpy python3-openimageio python3-yaml
 )
 # Optional: Embree is only a benchmark yardstick; never a dependency of tesserad. clang and

@@ -72,10 +72,32 @@ CommandLine parse_command_line(int argc, const char* const argv[], const Environ
                  "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter and the budgets "
                  "(max_receive_message_bytes, max_width, max_height, max_pixels, "
                  "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) and "
-                 "stream_write_timeout (default: $TESSERAD_CONFIG). Every key can also be set "
+                 "stream_write_timeout and the security settings (tls_cert, tls_key, "
+                 "tls_client_ca, allow_insecure_remote, tokens) (default: $TESSERAD_CONFIG). "
+                 "Every key can also be set "
                  "as TESSERAD_<KEY> (TESSERAD_MAX_PIXELS); flags override the environment, "
                  "which overrides the file")
       ->type_name("FILE");
+  std::string tls_cert, tls_key, tls_client_ca, tokens_file;
+  CLI::Option* tls_cert_opt =
+      app.add_option("--tls-cert", tls_cert, "server certificate chain (PEM); serve TLS")
+          ->type_name("FILE");
+  CLI::Option* tls_key_opt =
+      app.add_option("--tls-key", tls_key, "the certificate's private key (PEM, unencrypted)")
+          ->type_name("FILE");
+  CLI::Option* tls_client_ca_opt =
+      app.add_option("--tls-client-ca", tls_client_ca,
+                     "require client certificates signed by this CA (PEM): mutual TLS")
+          ->type_name("FILE");
+  bool allow_insecure_remote = false;
+  CLI::Option* insecure_opt =
+      app.add_flag("--allow-insecure-remote", allow_insecure_remote,
+                   "serve plaintext on an address other than loopback (refused without this)");
+  CLI::Option* tokens_opt =
+      app.add_option("--tokens", tokens_file,
+                     "YAML list of bearer tokens {name, sha256, role}; every RenderService "
+                     "call then needs one")
+          ->type_name("FILE");
   CLI::Option* log_opt =
       app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off")
           ->type_name("LEVEL")
@@ -119,6 +141,17 @@ CommandLine parse_command_line(int argc, const char* const argv[], const Environ
     if (log_opt->count() > 0) config.log_level = log_level;
     if (format_opt->count() > 0) config.log_format = log_format;
     if (metrics_opt->count() > 0) config.metrics_listen = metrics_listen;
+    const auto path_flag = [](const CLI::Option* option, const std::string& value,
+                              std::filesystem::path& setting) {
+      if (option->count() == 0) return;
+      if (value.empty()) throw ConfigError(option->get_name() + ": must not be empty");
+      setting = value;
+    };
+    path_flag(tls_cert_opt, tls_cert, config.tls_cert);
+    path_flag(tls_key_opt, tls_key, config.tls_key);
+    path_flag(tls_client_ca_opt, tls_client_ca, config.tls_client_ca);
+    path_flag(tokens_opt, tokens_file, config.tokens_file);
+    if (insecure_opt->count() > 0) config.allow_insecure_remote = allow_insecure_remote;
     validate_config(config);
     result.config = std::move(config);
   } catch (const ConfigError& e) {

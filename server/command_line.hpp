@@ -19,10 +19,11 @@ struct CommandLine {
 inline constexpr int kExitUsage = 2;
 
 // Parses `tesserad [--listen HOST:PORT] [--threads N] [--data DIR] [--config FILE.yaml]
-// [--log-level LEVEL] [--log-format text|json] [--metrics-listen HOST:PORT] [--version]
-// [--help]`. Settings come from the defaults, then the config file (--config, else
-// $TESSERAD_CONFIG), then the TESSERAD_* environment variables, then the flags given
-// explicitly; the result is validated.
+// [--log-level LEVEL] [--log-format text|json] [--metrics-listen HOST:PORT]
+// [--tls-cert FILE --tls-key FILE [--tls-client-ca FILE]] [--allow-insecure-remote]
+// [--tokens FILE] [--version] [--help]`. Settings come from the defaults, then the config
+// file (--config, else $TESSERAD_CONFIG), then the TESSERAD_* environment variables, then
+// the flags given explicitly; the result is validated.
 CommandLine parse_command_line(int argc, const char* const argv[]);
 // The same with an explicit environment instead of the process's (tests).
 CommandLine parse_command_line(int argc, const char* const argv[], const Environment& environment);

@@ -94,7 +94,43 @@ constexpr const char* kKeys =
     "max_jobs, max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, "
     "max_pixels, "
     "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout, "
-    "tile_retries, watch_buffer, watch_write_timeout";
+    "tile_retries, watch_buffer, watch_write_timeout, tls_cert, tls_key, tls_client_ca, "
+    "allow_insecure_remote, tokens";
+
+bool read_bool(const std::string& file, const YAML::Node& node, const std::string& key) {
+  bool value = false;
+  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+    throw ConfigError(located(file, node, key) + ": must be true or false, got " +
+                      scalar_text(node));
+  return value;
+}
+
+std::filesystem::path read_path(const std::string& file, const YAML::Node& node,
+                                const std::string& key) {
+  const std::string path = read_string(file, node, key);
+  if (path.empty()) throw ConfigError(located(file, node, key) + ": must not be empty");
+  return path;
+}
+
+// The pairing of the TLS settings, and plaintext only where the network cannot listen in.
+// The files themselves are read when the daemon starts (server_credentials.hpp).
+void validate_transport_security(const DaemonConfig& config, const ListenAddress& listen) {
+  if (config.tls_cert.empty() != config.tls_key.empty())
+    throw ConfigError(config.tls_cert.empty()
+                          ? "tls_cert: is required with tls_key (the certificate of that key)"
+                          : "tls_key: is required with tls_cert (the certificate's private key)");
+  if (!config.tls_client_ca.empty() && config.tls_cert.empty())
+    throw ConfigError(
+        "tls_client_ca: needs tls_cert and tls_key; client certificates are checked only over "
+        "TLS");
+  if (config.tls_cert.empty() && !config.allow_insecure_remote && !is_loopback_host(listen.host))
+    throw ConfigError(
+        "listen: " + config.listen +
+        " can be reached from other machines, and without TLS they would see every scene, "
+        "image and token in plaintext; set tls_cert and tls_key (--tls-cert, --tls-key), "
+        "listen on loopback (127.0.0.1), or set allow_insecure_remote: true "
+        "(--allow-insecure-remote) to serve plaintext anyway, e.g. behind a TLS proxy");
+}
 
 }  // namespace
 
@@ -266,6 +302,7 @@ void validate_config(const DaemonConfig& config) {
   }
   if (!parse_log_format(config.log_format))
     throw ConfigError("log_format: must be text or json, got '" + config.log_format + "'");
+  validate_transport_security(config, std::get<ListenAddress>(listen));
 }
 
 namespace {
@@ -367,6 +404,16 @@ bool apply_setting(DaemonConfig& config, const std::string& display_name, const 
       if (!parse_log_format(config.log_format))
         throw ConfigError(located(display_name, value, key) + ": must be text or json, got '" +
                           config.log_format + "'");
+    } else if (key == "tls_cert") {
+      config.tls_cert = read_path(display_name, value, key);
+    } else if (key == "tls_key") {
+      config.tls_key = read_path(display_name, value, key);
+    } else if (key == "tls_client_ca") {
+      config.tls_client_ca = read_path(display_name, value, key);
+    } else if (key == "allow_insecure_remote") {
+      config.allow_insecure_remote = read_bool(display_name, value, key);
+    } else if (key == "tokens") {
+      config.tokens_file = read_path(display_name, value, key);
     } else {
       return false;
     }

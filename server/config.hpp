@@ -83,6 +83,20 @@ struct DaemonConfig {
   // write to a watcher may wait for its client to read; a watcher past either is dropped.
   std::size_t watch_buffer = 1024;
   std::chrono::milliseconds watch_write_timeout{10'000};
+  // TLS (server_credentials.hpp): the server's certificate chain and private key, PEM files,
+  // both or neither; empty: plaintext. With tls_client_ca (PEM, one or more CA certificates)
+  // every client must present a certificate that CA signed (mTLS).
+  std::filesystem::path tls_cert;
+  std::filesystem::path tls_key;
+  std::filesystem::path tls_client_ca;
+  // Plaintext is served only on loopback (127.0.0.0/8, [::1], localhost): anyone on the
+  // network could read the scenes and tiles, and the tokens. This lets a daemon listen
+  // unencrypted on another address anyway (behind a TLS-terminating proxy, or in a
+  // container whose port is published on loopback only).
+  bool allow_insecure_remote = false;
+  // YAML list of bearer tokens (access_tokens.hpp); empty: no authentication, every caller
+  // may do everything.
+  std::filesystem::path tokens_file;
 };
 
 // A bad setting; the message names the key (`threads: must be ...`), and the file when it
@@ -110,10 +124,12 @@ void validate_config(const DaemonConfig& config);
 
 // Reads the keys listen, threads, data, log_level, log_format, metrics_listen, shutdown_grace,
 // job_ttl, max_jobs, max_jobs_per_submitter, tile_retries, watch_buffer, watch_write_timeout,
-// stream_write_timeout and the budgets (max_receive_message_bytes, max_width, max_height,
-// max_pixels, max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) from a YAML
-// file on top of `base`. Durations are a number with a unit: 500ms, 30s, 15m, 12h, 7d; sizes a
-// number with an optional unit: 512MiB, 8GiB. Unknown keys are reported in `warnings`; bad values
+// stream_write_timeout, the security settings (tls_cert, tls_key, tls_client_ca,
+// allow_insecure_remote, tokens) and the budgets (max_receive_message_bytes, max_width,
+// max_height, max_pixels, max_samples_per_pixel, max_primitives, memory_budget,
+// prepare_timeout) from a YAML file on top of `base`. Durations are a number with a unit:
+// 500ms, 30s, 15m, 12h, 7d; sizes a number with an optional unit: 512MiB, 8GiB. Unknown keys
+// are reported in `warnings`; bad values
 // throw ConfigError naming file and key.
 DaemonConfig load_config_file(const std::filesystem::path& path, DaemonConfig base,
                               std::vector<std::string>& warnings);

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "convert/scene_proto.hpp"
+#include "server/access_control.hpp"
 #include "server/job_registry.hpp"
 #include "server/job_watch.hpp"
 #include "server/listen_address.hpp"
@@ -26,6 +27,7 @@
 #include "server/rpc_log.hpp"
 #include "server/scheduler.hpp"
 #include "server/server_info.hpp"
+#include "server/server_credentials.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
 
@@ -59,6 +61,24 @@ std::string random_owner() {
   char text[32];
   std::snprintf(text, sizeof text, "tesserad-%08x", device());
   return text;
+}
+
+void log_security(const DaemonConfig& config, const ListenAddress& listen) {
+  const std::string transport =
+      config.tls_cert.empty()
+          ? std::string("plaintext")
+          : "TLS (" + config.tls_cert.string() +
+                (config.tls_client_ca.empty()
+                     ? std::string(")")
+                     : ", client certificates from " + config.tls_client_ca.string() + ")");
+  spdlog::info("security: {}, {}", transport,
+               config.tokens_file.empty() ? std::string("no tokens: every caller may do everything")
+                                          : "bearer tokens from " + config.tokens_file.string());
+  if (config.tls_cert.empty() && !is_loopback_host(listen.host))
+    spdlog::warn(
+        "serving plaintext on {} (allow_insecure_remote): the network can read every scene, "
+        "image and token",
+        listen.host);
 }
 
 // A client cannot dial the wildcard address the server listens on; loopback reaches it.
@@ -190,6 +210,11 @@ int Daemon::start() {
 
   validate_config(d.config);
   const ListenAddress listen = std::get<ListenAddress>(parse_listen_address(d.config.listen));
+  // Both read their files now, so a bad one stops the start before anything is opened.
+  const auto credentials = make_server_credentials(d.config);
+  AccessControl access = d.config.tokens_file.empty()
+                             ? AccessControl()
+                             : AccessControl(load_token_file(d.config.tokens_file));
   if (!d.config.data_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(d.config.data_dir, ec);
@@ -224,6 +249,7 @@ int Daemon::start() {
   d.service->set_memory_budget(effective_memory_budget(d.config));
   d.service->enable_watch(*d.watch_hub);
   d.service->set_server_info(make_server_info(d.config));
+  d.service->set_access_control(std::move(access));
 
   // Jobs a previous run left queued or running carry on where they stopped; paused ones
   // stay paused (live, so ResumeJob finds them) until resumed.
@@ -253,7 +279,7 @@ int Daemon::start() {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int bound_port = 0;
-  builder.AddListeningPort(d.config.listen, grpc::InsecureServerCredentials(), &bound_port);
+  builder.AddListeningPort(d.config.listen, credentials, &bound_port);
   // Without this, Linux lets a second daemon bind the same port and share its traffic.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(d.service.get());
@@ -281,6 +307,7 @@ int Daemon::start() {
     spdlog::info("metrics at http://{}:{}/metrics",
                  std::get<ListenAddress>(parse_listen_address(d.config.metrics_listen)).host,
                  d.metrics_port);
+  log_security(d.config, listen);
   const std::size_t budget = effective_memory_budget(d.config);
   spdlog::info("budgets: memory {} per job, messages up to {}, preparation {}",
                budget == 0 ? std::string("unlimited") : format_bytes(budget),

@@ -34,4 +34,23 @@ std::variant<ListenAddress, std::string> parse_listen_address(const std::string&
   return address;
 }
 
+bool is_loopback_host(const std::string& host) {
+  if (host == "localhost" || host == "[::1]") return true;
+  // 127.a.b.c with four decimal parts: a name such as 127.example.com is not loopback.
+  if (host.rfind("127.", 0) != 0) return false;
+  int parts = 0;
+  std::size_t start = 0;
+  while (start <= host.size()) {
+    const std::size_t dot = std::min(host.find('.', start), host.size());
+    const std::string part = host.substr(start, dot - start);
+    if (part.empty() || part.size() > 3 ||
+        !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c); }) ||
+        std::stoi(part) > 255)
+      return false;
+    ++parts;
+    start = dot + 1;
+  }
+  return parts == 4;
+}
+
 }  // namespace tessera::server

@@ -18,4 +18,8 @@ struct ListenAddress {
 // The address, or why the text is not one (for messages such as `listen: <reason>`).
 std::variant<ListenAddress, std::string> parse_listen_address(const std::string& text);
 
+// Whether only this machine can reach `host`: 127.0.0.0/8, [::1] or localhost. The wildcard
+// addresses (0.0.0.0, [::]) and every other name are not, whatever they resolve to now.
+bool is_loopback_host(const std::string& host);
+
 }  // namespace tessera::server

@@ -17,6 +17,7 @@
 namespace tessera::server {
 using rpc::guarded;
 using rpc::invalid;
+using rpc::permission_denied;
 using rpc::unary;
 namespace {
 
@@ -51,7 +52,7 @@ RenderServiceImpl::RenderServiceImpl(JobRegistry& jobs, Scheduler& scheduler, Sc
       poll_interval_(poll_interval),
       write_watchdog_(stream_write_timeout) {}
 
-std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id,
+std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id, const Caller& caller,
                                                  grpc::Status& status) const {
   if (job_id.empty()) {
     status = invalid("job_id: must not be empty");
@@ -65,21 +66,29 @@ std::shared_ptr<Job> RenderServiceImpl::find_job(const std::string& job_id,
     return nullptr;
   }
   auto job = const_cast<JobRegistry&>(jobs_).find(job_id);
-  if (!job)
+  if (!job) {
     status = grpc::Status(grpc::StatusCode::NOT_FOUND,
                           "job '" + escape_client_text(job_id) + "' not found");
+    return nullptr;
+  }
+  if (!caller.may_act_on(job->submitter())) {
+    status = permission_denied("job " + job->id() + " belongs to another submitter; token '" +
+                               caller.name + "' (role submit) reaches only its own jobs");
+    return nullptr;
+  }
   return job;
 }
 
 grpc::Status RenderServiceImpl::StreamedSubmitJob(
     grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::SubmitJobRequest, v1::SubmitJobResponse>* streamer) {
-  return unary("SubmitJob", *streamer, [&](const auto& request, auto& response) {
-    return submit(*context, request, response);
-  });
+  return unary("SubmitJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return submit(*context, caller, request, response);
+               });
 }
 
-grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
+grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context, const Caller& caller,
                                        const v1::SubmitJobRequest& request,
                                        v1::SubmitJobResponse& response) {
   if (!accepting_)
@@ -91,19 +100,25 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   if (request.submitter().size() > kMaxSubmitterLength)
     return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
                    " bytes, got " + std::to_string(request.submitter().size()));
+  if (!request.submitter().empty() && !caller.may_act_on(request.submitter()))
+    return permission_denied("submitter: token '" + caller.name + "' submits as '" + caller.name +
+                             "' only; leave submitter empty");
   const JobLabels labels(request.labels().begin(), request.labels().end());
   if (const auto problem = labels_problem(labels, "labels")) return invalid(*problem);
   if (const auto problem = request_id_problem(request.request_id())) return invalid(*problem);
   const std::string logged_name = escape_client_text(request.name());
-  const std::string submitter =
-      request.submitter().empty() ? peer_host(context.peer()) : request.submitter();
+  // Without tokens a job is its requester's, or else its machine's; with tokens the
+  // token's, unless an admin submits on someone's behalf. Request ids are per submitter.
+  const std::string submitter = !request.submitter().empty() ? request.submitter()
+                                : caller.authenticated()     ? caller.name
+                                                             : peer_host(context.peer());
   // A retry finds its job before paying for the scene again, so it answers quickly even
   // when the first attempt's scene took longer than the client's deadline.
   std::string fingerprint;
   if (!request.request_id().empty()) {
     fingerprint = request_fingerprint(request);
     if (auto existing = jobs_.store().find_job_by_request(submitter, request.request_id()))
-      return answer_retry(*existing, fingerprint, response);
+      return answer_retry(caller, *existing, fingerprint, response);
   }
   // Before the scene is converted: a request that could never fit costs no more than the
   // memory gRPC already spent parsing it.
@@ -161,7 +176,7 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
       if (attempt == 3) throw;  // ids from an earlier run collided: try fresh ones
     } catch (const RequestIdTaken& e) {
       // An attempt of the same request stored its job while this one checked the scene.
-      return answer_retry(e.existing(), fingerprint, response);
+      return answer_retry(caller, e.existing(), fingerprint, response);
     } catch (const SubmitterQuotaExceeded& e) {
       spdlog::info("refused job '{}' of '{}': {}", logged_name,
                    escape_client_text(record.submitter), e.what());
@@ -210,7 +225,7 @@ grpc::Status RenderServiceImpl::submit(grpc::ServerContext& context,
   return grpc::Status::OK;
 }
 
-grpc::Status RenderServiceImpl::answer_retry(const JobRecord& existing,
+grpc::Status RenderServiceImpl::answer_retry(const Caller& caller, const JobRecord& existing,
                                              const std::string& fingerprint,
                                              v1::SubmitJobResponse& response) {
   // ALREADY_EXISTS rather than FAILED_PRECONDITION: what the request would create (a job
@@ -222,7 +237,7 @@ grpc::Status RenderServiceImpl::answer_retry(const JobRecord& existing,
                             existing.id +
                             " with a different scene or settings; use a new request id");
   grpc::Status status;
-  const auto job = find_job(existing.id, status);
+  const auto job = find_job(existing.id, caller, status);
   if (!job) return status;  // deleted since it was found
   job_info_to_proto(job->info(), *response.mutable_job());
   spdlog::info("job {} returned again for request id '{}' of '{}' (a retry; no job created)",
@@ -244,17 +259,20 @@ grpc::Status RenderServiceImpl::StreamedStreamTiles(
       if (--service.active_streams_ == 0) service.streams_ended_.notify_all();
     }
   } stream_end{*this};
+  const auto caller = rpc::authenticate("StreamTiles", access_, *context);
+  if (const auto* refused = std::get_if<grpc::Status>(&caller)) return *refused;
   v1::StreamTilesRequest request;
   if (!streamer->Read(&request))
     return invalid("request: not a valid tessera.v1.StreamTilesRequest message");
-  return guarded("StreamTiles", [&] { return stream(*context, request, *streamer); });
+  return guarded("StreamTiles",
+                 [&] { return stream(*context, std::get<Caller>(caller), request, *streamer); });
 }
 
 grpc::Status RenderServiceImpl::stream(
-    grpc::ServerContext& context, const v1::StreamTilesRequest& request,
+    grpc::ServerContext& context, const Caller& caller, const v1::StreamTilesRequest& request,
     grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer) {
   grpc::Status status;
-  const auto job = find_job(request.job_id(), status);
+  const auto job = find_job(request.job_id(), caller, status);
   if (!job) return status;
   const std::uint32_t tiles_total = job->record().tiles_total;
   if (request.after_sequence() > tiles_total)
@@ -340,32 +358,38 @@ bool RenderServiceImpl::wait_for_streams(std::chrono::milliseconds timeout) {
 }
 
 grpc::Status RenderServiceImpl::StreamedGetJob(
-    grpc::ServerContext*, grpc::ServerUnaryStreamer<v1::GetJobRequest, v1::Job>* streamer) {
-  return unary("GetJob", *streamer, [&](const auto& request, v1::Job& response) {
-    grpc::Status status;
-    const auto job = find_job(request.job_id(), status);
-    if (job) job_info_to_proto(job->info(), response);
-    return status;
-  });
+    grpc::ServerContext* context, grpc::ServerUnaryStreamer<v1::GetJobRequest, v1::Job>* streamer) {
+  return unary("GetJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, v1::Job& response) {
+                 grpc::Status status;
+                 const auto job = find_job(request.job_id(), caller, status);
+                 if (job) job_info_to_proto(job->info(), response);
+                 return status;
+               });
 }
 
 grpc::Status RenderServiceImpl::StreamedGetServerInfo(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::GetServerInfoRequest, v1::ServerInfo>* streamer) {
-  return unary("GetServerInfo", *streamer, [&](const auto&, v1::ServerInfo& response) {
-    response = server_info_;
-    return grpc::Status::OK;
-  });
+  // Like every RenderService call it needs a token when tokens are configured: the limits
+  // and build it describes are not for anyone who can reach the port.
+  return unary("GetServerInfo", access_, *context, *streamer,
+               [&](const Caller&, const auto&, v1::ServerInfo& response) {
+                 response = server_info_;
+                 return grpc::Status::OK;
+               });
 }
 
 grpc::Status RenderServiceImpl::StreamedListJobs(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::ListJobsRequest, v1::ListJobsResponse>* streamer) {
-  return unary("ListJobs", *streamer,
-               [&](const auto& request, auto& response) { return list(request, response); });
+  return unary("ListJobs", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return list(caller, request, response);
+               });
 }
 
-grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
+grpc::Status RenderServiceImpl::list(const Caller& caller, const v1::ListJobsRequest& request,
                                      v1::ListJobsResponse& response) {
   JobQuery query;
   // Larger pages are served at the maximum, as the API guidelines (AIP-158) suggest.
@@ -381,6 +405,14 @@ grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
     query.before_sequence = sequence;
   }
   if (!request.submitter().empty()) query.submitter = request.submitter();
+  // A submit token lists its own jobs: another submitter's are refused, not shown empty,
+  // so a script learns why it sees nothing.
+  if (caller.restricted) {
+    if (query.submitter && !caller.may_act_on(*query.submitter))
+      return permission_denied("submitter: token '" + caller.name +
+                               "' may list only its own jobs (submitter '" + caller.name + "')");
+    query.submitter = caller.name;
+  }
   if (request.name().size() > kMaxJobNameLength)
     return invalid("name: must be at most " + std::to_string(kMaxJobNameLength) + " bytes, got " +
                    std::to_string(request.name().size()));
@@ -409,16 +441,18 @@ grpc::Status RenderServiceImpl::list(const v1::ListJobsRequest& request,
 }
 
 grpc::Status RenderServiceImpl::StreamedCancelJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::CancelJobRequest, v1::CancelJobResponse>* streamer) {
-  return unary("CancelJob", *streamer, [&](const auto& request, auto& response) {
-    return cancel(request.job_id(), response);
-  });
+  return unary("CancelJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return cancel(caller, request.job_id(), response);
+               });
 }
 
-grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobResponse& response) {
+grpc::Status RenderServiceImpl::cancel(const Caller& caller, const std::string& job_id,
+                                       v1::CancelJobResponse& response) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(job_id, caller, status);
   if (!job) return status;
   const CancelResult result = job->cancel("requested by a client");
   const JobInfo info = job->info();
@@ -438,15 +472,17 @@ grpc::Status RenderServiceImpl::cancel(const std::string& job_id, v1::CancelJobR
 }
 
 grpc::Status RenderServiceImpl::StreamedDeleteJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::DeleteJobRequest, v1::DeleteJobResponse>* streamer) {
-  return unary("DeleteJob", *streamer,
-               [&](const auto& request, auto&) { return remove(request.job_id()); });
+  return unary("DeleteJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto&) {
+                 return remove(caller, request.job_id());
+               });
 }
 
-grpc::Status RenderServiceImpl::remove(const std::string& job_id) {
+grpc::Status RenderServiceImpl::remove(const Caller& caller, const std::string& job_id) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(job_id, caller, status);
   if (!job) return status;
   if (!job->finished())
     return grpc::Status(

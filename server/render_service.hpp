@@ -5,6 +5,7 @@
 #include <mutex>
 #include <optional>
 
+#include "server/access_control.hpp"
 #include "server/job_id.hpp"
 #include "server/job_registry.hpp"
 #include "server/job_watch.hpp"
@@ -84,6 +85,10 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
       grpc::ServerContext* context,
       grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>* streamer) override;
 
+  // Who may call, and which jobs each caller sees (access_control.hpp); the default lets
+  // everyone do everything. Call before the server starts.
+  void set_access_control(AccessControl access) { access_ = std::move(access); }
+
   // WatchJobs reads job changes from `hub` (the registry's listener); without one it
   // answers UNIMPLEMENTED. Call before the server starts.
   void enable_watch(JobWatchHub& hub) { watch_hub_ = &hub; }
@@ -103,30 +108,38 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   std::uint64_t stream_write_timeouts() const { return write_watchdog_.timeouts(); }
 
  private:
-  grpc::Status submit(grpc::ServerContext& context, const v1::SubmitJobRequest& request,
-                      v1::SubmitJobResponse& response);
+  // Each takes the authenticated caller (rpc::unary, rpc::authenticate): a restricted one
+  // reaches only its own jobs.
+  grpc::Status submit(grpc::ServerContext& context, const Caller& caller,
+                      const v1::SubmitJobRequest& request, v1::SubmitJobResponse& response);
   // SubmitJob of a request id that already created `existing`: that job when `fingerprint`
   // (the request's scene and settings) is the one it was created with, ALREADY_EXISTS if not.
-  grpc::Status answer_retry(const JobRecord& existing, const std::string& fingerprint,
-                            v1::SubmitJobResponse& response);
-  grpc::Status stream(grpc::ServerContext& context, const v1::StreamTilesRequest& request,
+  grpc::Status answer_retry(const Caller& caller, const JobRecord& existing,
+                            const std::string& fingerprint, v1::SubmitJobResponse& response);
+  grpc::Status stream(grpc::ServerContext& context, const Caller& caller,
+                      const v1::StreamTilesRequest& request,
                       grpc::ServerSplitStreamer<v1::StreamTilesRequest, v1::Tile>& writer);
-  grpc::Status list(const v1::ListJobsRequest& request, v1::ListJobsResponse& response);
-  grpc::Status cancel(const std::string& job_id, v1::CancelJobResponse& response);
-  grpc::Status remove(const std::string& job_id);
-  grpc::Status pause(const std::string& job_id, v1::Job& out);
-  grpc::Status resume(const std::string& job_id, v1::Job& out);
-  grpc::Status retry(const std::string& job_id, v1::Job& out);
-  grpc::Status update(const v1::UpdateJobRequest& request, v1::Job& out);
-  grpc::Status watch(grpc::ServerContext& context, const v1::WatchJobsRequest& request,
+  grpc::Status list(const Caller& caller, const v1::ListJobsRequest& request,
+                    v1::ListJobsResponse& response);
+  grpc::Status cancel(const Caller& caller, const std::string& job_id,
+                      v1::CancelJobResponse& response);
+  grpc::Status remove(const Caller& caller, const std::string& job_id);
+  grpc::Status pause(const Caller& caller, const std::string& job_id, v1::Job& out);
+  grpc::Status resume(const Caller& caller, const std::string& job_id, v1::Job& out);
+  grpc::Status retry(const Caller& caller, const std::string& job_id, v1::Job& out);
+  grpc::Status update(const Caller& caller, const v1::UpdateJobRequest& request, v1::Job& out);
+  grpc::Status watch(grpc::ServerContext& context, const Caller& caller,
+                     const v1::WatchJobsRequest& request,
                      grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>& writer);
   // RESOURCE_EXHAUSTED when one more unfinished job of `submitter` would pass the cap
   // (RetryJob, and UpdateJob moving an unfinished job to another submitter).
   std::optional<grpc::Status> submitter_quota(const std::string& submitter);
   // Counts a streaming call for wait_for_streams while it lives.
   class StreamScope;
-  // The job, or the status to answer when `job_id` is empty, too long or unknown.
-  std::shared_ptr<Job> find_job(const std::string& job_id, grpc::Status& status) const;
+  // The job, or the status to answer when `job_id` is empty, too long or unknown, or
+  // PERMISSION_DENIED when the job is not the caller's to see.
+  std::shared_ptr<Job> find_job(const std::string& job_id, const Caller& caller,
+                                grpc::Status& status) const;
 
   JobRegistry& jobs_;
   Scheduler& scheduler_;
@@ -142,6 +155,7 @@ class RenderServiceImpl final : public v1::RenderService::StreamedService {
   int active_streams_ = 0;
   JobWatchHub* watch_hub_ = nullptr;
   v1::ServerInfo server_info_;
+  AccessControl access_;
 };
 
 }  // namespace tessera::server

@@ -11,6 +11,7 @@ namespace tessera::server {
 
 using rpc::guarded;
 using rpc::invalid;
+using rpc::permission_denied;
 using rpc::unary;
 
 namespace {
@@ -50,16 +51,18 @@ std::optional<grpc::Status> RenderServiceImpl::submitter_quota(const std::string
 }
 
 grpc::Status RenderServiceImpl::StreamedPauseJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::PauseJobRequest, v1::PauseJobResponse>* streamer) {
-  return unary("PauseJob", *streamer, [&](const auto& request, auto& response) {
-    return pause(request.job_id(), *response.mutable_job());
-  });
+  return unary("PauseJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return pause(caller, request.job_id(), *response.mutable_job());
+               });
 }
 
-grpc::Status RenderServiceImpl::pause(const std::string& job_id, v1::Job& out) {
+grpc::Status RenderServiceImpl::pause(const Caller& caller, const std::string& job_id,
+                                      v1::Job& out) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(job_id, caller, status);
   if (!job) return status;
   const ControlResult result = job->pause();
   if (result == ControlResult::kRefused)
@@ -74,16 +77,18 @@ grpc::Status RenderServiceImpl::pause(const std::string& job_id, v1::Job& out) {
 }
 
 grpc::Status RenderServiceImpl::StreamedResumeJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::ResumeJobRequest, v1::ResumeJobResponse>* streamer) {
-  return unary("ResumeJob", *streamer, [&](const auto& request, auto& response) {
-    return resume(request.job_id(), *response.mutable_job());
-  });
+  return unary("ResumeJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return resume(caller, request.job_id(), *response.mutable_job());
+               });
 }
 
-grpc::Status RenderServiceImpl::resume(const std::string& job_id, v1::Job& out) {
+grpc::Status RenderServiceImpl::resume(const Caller& caller, const std::string& job_id,
+                                       v1::Job& out) {
   grpc::Status status;
-  const auto job = find_job(job_id, status);
+  const auto job = find_job(job_id, caller, status);
   if (!job) return status;
   const ControlResult result = job->resume();
   if (result == ControlResult::kRefused)
@@ -102,16 +107,18 @@ grpc::Status RenderServiceImpl::resume(const std::string& job_id, v1::Job& out) 
 }
 
 grpc::Status RenderServiceImpl::StreamedRetryJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::RetryJobRequest, v1::RetryJobResponse>* streamer) {
-  return unary("RetryJob", *streamer, [&](const auto& request, auto& response) {
-    return retry(request.job_id(), *response.mutable_job());
-  });
+  return unary("RetryJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return retry(caller, request.job_id(), *response.mutable_job());
+               });
 }
 
-grpc::Status RenderServiceImpl::retry(const std::string& job_id, v1::Job& out) {
+grpc::Status RenderServiceImpl::retry(const Caller& caller, const std::string& job_id,
+                                      v1::Job& out) {
   grpc::Status status;
-  const auto found = find_job(job_id, status);
+  const auto found = find_job(job_id, caller, status);
   if (!found) return status;  // empty, too long or unknown
   if (!accepting_)
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the daemon is shutting down");
@@ -137,14 +144,16 @@ grpc::Status RenderServiceImpl::retry(const std::string& job_id, v1::Job& out) {
 }
 
 grpc::Status RenderServiceImpl::StreamedUpdateJob(
-    grpc::ServerContext*,
+    grpc::ServerContext* context,
     grpc::ServerUnaryStreamer<v1::UpdateJobRequest, v1::UpdateJobResponse>* streamer) {
-  return unary("UpdateJob", *streamer, [&](const auto& request, auto& response) {
-    return update(request, *response.mutable_job());
-  });
+  return unary("UpdateJob", access_, *context, *streamer,
+               [&](const Caller& caller, const auto& request, auto& response) {
+                 return update(caller, request, *response.mutable_job());
+               });
 }
 
-grpc::Status RenderServiceImpl::update(const v1::UpdateJobRequest& request, v1::Job& out) {
+grpc::Status RenderServiceImpl::update(const Caller& caller, const v1::UpdateJobRequest& request,
+                                       v1::Job& out) {
   JobUpdate change;
   if (request.has_priority()) change.priority = request.priority();
   if (request.has_submitter()) {
@@ -168,8 +177,11 @@ grpc::Status RenderServiceImpl::update(const v1::UpdateJobRequest& request, v1::
     return invalid(*problem);
 
   grpc::Status status;
-  const auto job = find_job(request.job_id(), status);
+  const auto job = find_job(request.job_id(), caller, status);
   if (!job) return status;
+  // Handing a job to another submitter would charge their cap and hide it from its owner.
+  if (change.submitter && !caller.may_act_on(*change.submitter))
+    return permission_denied("submitter: only an admin token may give a job to another submitter");
   JobLabels labels = job->record().labels;
   for (const std::string& key : change.remove_labels) labels.erase(key);
   for (const auto& [key, value] : change.set_labels) labels[key] = value;
@@ -191,14 +203,17 @@ grpc::Status RenderServiceImpl::StreamedWatchJobs(
     grpc::ServerContext* context,
     grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>* streamer) {
   const StreamScope scope(*this);
+  const auto caller = rpc::authenticate("WatchJobs", access_, *context);
+  if (const auto* refused = std::get_if<grpc::Status>(&caller)) return *refused;
   v1::WatchJobsRequest request;
   if (!streamer->Read(&request))
     return invalid("request: not a valid tessera.v1.WatchJobsRequest message");
-  return guarded("WatchJobs", [&] { return watch(*context, request, *streamer); });
+  return guarded("WatchJobs",
+                 [&] { return watch(*context, std::get<Caller>(caller), request, *streamer); });
 }
 
 grpc::Status RenderServiceImpl::watch(
-    grpc::ServerContext& context, const v1::WatchJobsRequest& request,
+    grpc::ServerContext& context, const Caller& caller, const v1::WatchJobsRequest& request,
     grpc::ServerSplitStreamer<v1::WatchJobsRequest, v1::JobEvent>& writer) {
   if (!watch_hub_)
     return grpc::Status(grpc::StatusCode::UNIMPLEMENTED, "this server does not watch jobs");
@@ -207,7 +222,7 @@ grpc::Status RenderServiceImpl::watch(
   WatchFilter filter;
   if (!request.job_id().empty()) {
     grpc::Status status;
-    const auto job = find_job(request.job_id(), status);
+    const auto job = find_job(request.job_id(), caller, status);
     if (!job) return status;
     filter.job_id = job->id();
   }
@@ -215,6 +230,13 @@ grpc::Status RenderServiceImpl::watch(
     return invalid("submitter: must be at most " + std::to_string(kMaxSubmitterLength) +
                    " bytes, got " + std::to_string(request.submitter().size()));
   filter.submitter = request.submitter();
+  // A submit token watches its own jobs only (as ListJobs lists them).
+  if (caller.restricted) {
+    if (!filter.submitter.empty() && !caller.may_act_on(filter.submitter))
+      return permission_denied("submitter: token '" + caller.name +
+                               "' may watch only its own jobs (submitter '" + caller.name + "')");
+    filter.submitter = caller.name;
+  }
   if (!request.label().empty()) {
     std::string problem;
     const auto label = parse_label_filter(request.label(), "label", problem);

@@ -5,7 +5,9 @@
 #include <spdlog/spdlog.h>
 
 #include <string>
+#include <variant>
 
+#include "server/access_control.hpp"
 #include "server/log_text.hpp"
 
 namespace tessera::server::rpc {
@@ -25,18 +27,38 @@ grpc::Status guarded(const char* method, Fn&& fn) {
   }
 }
 
-// Reads the request of a unary call, runs `fn(request, response)` and sends the response
-// when it returns OK.
+// The caller of a RenderService call, or UNAUTHENTICATED (logged with the peer). Every
+// handler starts here, before it reads its request: unary calls through unary() below, the
+// streaming ones themselves.
+inline std::variant<Caller, grpc::Status> authenticate(const char* method,
+                                                       const AccessControl& access,
+                                                       const grpc::ServerContext& context) {
+  auto caller = access.authenticate(context);
+  if (const auto* refused = std::get_if<grpc::Status>(&caller))
+    spdlog::info("{} from {} refused: {}", method, escape_client_text(context.peer()),
+                 refused->error_message());
+  return caller;
+}
+
+inline grpc::Status permission_denied(std::string message) {
+  return grpc::Status(grpc::StatusCode::PERMISSION_DENIED, std::move(message));
+}
+
+// Authenticates the caller of a unary call, reads its request, runs
+// `fn(caller, request, response)` and sends the response when it returns OK.
 template <typename Request, typename Response, typename Fn>
-grpc::Status unary(const char* method, grpc::ServerUnaryStreamer<Request, Response>& streamer,
-                   Fn&& fn) {
+grpc::Status unary(const char* method, const AccessControl& access, grpc::ServerContext& context,
+                   grpc::ServerUnaryStreamer<Request, Response>& streamer, Fn&& fn) {
+  const auto caller = authenticate(method, access, context);
+  if (const auto* refused = std::get_if<grpc::Status>(&caller)) return *refused;
   Request request;
   if (!streamer.Read(&request))
     return grpc::Status(
         grpc::StatusCode::INVALID_ARGUMENT,
         std::string("request: not a valid ") + Request::descriptor()->full_name() + " message");
   Response response;
-  const grpc::Status status = guarded(method, [&] { return fn(request, response); });
+  const grpc::Status status =
+      guarded(method, [&] { return fn(std::get<Caller>(caller), request, response); });
   if (status.ok() && !streamer.Write(response))
     return grpc::Status(grpc::StatusCode::CANCELLED, "the client went away");
   return status;

@@ -68,7 +68,8 @@ TEST(CommandLine, DefaultsWithoutFlags) {
 
 TEST(CommandLine, FlagsSetEverySetting) {
   const CommandLine cl = parse(
-      {"--listen", "0.0.0.0:0", "--threads", "3", "--data", "/tmp/x", "--log-level", "debug"});
+      {"--listen", "0.0.0.0:0", "--threads", "3", "--data", "/tmp/x", "--log-level", "debug",
+       "--allow-insecure-remote"});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.listen, "0.0.0.0:0");
   EXPECT_EQ(cl.config.threads, 3u);
@@ -109,6 +110,7 @@ TEST(CommandLine, BadFlagsAreUsageErrorsNamingTheFlag) {
 TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
   const std::string path = write(
       "listen: 0.0.0.0:6000\n"
+      "allow_insecure_remote: true\n"
       "threads: 5\n"
       "data: /srv/tessera\n"
       "log_level: warn\n");
