@@ -110,8 +110,7 @@ CLI::Validator non_empty_validator() {
 }
 
 void add_server_option(CLI::App& command, std::string& server) {
-  command.add_option("--server", server, "tesserad address")
-      ->envname("TESSERA_SERVER")
+  command.add_option("--server", server, "tesserad address (default: $TESSERA_SERVER, else this)")
       ->check(server_address_validator())
       ->capture_default_str();
 }
@@ -493,6 +492,23 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv, std::ost
   if (const auto problem = apply_security_environment(cmd.security)) {
     err << "tessera: " << *problem << '\n';
     return {std::nullopt, kExitUsage};
+  }
+  // TESSERA_SERVER where no address flag was given. Read here, not with CLI11's envname,
+  // for the reason apply_security_environment gives: there the variable overrode an
+  // explicit --server.
+  if (const char* server = std::getenv("TESSERA_SERVER"); server && *server) {
+    bool given = false;
+    for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
+      for (const char* flag : {"--server", "--address"})
+        if (const CLI::Option* option = command->get_option_no_throw(flag))
+          given = given || option->count() > 0;
+    if (!given) {
+      if (const auto problem = check_server_address(server)) {
+        err << "tessera: TESSERA_SERVER: " << *problem << '\n';
+        return {std::nullopt, kExitUsage};
+      }
+      cmd.server = server;
+    }
   }
 
   if (render->parsed()) {

@@ -982,6 +982,8 @@ int run_with_stdout_image(const CliCommand& command, const CommandOutput& io) {
 
 int run_render(const CliCommand& command, const CommandOutput& io) {
   return command.local ? render_in_process(command, io) : render_remote(command, io);
+}
+
 int token_hash(const CommandOutput& io) {
   std::string digest;
   try {

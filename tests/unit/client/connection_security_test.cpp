@@ -37,10 +37,12 @@ class ConnectionSecurityTest : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     ::unsetenv("TESSERA_TOKEN");
     ::unsetenv("TESSERA_CA");
+    ::unsetenv("TESSERA_SERVER");
   }
   void TearDown() override {
     ::unsetenv("TESSERA_TOKEN");
     ::unsetenv("TESSERA_CA");
+    ::unsetenv("TESSERA_SERVER");
     std::filesystem::remove_all(dir_);
   }
   std::string file(const std::string& name, const std::string& text) {
@@ -96,6 +98,26 @@ TEST_F(ConnectionSecurityTest, TheTokenAndCaComeFromTheEnvironmentToo) {
   EXPECT_FALSE(p.result.command);
   EXPECT_EQ(p.result.exit_code, kExitUsage);
   EXPECT_NE(p.err.find("TESSERA_CA: '"), std::string::npos) << p.err;
+}
+
+// TESSERA_SERVER is the default address; an explicit --server (or health's --address)
+// wins over it. Through CLI11's envname the variable overrode the flag.
+TEST_F(ConnectionSecurityTest, TheServerFlagWinsOverTesseraServer) {
+  ::setenv("TESSERA_SERVER", "1.2.3.4:5", 1);
+  Parsed p = parse({"list"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->server, "1.2.3.4:5");
+  p = parse({"list", "--server", "9.9.9.9:9"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->server, "9.9.9.9:9");
+  p = parse({"health", "--address", "8.8.8.8:8"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->server, "8.8.8.8:8");
+  ::setenv("TESSERA_SERVER", "no-port", 1);
+  p = parse({"list"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_EQ(p.result.exit_code, kExitUsage);
+  EXPECT_NE(p.err.find("TESSERA_SERVER: "), std::string::npos) << p.err;
 }
 
 TEST_F(ConnectionSecurityTest, TlsIsOnOnlyWhenAFlagAsksForIt) {

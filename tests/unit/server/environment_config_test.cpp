@@ -100,13 +100,13 @@ TEST(EnvironmentConfig, UnknownVariablesWarnAndEmptyOnesAreUnset) {
 }
 
 TEST_F(EnvironmentConfigFile, FlagsOverrideTheEnvironmentWhichOverridesTheFile) {
-  const std::string file = write("threads: 5\nlisten: 0.0.0.0:6000\nlog_level: warn\n");
+  const std::string file = write("threads: 5\nlisten: 127.0.0.1:6000\nlog_level: warn\n");
   const Environment environment = {{"TESSERAD_THREADS", "6"}, {"TESSERAD_LOG_LEVEL", "debug"}};
 
   const CommandLine env_over_file = parse({"--config", file}, environment);
   ASSERT_FALSE(env_over_file.exit_code) << env_over_file.message;
-  EXPECT_EQ(env_over_file.config.threads, 6u);             // environment over file
-  EXPECT_EQ(env_over_file.config.listen, "0.0.0.0:6000");  // file over default
+  EXPECT_EQ(env_over_file.config.threads, 6u);               // environment over file
+  EXPECT_EQ(env_over_file.config.listen, "127.0.0.1:6000");  // file over default
   EXPECT_EQ(env_over_file.config.log_level, "debug");
 
   const CommandLine flags_over_env =
@@ -114,7 +114,7 @@ TEST_F(EnvironmentConfigFile, FlagsOverrideTheEnvironmentWhichOverridesTheFile) 
   ASSERT_FALSE(flags_over_env.exit_code) << flags_over_env.message;
   EXPECT_EQ(flags_over_env.config.threads, 7u);
   EXPECT_EQ(flags_over_env.config.log_level, "error");
-  EXPECT_EQ(flags_over_env.config.listen, "0.0.0.0:6000");
+  EXPECT_EQ(flags_over_env.config.listen, "127.0.0.1:6000");
 }
 
 TEST_F(EnvironmentConfigFile, TesseradConfigNamesTheFileUnlessAFlagDoes) {
