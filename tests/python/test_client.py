@@ -249,12 +249,22 @@ class RecordingService(render_pb2_grpc.RenderServiceServicer):
 
     def __init__(self):
         self.metadata = []
+        self.request_ids = []
         self.lock = threading.Lock()
 
     def GetJob(self, request, context):
         with self.lock:
             self.metadata.append(dict(context.invocation_metadata()))
         return render_pb2.Job(id=request.job_id)
+
+    def SubmitJob(self, request, context):
+        # The first attempt fails as a dropped connection would; the retry succeeds.
+        with self.lock:
+            self.request_ids.append(request.request_id)
+            first = len(self.request_ids) == 1
+        if first:
+            context.abort(grpc.StatusCode.UNAVAILABLE, "connection dropped")
+        return render_pb2.SubmitJobResponse(job=render_pb2.Job(id="job-1"))
 
 
 def start_stand_in(credentials=None):
@@ -368,6 +378,21 @@ class Offline(unittest.TestCase):
             server.stop(None)
         self.assertEqual(service.metadata[0].get("authorization"), "Bearer s3cret")
         self.assertNotIn("authorization", service.metadata[1])
+
+    def test_submit_retries_with_the_same_request_id(self):
+        server, service, port = start_stand_in()
+        request = render_pb2.SubmitJobRequest()
+        request.scene.SetInParent()
+        try:
+            with tessera_client.Client(f"127.0.0.1:{port}") as client:
+                self.assertEqual(client.submit(request), "job-1")
+        finally:
+            server.stop(None)
+        # A random 32-hex-digit id, the same on the retry; the caller's request is not changed.
+        self.assertEqual(len(service.request_ids), 2)
+        self.assertEqual(service.request_ids[0], service.request_ids[1])
+        self.assertRegex(service.request_ids[0], "^[0-9a-f]{32}$")
+        self.assertEqual(request.request_id, "")
 
     def test_bad_arguments_name_the_field(self):
         for kwargs, field in ((dict(token="two words"), "token"), (dict(token=""), "token"),

@@ -1,6 +1,7 @@
 """Client: a connection to one tesserad."""
 import os
 import time
+import uuid
 
 import grpc
 
@@ -15,6 +16,12 @@ _JOB_RESUMES_KEY = "tessera-job-resumes"
 # As the C++ client: tiles up to 64 MiB; requests (scenes with inline meshes) unbounded.
 _CHANNEL_OPTIONS = [("grpc.max_receive_message_length", 64 * 1024 * 1024),
                     ("grpc.max_send_message_length", -1)]
+# As the C++ client: a SubmitJob that carries a request id is retried with the same id when
+# it timed out or could not reach the daemon, since the daemon then returns the job the
+# first attempt created instead of making a second one. 4 attempts, 0.5 s apart, doubling.
+_SUBMIT_ATTEMPTS = 4
+_SUBMIT_RETRY_PAUSE = 0.5
+_SUBMIT_RETRIED = (grpc.StatusCode.DEADLINE_EXCEEDED, grpc.StatusCode.UNAVAILABLE)
 
 
 def _read_pem(ca):
@@ -90,15 +97,29 @@ class Client:
     def submit_job(self, scene, **options):
         """Submits `scene` and returns the Job message (render_pb2.Job). `scene` and
         `options` as submit()."""
+        request_id = options.pop("request_id", None)
         if isinstance(scene, render_pb2.SubmitJobRequest):
             if options:
                 raise TypeError("options are for scenes; set them on the SubmitJobRequest")
-            request = scene
+            request = render_pb2.SubmitJobRequest()
+            request.CopyFrom(scene)
         else:
             request = scene_module.submit_request(scene, cli=self._cli, **options)
-        response = self._call(self._stub.SubmitJob, request, self._submit_timeout,
-                              "server rejected the scene")
-        return response.job
+        if request_id is not None:
+            request.request_id = request_id
+        if not request.request_id:
+            request.request_id = uuid.uuid4().hex
+        pause = _SUBMIT_RETRY_PAUSE
+        for attempt in range(_SUBMIT_ATTEMPTS):
+            try:
+                response = self._stub.SubmitJob(request, timeout=self._submit_timeout,
+                                                 metadata=self._metadata)
+                return response.job
+            except grpc.RpcError as e:
+                if e.code() not in _SUBMIT_RETRIED or attempt + 1 == _SUBMIT_ATTEMPTS:
+                    raise _error(e, self.address, "server rejected the scene") from None
+            time.sleep(pause)
+            pause *= 2
 
     def submit(self, scene, **options):
         """Queues `scene` and returns the job id.
@@ -106,8 +127,10 @@ class Client:
         scene: a dict with a scene file's structure, YAML text, the path of a scene file, or a
           render_pb2.SubmitJobRequest (sent as it is). Converted by `tessera convert`: the
           same loader, checks and conversion as `tessera submit`.
-        options: name, priority, labels (a dict), submitter, lenient, and the render
-          overrides width, height, spp, max_depth, tile_size, seed and passes.
+        options: name, priority, labels (a dict), submitter, lenient, the render overrides
+          width, height, spp, max_depth, tile_size, seed and passes, and request_id (default:
+          a random one). With it a submit that timed out or found the daemon unreachable is
+          retried (4 attempts, 0.5 s apart, doubling) without ever making two jobs.
         Raises SceneError for a bad scene (nothing is sent), TesseraError if the server
         refuses it.
         """
