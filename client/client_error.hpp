@@ -17,7 +17,7 @@ class ClientError : public std::runtime_error {
   grpc::StatusCode code() const { return code_; }
   const std::string& message() const { return message_; }
   // The code's canonical name, e.g. "INVALID_ARGUMENT".
-  const char* code_name() const;
+  std::string code_name() const;
 
  private:
   grpc::StatusCode code_;
@@ -26,6 +26,6 @@ class ClientError : public std::runtime_error {
 
 // "INVALID_ARGUMENT" for grpc::StatusCode::INVALID_ARGUMENT; "UNKNOWN_CODE" for values
 // outside the enum.
-const char* status_code_name(grpc::StatusCode code);
+std::string status_code_name(grpc::StatusCode code);
 
 }  // namespace tessera
