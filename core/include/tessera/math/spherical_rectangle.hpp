@@ -5,6 +5,7 @@
 // which made a ceiling 1 cm above a light's back face a source of fireflies.
 #include <cmath>
 
+#include "tessera/math/fast_trig.hpp"
 #include "tessera/math/vec.hpp"
 
 namespace tessera {
@@ -49,7 +50,7 @@ struct SphericalRectangle {
       return vec2(cosine_sign * x * y, az0 * std::sqrt(x * x + y * y + z02));
     };
     const auto angle_sum = [](const vec2& a, const vec2& b) {
-      const float t = std::atan2(a.x * b.y + a.y * b.x, a.x * b.x - a.y * b.y);
+      const float t = fast_atan2(a.x * b.y + a.y * b.x, a.x * b.x - a.y * b.y);
       return t < 0.0f ? t + 2.0f * kPi : t;
     };
     const float g01 = angle_sum(corner_pair(r.x1, r.y0, 1.0f), corner_pair(r.x1, r.y1, -1.0f));
@@ -64,8 +65,9 @@ struct SphericalRectangle {
   // The point on the rectangle for (u, v) in [0, 1)^2; uniform in solid angle.
   TESSERA_HD vec3 sample(float u, float v) const {
     const float au = u * solid_angle + k;
-    const float sin_au = std::sin(au);
-    const float fu = (std::cos(au) * b0 - b1) / sin_au;
+    float sin_au, cos_au;
+    fast_sincos(au, sin_au, cos_au);
+    const float fu = (cos_au * b0 - b1) / sin_au;
     float cu = (fu > 0.0f ? 1.0f : -1.0f) / std::sqrt(fu * fu + b0 * b0);
     cu = glm::clamp(cu, -1.0f, 1.0f);
     float xu = -(cu * z0) / glm::max(std::sqrt(1.0f - cu * cu), 1e-7f);

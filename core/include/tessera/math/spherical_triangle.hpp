@@ -5,6 +5,7 @@
 // above a mesh light).
 #include <cmath>
 
+#include "tessera/math/fast_trig.hpp"
 #include "tessera/math/vec.hpp"
 
 namespace tessera {
@@ -39,10 +40,9 @@ struct SphericalTriangle {
   TESSERA_HD vec3 sample(float u1, float u2) const {
     // u1 picks the sub-triangle (a, b, c_hat) of area u1 * solid_angle: c_hat on arc a-c.
     const float area = u1 * solid_angle;
-    const float s = std::sin(area - alpha);
-    const float t = std::cos(area - alpha);
-    const float cos_alpha = std::cos(alpha);
-    const float sin_alpha = std::sin(alpha);
+    float s, t, sin_alpha, cos_alpha;
+    fast_sincos(area - alpha, s, t);
+    fast_sincos(alpha, sin_alpha, cos_alpha);
     const float u = t - cos_alpha;
     const float v = s + sin_alpha * cos_c;
     const float denominator = (v * s + u * t) * sin_alpha;
@@ -61,7 +61,7 @@ struct SphericalTriangle {
     return len2 > 0.0f ? v / std::sqrt(len2) : vec3(0.0f);
   }
   TESSERA_HD static float angle_between(const vec3& x, const vec3& y) {
-    return std::atan2(glm::length(glm::cross(x, y)), glm::dot(x, y));
+    return fast_atan2(glm::length(glm::cross(x, y)), glm::dot(x, y));
   }
 };
 
