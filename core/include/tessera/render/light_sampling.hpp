@@ -52,8 +52,10 @@ namespace light_detail {
 inline constexpr float kMinSphericalSolidAngle = 3e-4f;
 inline constexpr float kMaxSphericalSolidAngle = 6.22f;
 
+// |u . v| <= 1e-4 |u| |v|, squared: no square roots on the per-sample path.
 TESSERA_HD TESSERA_INLINE bool rectangular(const Quad& q) {
-  return std::fabs(glm::dot(q.u, q.v)) <= 1e-4f * glm::length(q.u) * glm::length(q.v);
+  const float uv = glm::dot(q.u, q.v);
+  return uv * uv <= 1e-8f * glm::dot(q.u, q.u) * glm::dot(q.v, q.v);
 }
 
 // Triangles take the spherical map from a larger solid angle: its area is the angle sum
