@@ -3,6 +3,7 @@
 namespace tessera {
 
 WideBvh collapse_shape_bvh(const Bvh& binary) {
+  if (binary.primitives.size() < kShapeWideMinPrimitives) return {};
   for (const BvhNode& node : binary.nodes)
     if (node.is_leaf() && (node.offset > kWideMaxLeafFirst || node.count > kWideMaxLeafItems))
       return {};

@@ -181,14 +181,25 @@ TEST(ShapeWideBvh, AnEarlierHitBoundsTheWalk) {
         bound(rng));
 }
 
-TEST(ShapeWideBvh, OnePrimitiveAndEmptyTrees) {
-  ShapeScene one;
-  one.spheres.push_back(Sphere{vec3(0, 0, 5), 1.0f, 0});
-  one.build(1);
-  ASSERT_EQ(one.wide.nodes.size(), 1u);  // a root holding the single leaf
-  expect_agreement(one, Ray{vec3(0.0f), vec3(0, 0, 1)});
-  expect_agreement(one, Ray{vec3(0.0f), vec3(0, 0, -1)});
-  expect_agreement(one, Ray{vec3(0.0f), vec3(0, 0, 1), 0.0f, 3.0f});  // ends before it
+TEST(ShapeWideBvh, OneLeafTreeAndSmallAndEmptyTrees) {
+  // A binary tree that is one leaf (four shapes in it) still gets a wide root.
+  ShapeScene one_leaf;
+  for (int i = 0; i < 4; ++i)
+    one_leaf.spheres.push_back(Sphere{vec3(0.1f * static_cast<float>(i), 0, 5), 1.0f, 0});
+  one_leaf.build(4);
+  ASSERT_EQ(one_leaf.bvh.nodes.size(), 1u);
+  ASSERT_EQ(one_leaf.wide.nodes.size(), 1u);
+  expect_agreement(one_leaf, Ray{vec3(0.0f), vec3(0, 0, 1)});
+  expect_agreement(one_leaf, Ray{vec3(0.0f), vec3(0, 0, -1)});
+  expect_agreement(one_leaf, Ray{vec3(0.0f), vec3(0, 0, 1), 0.0f, 3.0f});  // ends before it
+
+  // Fewer shapes than kShapeWideMinPrimitives keep the binary walk.
+  ShapeScene two;
+  two.spheres.push_back(Sphere{vec3(0, 0, 5), 1.0f, 0});
+  two.spheres.push_back(Sphere{vec3(0, 0, 9), 1.0f, 0});
+  two.build(1);
+  EXPECT_FALSE(two.bvh.nodes.empty());
+  EXPECT_TRUE(two.wide.nodes.empty());
 
   ShapeScene none;
   none.build(1);

@@ -5,6 +5,7 @@
 // instead of a scalar slab test per child. Its leaves are the binary leaves, ranges of
 // Bvh::primitives, so the same intersection program tests the same references; the binary
 // BVH stays the layout uploaded to GPUs, which walk it with traverse_bvh.
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -20,10 +21,16 @@
 
 namespace tessera {
 
+// Below this many primitives the binary walk is cheaper: its one or two box tests cost
+// less than the wide walk's per-ray setup and eight-lane node test (measured: three quads
+// beside a 250k-triangle mesh already favour the wide walk, mesh_250k -5.5% render
+// instructions; a triangle scene with one quad light or none lost 1.5% to it).
+inline constexpr std::size_t kShapeWideMinPrimitives = 3;
+
 // The wide form of a shape BVH, its leaves naming `binary.primitives` ranges. Empty when
-// the binary BVH is empty or a leaf's range lies beyond what a wide leaf word can encode
-// (kWideMaxLeafFirst); BvhView::wide_nodes is then left null and tracers walk the binary
-// tree.
+// the binary BVH holds fewer than kShapeWideMinPrimitives primitives or a leaf's range lies
+// beyond what a wide leaf word can encode (kWideMaxLeafFirst); BvhView::wide_nodes is then
+// left null and tracers walk the binary tree.
 WideBvh collapse_shape_bvh(const Bvh& binary);
 
 #if TESSERA_SHAPE_WIDE_WALK

@@ -45,7 +45,7 @@ class BvhTracer {
       found = bvh_.instances->closest(nearer, hit) || found;
     }
 #endif
-    found = walk<false>(ray, hit) || found;
+    if (bvh_.node_count != 0) found = walk<false>(ray, hit) || found;
     if constexpr (HasUnboundedShapes<Intersection>)
       found = intersection_.intersect_unbounded(ray, hit) || found;
     return found;
@@ -60,7 +60,7 @@ class BvhTracer {
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.intersect_unbounded(ray, hit)) return true;
-    return walk<true>(ray, hit);
+    return bvh_.node_count != 0 && walk<true>(ray, hit);
   }
 
   TESSERA_HD bool occluded(const Ray& ray) const {
@@ -70,6 +70,7 @@ class BvhTracer {
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.occluded_unbounded(ray)) return true;
+    if (bvh_.node_count == 0) return false;  // triangles alone: no call into the walk
     HitRecord hit;
     hit.t = ray.t_max;
     return walk<true>(ray, hit);
