@@ -13,6 +13,7 @@
 #include "pooled_surfaces.hpp"
 #include "primitive_list.hpp"
 #include "shape_placement.hpp"
+#include "tessera/accel/shape_wide_bvh.hpp"
 #include "tessera/render/material_mapping.hpp"
 #include "texture_pool.hpp"
 #include "variant_choice.hpp"
@@ -139,6 +140,9 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   const Aabb scene_bounds = primitives.bounds();
   primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                 scene->bvh_);
+#if TESSERA_SHAPE_WIDE_WALK
+  scene->shape_wide_bvh_ = collapse_shape_bvh(scene->bvh_);
+#endif
   scene->camera_ = Camera::from_description(description.camera, description.render);
   AnalyticLightSet analytic = make_analytic_lights(description);
   scene->environment_ = analytic.environment;
@@ -197,6 +201,7 @@ SceneView PreparedScene::view() const {
   v.light_tree = light_tree_.empty() ? nullptr : light_tree_.data();
   v.light_count = static_cast<std::uint32_t>(lights_.size());
   v.bvh = bvh_.view();
+  if (!shape_wide_bvh_.nodes.empty()) v.bvh.wide_nodes = shape_wide_bvh_.nodes.data();
   if (triangle_accel_.stats().triangles > 0) v.bvh.triangles = &triangle_accel_;
   v.instanced_triangles = instanced_triangles_.data();
   v.instanced_attributes = instanced_attributes_.empty() ? nullptr : instanced_attributes_.data();

@@ -35,8 +35,9 @@ class PrimitiveList {
 
   // Builds the structures over the visible primitives. Triangles (their references index
   // `triangles`) go to the SIMD structure the CPU traces them with (accel/triangle_accel.hpp),
-  // every other shape to the BVH; BvhView::triangles joins the two for BvhTracer. Once, after
-  // the last shape is stored: it reorders the list.
+  // every other shape to the BVH; BvhView::triangles joins the two for BvhTracer. Up to
+  // kShapeBvhMaxTriangles triangles beside other shapes stay in the BVH instead (no SIMD
+  // structure). Once, after the last shape is stored: it reorders the list.
   void build_accelerators(std::span<const Triangle> triangles, TriangleAccel& triangle_accel,
                           Bvh& bvh);
 

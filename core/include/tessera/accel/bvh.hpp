@@ -26,6 +26,7 @@ inline constexpr std::uint32_t kMaxBvhDepth = 64;
 
 class TriangleAccel;
 class InstanceAccel;
+struct WideBvhNode;
 
 struct BvhView {
   const BvhNode* nodes = nullptr;
@@ -38,6 +39,10 @@ struct BvhView {
   // Host only, likewise: placements of shared mesh geometry (two-level), traced by CPU
   // tracers besides `triangles`; its hits name their triangles with the placement's ids.
   const InstanceAccel* instances = nullptr;
+  // Host only, likewise: the same tree collapsed into eight-wide nodes
+  // (accel/shape_wide_bvh.hpp), its leaves naming ranges of `primitives`; CPU tracers walk
+  // it instead of `nodes` when it is set.
+  const WideBvhNode* wide_nodes = nullptr;
 };
 
 struct Bvh {

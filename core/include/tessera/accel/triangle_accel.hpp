@@ -26,6 +26,9 @@ std::optional<AccelKind> parse_accel_kind(std::string_view name);
 // Up to this many triangles brute force is as fast as any tree (measured, see the note in
 // bench/accel/README.md); above it the wide BVH is fastest for every scene measured.
 inline constexpr std::size_t kBruteForceMaxTriangles = 48;
+// Up to this many visible triangles beside other bounded shapes are traced through the
+// shape BVH rather than this structure (PrimitiveList::build_accelerators says why).
+inline constexpr std::size_t kShapeBvhMaxTriangles = 1024;
 AccelKind choose_accel_kind(std::size_t triangle_count);
 
 struct AccelBuildOptions {

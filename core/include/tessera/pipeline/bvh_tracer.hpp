@@ -6,6 +6,7 @@
 #include "tessera/pipeline/concepts.hpp"
 #if !defined(__CUDACC__)
 #include "tessera/accel/instance_accel.hpp"
+#include "tessera/accel/shape_wide_bvh.hpp"
 #include "tessera/accel/triangle_accel.hpp"
 #endif
 
@@ -17,7 +18,9 @@ namespace tessera {
 // live in the SIMD structure BvhView::triangles instead of the BVH; each query then asks
 // it first (one call per ray) and walks the BVH for the other shapes; placements of shared
 // mesh geometry (BvhView::instances, two-level) are asked the same way. nvcc never sees
-// that structure (its kernels are x86 code): device code walks the BVH alone. Shapes no
+// that structure (its kernels are x86 code): device code walks the BVH alone. The CPU walks
+// the other shapes through BvhView::wide_nodes, the BVH's eight-wide form, when it is set
+// (closest and any hit; all-hits queries walk the binary tree). Shapes no
 // box can hold (infinite planes) stay outside the BVH: an intersection program with
 // kHasUnbounded tests them per ray through its *_unbounded functions.
 template <typename I>
@@ -42,12 +45,7 @@ class BvhTracer {
       found = bvh_.instances->closest(nearer, hit) || found;
     }
 #endif
-    found = traverse_bvh<false>(
-                bvh_, ray, hit,
-                [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-                  return intersection_.intersect(primitive, r, t_max, h);
-                }) ||
-            found;
+    if (bvh_.node_count != 0) found = walk<false>(ray, hit) || found;
     if constexpr (HasUnboundedShapes<Intersection>)
       found = intersection_.intersect_unbounded(ray, hit) || found;
     return found;
@@ -62,10 +60,7 @@ class BvhTracer {
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.intersect_unbounded(ray, hit)) return true;
-    return traverse_bvh<true>(
-        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-          return intersection_.intersect(primitive, r, t_max, h);
-        });
+    return bvh_.node_count != 0 && walk<true>(ray, hit);
   }
 
   TESSERA_HD bool occluded(const Ray& ray) const {
@@ -75,12 +70,10 @@ class BvhTracer {
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.occluded_unbounded(ray)) return true;
+    if (bvh_.node_count == 0) return false;  // triangles alone: no call into the walk
     HitRecord hit;
     hit.t = ray.t_max;
-    return traverse_bvh<true>(
-        bvh_, ray, hit, [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
-          return intersection_.intersect(primitive, r, t_max, h);
-        });
+    return walk<true>(ray, hit);
   }
 
   // Up to kMaxHits nearest hits, sorted by t. Once the list is full, subtrees beyond its
@@ -128,6 +121,20 @@ class BvhTracer {
   }
 
  private:
+  // Closest- or any-hit walk of the BVH with the intersection program: the wide form on
+  // the CPU when there is one, the binary tree otherwise.
+  template <bool kAnyHit>
+  TESSERA_HD bool walk(const Ray& ray, HitRecord& hit) const {
+    const auto intersect = [this](std::uint32_t primitive, const Ray& r, float t_max,
+                                  HitRecord& h) {
+      return intersection_.intersect(primitive, r, t_max, h);
+    };
+#if !defined(__CUDACC__) && TESSERA_SHAPE_WIDE_WALK
+    if (bvh_.wide_nodes != nullptr) return traverse_shape_wide<kAnyHit>(bvh_, ray, hit, intersect);
+#endif
+    return traverse_bvh<kAnyHit>(bvh_, ray, hit, intersect);
+  }
+
   BvhView bvh_;
   Intersection intersection_;
 };

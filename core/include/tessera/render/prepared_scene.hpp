@@ -8,6 +8,7 @@
 #include "tessera/accel/bvh.hpp"
 #include "tessera/accel/instance_accel.hpp"
 #include "tessera/accel/triangle_accel.hpp"
+#include "tessera/accel/wide_bvh.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
 #include "tessera/render/primitive_arrays.hpp"
@@ -109,6 +110,8 @@ class PreparedScene {
   std::vector<LightTreeNode> light_tree_;  // empty: pick_light uses the alias table
   Bvh bvh_;                                // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;           // visible triangles, named by their tagged references
+  // bvh_ in eight-wide nodes: what the CPU walks (accel/shape_wide_bvh.hpp).
+  WideBvh shape_wide_bvh_;
   // Shared mesh geometry: object-space triangles (and attributes when stored) of every
   // geometry back to back, one structure per geometry, the placements and their top level.
   std::vector<Triangle> instanced_triangles_;
