@@ -60,6 +60,18 @@ TEST(FastTrig, SincosMatchesLibmOverTheSamplersRange) {
   }
 }
 
+TEST(FastTrig, SincosOutsideTheReducedRangeIsLibms) {
+  float s = 0.0f, c = 0.0f;
+  fast_sincos(1.0e6f, s, c);
+  EXPECT_EQ(s, std::sin(1.0e6f));
+  EXPECT_EQ(c, std::cos(1.0e6f));
+  fast_sincos(std::numeric_limits<float>::quiet_NaN(), s, c);
+  EXPECT_TRUE(std::isnan(s));
+  EXPECT_TRUE(std::isnan(c));
+  fast_sincos(std::numeric_limits<float>::infinity(), s, c);
+  EXPECT_TRUE(std::isnan(s));
+}
+
 TEST(FastTrig, SincosIsExactWhereLibmIs) {
   float s = 1.0f, c = 0.0f;
   fast_sincos(0.0f, s, c);

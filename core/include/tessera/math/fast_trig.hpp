@@ -41,16 +41,22 @@ TESSERA_HD TESSERA_INLINE float fast_atan2(float y, float x) {
   return std::copysign(angle, y);
 }
 
-// sin and cos of `x` for |x| up to a few hundred radians (the samplers pass angles in
-// [0, 4 pi]): x is reduced by multiples of pi/2 split in three parts whose leading ones
-// have few enough significant bits that their products with the multiple are exact
-// (Cody and Waite), so the reduced argument keeps full precision; then one polynomial
-// each on [-pi/4, pi/4].
+// sin and cos of `x` (the samplers pass angles in [0, 4 pi]): x is reduced by multiples of pi/2
+// split in three parts whose leading ones have few enough significant bits that their products with
+// the multiple are exact (Cody and Waite), so the reduced argument keeps full precision; then one
+// polynomial each on [-pi/4, pi/4].
 TESSERA_HD TESSERA_INLINE void fast_sincos(float x, float& sin_x, float& cos_x) {
   constexpr float kTwoOverPi = 0.636619772367581343f;
   constexpr float kHalfPiHigh = 1.5703125f;  // 8 significant bits
   constexpr float kHalfPiMiddle = 4.837512969970703125e-4f;
   constexpr float kHalfPiLow = 7.54978995489188216e-8f;
+  // Past the reduction's exact range (and for NaN, whose conversion to int is undefined),
+  // libm: never on the samplers' path.
+  if (!(std::fabs(x) < 1.0e4f)) {
+    sin_x = std::sin(x);
+    cos_x = std::cos(x);
+    return;
+  }
   // Rounded half away from zero by truncation: std::nearbyint is a libm call without SSE4.1.
   const int quadrant_index = static_cast<int>(x * kTwoOverPi + std::copysign(0.5f, x));
   const float quadrant = static_cast<float>(quadrant_index);
