@@ -17,6 +17,7 @@
 #include "tessera/image/exr.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 #include "test_scenes.hpp"
+#include "tests/support/loopback_daemon_config.hpp"
 
 namespace tessera::server {
 namespace {
@@ -42,12 +43,7 @@ class DaemonTest : public ::testing::Test {
   // (Re)starts the daemon on the same data directory.
   void restart(const std::function<void(DaemonConfig&)>& adjust = {}) {
     daemon_.reset();
-    DaemonConfig config;
-    config.listen = "127.0.0.1:0";
-    config.threads = 2;
-    config.data_dir = data_dir_;
-    config.log_level = "warn";
-    config.shutdown_grace = 0ms;  // nothing here needs tiles to finish at shutdown
+    DaemonConfig config = test::loopback_daemon_config(data_dir_, 2);
     if (adjust) adjust(config);
     daemon_ = std::make_unique<Daemon>(config);
     port_ = daemon_->start();
