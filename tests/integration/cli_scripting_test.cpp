@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_run.hpp"
 #include "client/cli_options.hpp"
 #include "client/client.hpp"
 #include "client/commands.hpp"
@@ -30,28 +31,12 @@ namespace tessera {
 namespace {
 
 using namespace std::chrono_literals;
+using test::CliRun;
 using test::cornell;
 using test::kCornell;
+using test::run_cli;
 using test::TesseradProcess;
 using Json = nlohmann::json;
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-// `tessera ARGS...` parsed and run in this process.
-CliRun run_cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "tessera");
-  std::vector<const char*> argv;
-  for (const std::string& arg : args) argv.push_back(arg.c_str());
-  std::ostringstream out, err;
-  const ParsedCommandLine parsed =
-      parse_command_line(static_cast<int>(argv.size()), argv.data(), out, err);
-  if (!parsed.command) return {parsed.exit_code, out.str(), err.str()};
-  const int code = run_command(*parsed.command, {out, err, false});
-  return {code, out.str(), err.str()};
-}
 
 std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_run.hpp"
 #include "client/client.hpp"
 #include "client/commands.hpp"
 #include "convert/scene_proto.hpp"
@@ -22,6 +23,7 @@
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera {
 namespace {
@@ -216,25 +218,12 @@ TEST_F(ClientServerTest, GetAndListReflectJobStates) {
 
 // ---- The CLI against the daemon -----------------------------------------------------------
 
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-CliRun run_cli(const CliCommand& command) {
-  std::ostringstream out, err;
-  const int code = run_command(command, {out, err, false});
-  return {code, out.str(), err.str()};
-}
+using test::CliRun;
+using test::run_cli;
 
 class CliAgainstDaemonTest : public ClientServerTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tessera_cli_daemon_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = test::make_test_dir(); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   CliCommand render_command() const {

@@ -21,6 +21,8 @@
 #include "tessera/image/exr.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/render/render_image.hpp"
+#include "tests/support/loopback_daemon_config.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera {
 namespace {
@@ -35,12 +37,7 @@ bool finished(v1::JobState state) {
 
 class JobControlTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    data_dir_ = std::filesystem::temp_directory_path() /
-                (std::string("tesserad-control-test-") + std::to_string(::getpid()) + "-" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(data_dir_);
-  }
+  void SetUp() override { data_dir_ = test::make_test_dir("tesserad"); }
   void TearDown() override {
     client_.reset();
     daemon_.reset();
@@ -50,12 +47,7 @@ class JobControlTest : public ::testing::Test {
   void start(const std::function<void(server::DaemonConfig&)>& adjust = {}) {
     client_.reset();
     daemon_.reset();
-    server::DaemonConfig config;
-    config.listen = "127.0.0.1:0";
-    config.threads = 2;
-    config.data_dir = data_dir_;
-    config.log_level = "warn";
-    config.shutdown_grace = 0ms;
+    server::DaemonConfig config = test::loopback_daemon_config(data_dir_, 2);
     if (adjust) adjust(config);
     daemon_ = std::make_unique<server::Daemon>(config);
     daemon_->start();

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_run.hpp"
 #include "client/cli_options.hpp"
 #include "client/client.hpp"
 #include "client/commands.hpp"
@@ -27,6 +28,7 @@
 #include "server/daemon.hpp"
 #include "tesserad_process.hpp"
 #include "test_certificates.hpp"
+#include "tests/support/loopback_daemon_config.hpp"
 
 namespace tessera {
 namespace {
@@ -93,15 +95,7 @@ class SecurityTest : public test::TesseradDirTest {
     return path;
   }
 
-  server::DaemonConfig base_config() const {
-    server::DaemonConfig config;
-    config.listen = "127.0.0.1:0";
-    config.threads = 1;
-    config.data_dir = data();
-    config.log_level = "warn";
-    config.shutdown_grace = 0ms;
-    return config;
-  }
+  server::DaemonConfig base_config() const { return test::loopback_daemon_config(data(), 1); }
 
   void start(const server::DaemonConfig& config) {
     daemon_ = std::make_unique<server::Daemon>(config);
@@ -422,24 +416,6 @@ TEST_F(SecurityTest, TesseradRefusesABadTokensFileNamingEntryAndField) {
 
 // ---- The CLI ------------------------------------------------------------------------------
 
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-// `tessera ARGS...` in this process: parsed as the command line is, then run.
-CliRun run_tessera(std::vector<std::string> args) {
-  args.insert(args.begin(), "tessera");
-  std::vector<const char*> argv;
-  for (const std::string& arg : args) argv.push_back(arg.c_str());
-  std::ostringstream out, err;
-  const ParsedCommandLine parsed =
-      parse_command_line(static_cast<int>(argv.size()), argv.data(), out, err);
-  if (!parsed.command) return {parsed.exit_code, out.str(), err.str()};
-  const int code = run_command(*parsed.command, {out, err, false});
-  return {code, out.str(), err.str()};
-}
-
 TEST_F(SecurityTest, TheCliRendersThroughMutualTlsWithAToken) {
   server::DaemonConfig config = base_config();
   config.tls_cert = certificates().server_cert();
@@ -458,31 +434,31 @@ TEST_F(SecurityTest, TheCliRendersThroughMutualTlsWithAToken) {
   };
   const std::string output = (dir_ / "cornell.exr").string();
 
-  const CliRun render =
-      run_tessera(with({"render", test::kCornell, "-o", output, "--width", "16", "--height", "16",
-                        "--spp", "1", "--tile-size", "16", "--token", kAliceToken},
-                       connection));
+  const test::CliRun render =
+      test::run_cli(with({"render", test::kCornell, "-o", output, "--width", "16", "--height", "16",
+                          "--spp", "1", "--tile-size", "16", "--token", kAliceToken},
+                         connection));
   EXPECT_EQ(render.exit_code, 0) << render.err;
   EXPECT_TRUE(std::filesystem::exists(output));
-  const CliRun listed = run_tessera(with({"list", "--token", kAliceToken}, connection));
+  const test::CliRun listed = test::run_cli(with({"list", "--token", kAliceToken}, connection));
   EXPECT_EQ(listed.exit_code, 0) << listed.err;
   EXPECT_NE(listed.out.find("completed"), std::string::npos) << listed.out;
   EXPECT_NE(listed.out.find("cornell"), std::string::npos) << listed.out;
 
-  const CliRun no_token = run_tessera(with({"list"}, connection));
+  const test::CliRun no_token = test::run_cli(with({"list"}, connection));
   EXPECT_EQ(no_token.exit_code, 1);
   EXPECT_NE(no_token.err.find("UNAUTHENTICATED"), std::string::npos) << no_token.err;
 
-  const CliRun plaintext =
-      run_tessera({"list", "--server", daemon_->address(), "--token", kAliceToken});
+  const test::CliRun plaintext =
+      test::run_cli({"list", "--server", daemon_->address(), "--token", kAliceToken});
   EXPECT_EQ(plaintext.exit_code, 1);
   EXPECT_NE(plaintext.err.find("if it serves TLS, give --ca or --tls"), std::string::npos)
       << plaintext.err;
 
-  const CliRun wrong_ca =
-      run_tessera({"list", "--server", daemon_->address(), "--token", kAliceToken, "--ca",
-                   files.other_ca().string(), "--client-cert", files.path("client.crt").string(),
-                   "--client-key", files.path("client.key").string()});
+  const test::CliRun wrong_ca =
+      test::run_cli({"list", "--server", daemon_->address(), "--token", kAliceToken, "--ca",
+                     files.other_ca().string(), "--client-cert", files.path("client.crt").string(),
+                     "--client-key", files.path("client.key").string()});
   EXPECT_EQ(wrong_ca.exit_code, 1);
   EXPECT_NE(wrong_ca.err.find("TLS handshake"), std::string::npos) << wrong_ca.err;
 }

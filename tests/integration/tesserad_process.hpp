@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/test_dir.hpp"
+
 namespace tessera::test {
 
 // One tesserad process on a free port, its log appended to `log`.
@@ -111,24 +113,16 @@ class TesseradProcess {
 
 // A folder per test for a tesserad run by a test: its data directory and log, removed
 // unless the test failed (then kept for a look).
-class TesseradDirTest : public ::testing::Test {
+class TesseradDirTest : public TestDirFixture {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           (std::string("tesserad-") + test->test_suite_name() + "-" + std::to_string(::getpid()) +
-            "-" + test->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  TesseradDirTest() : TestDirFixture("tesserad") {}
+
   void TearDown() override {
-    if (!HasFailure()) std::filesystem::remove_all(dir_);
+    if (!HasFailure()) TestDirFixture::TearDown();
   }
 
   std::filesystem::path data() const { return dir_ / "data"; }
   std::filesystem::path log() const { return dir_ / "tesserad.log"; }
-
-  std::filesystem::path dir_;
 };
 
 }  // namespace tessera::test

@@ -20,6 +20,7 @@
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/render/render_image.hpp"
 #include "tessera/scene/yaml_loader.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera {
 namespace {
@@ -35,17 +36,7 @@ CommandRun run(const CliCommand& command) {
   return {code, out.str(), err.str()};
 }
 
-class CommandsTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tessera_commands_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
-};
+class CommandsTest : public test::TestDirFixture {};
 
 std::string cornell_path() {
   return std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";

@@ -11,6 +11,7 @@
 #include "client/cli_options.hpp"
 #include "client/client_connection.hpp"
 #include "client/token_hash.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera {
 namespace {
@@ -28,13 +29,10 @@ Parsed parse(std::vector<const char*> args) {
   return p;
 }
 
-class ConnectionSecurityTest : public ::testing::Test {
+class ConnectionSecurityTest : public test::TestDirFixture {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tessera-connection-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
+    TestDirFixture::SetUp();
     ::unsetenv("TESSERA_TOKEN");
     ::unsetenv("TESSERA_CA");
     ::unsetenv("TESSERA_SERVER");
@@ -43,14 +41,13 @@ class ConnectionSecurityTest : public ::testing::Test {
     ::unsetenv("TESSERA_TOKEN");
     ::unsetenv("TESSERA_CA");
     ::unsetenv("TESSERA_SERVER");
-    std::filesystem::remove_all(dir_);
+    TestDirFixture::TearDown();
   }
   std::string file(const std::string& name, const std::string& text) {
     const auto path = dir_ / name;
     std::ofstream(path) << text;
     return path.string();
   }
-  std::filesystem::path dir_;
 };
 
 TEST_F(ConnectionSecurityTest, EveryCommandWithAServerTakesTheSecurityFlags) {

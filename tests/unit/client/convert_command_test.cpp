@@ -13,21 +13,12 @@
 #include "client/commands.hpp"
 #include "convert/scene_proto.hpp"
 #include "tessera/scene/yaml_loader.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera {
 namespace {
 
-class ConvertCommandTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tessera_convert_command_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::filesystem::path dir_;
-};
+class ConvertCommandTest : public test::TestDirFixture {};
 
 std::string cornell_path() {
   return std::string(TESSERA_SOURCE_DIR) + "/examples/scenes/cornell.yaml";

@@ -5,38 +5,16 @@
 #include <fstream>
 #include <variant>
 
+#include "config_fixture.hpp"
 #include "server/command_line.hpp"
 #include "server/listen_address.hpp"
 
 namespace tessera::server {
 namespace {
 
-// Runs the parser on `tesserad <args...>`.
-CommandLine parse(std::vector<std::string> args) {
-  args.insert(args.begin(), "tesserad");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  return parse_command_line(static_cast<int>(argv.size()), argv.data());
-}
+using testing::parse_tesserad;
 
-class ConfigFile : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tesserad-config-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string write(const std::string& text) {
-    const auto path = dir_ / "tesserad.yaml";
-    std::ofstream(path) << text;
-    return path.string();
-  }
-
-  std::filesystem::path dir_;
-};
+class ConfigFile : public testing::ConfigFileTest {};
 
 TEST(ListenAddress, AcceptsHostsAndPorts) {
   const auto a = std::get<ListenAddress>(parse_listen_address("127.0.0.1:50051"));
@@ -57,7 +35,7 @@ TEST(ListenAddress, RejectsMalformedAddresses) {
 }
 
 TEST(CommandLine, DefaultsWithoutFlags) {
-  const CommandLine cl = parse({});
+  const CommandLine cl = parse_tesserad({});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.listen, "127.0.0.1:50051");
   EXPECT_EQ(cl.config.threads, default_thread_count());
@@ -67,9 +45,9 @@ TEST(CommandLine, DefaultsWithoutFlags) {
 }
 
 TEST(CommandLine, FlagsSetEverySetting) {
-  const CommandLine cl = parse(
-      {"--listen", "0.0.0.0:0", "--threads", "3", "--data", "/tmp/x", "--log-level", "debug",
-       "--allow-insecure-remote"});
+  const CommandLine cl =
+      parse_tesserad({"--listen", "0.0.0.0:0", "--threads", "3", "--data", "/tmp/x", "--log-level",
+                      "debug", "--allow-insecure-remote"});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.listen, "0.0.0.0:0");
   EXPECT_EQ(cl.config.threads, 3u);
@@ -78,11 +56,11 @@ TEST(CommandLine, FlagsSetEverySetting) {
 }
 
 TEST(CommandLine, VersionAndHelpExitZero) {
-  const CommandLine version = parse({"--version"});
+  const CommandLine version = parse_tesserad({"--version"});
   ASSERT_TRUE(version.exit_code);
   EXPECT_EQ(*version.exit_code, 0);
   EXPECT_EQ(version.message, std::string("tesserad ") + TESSERA_VERSION + "\n");
-  const CommandLine help = parse({"--help"});
+  const CommandLine help = parse_tesserad({"--help"});
   ASSERT_TRUE(help.exit_code);
   EXPECT_EQ(*help.exit_code, 0);
   EXPECT_NE(help.message.find("--listen"), std::string::npos);
@@ -100,7 +78,7 @@ TEST(CommandLine, BadFlagsAreUsageErrorsNamingTheFlag) {
       {{"--data", ""}, "--data"},
   };
   for (const auto& [args, flag] : cases) {
-    const CommandLine cl = parse(args);
+    const CommandLine cl = parse_tesserad(args);
     ASSERT_TRUE(cl.exit_code) << args[0];
     EXPECT_EQ(*cl.exit_code, kExitUsage);
     EXPECT_NE(cl.message.find(flag), std::string::npos) << cl.message;
@@ -114,7 +92,7 @@ TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
       "threads: 5\n"
       "data: /srv/tessera\n"
       "log_level: warn\n");
-  const CommandLine from_file = parse({"--config", path});
+  const CommandLine from_file = parse_tesserad({"--config", path});
   ASSERT_FALSE(from_file.exit_code) << from_file.message;
   EXPECT_EQ(from_file.config.listen, "0.0.0.0:6000");
   EXPECT_EQ(from_file.config.threads, 5u);
@@ -123,7 +101,7 @@ TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
   EXPECT_TRUE(from_file.warnings.empty());
 
   const CommandLine overridden =
-      parse({"--threads", "2", "--config", path, "--listen", "127.0.0.1:7"});
+      parse_tesserad({"--threads", "2", "--config", path, "--listen", "127.0.0.1:7"});
   ASSERT_FALSE(overridden.exit_code) << overridden.message;
   EXPECT_EQ(overridden.config.threads, 2u);
   EXPECT_EQ(overridden.config.listen, "127.0.0.1:7");
@@ -132,14 +110,15 @@ TEST_F(ConfigFile, FileSetsValuesAndFlagsOverrideThem) {
 }
 
 TEST_F(ConfigFile, ShutdownGraceAndRetentionAreRead) {
-  const CommandLine defaults = parse({});
+  const CommandLine defaults = parse_tesserad({});
   ASSERT_FALSE(defaults.exit_code) << defaults.message;
   EXPECT_EQ(defaults.config.shutdown_grace, std::chrono::seconds(5));
   EXPECT_EQ(defaults.config.job_ttl, std::chrono::hours(7 * 24));
   EXPECT_EQ(defaults.config.max_jobs, 10000u);
 
-  const CommandLine cl = parse({"--config", write("shutdown_grace: 1500ms\njob_ttl: 12h\nmax_jobs: "
-                                                  "0\nmax_jobs_per_submitter: 7\n")});
+  const CommandLine cl =
+      parse_tesserad({"--config", write("shutdown_grace: 1500ms\njob_ttl: 12h\nmax_jobs: "
+                                        "0\nmax_jobs_per_submitter: 7\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.shutdown_grace, std::chrono::milliseconds(1500));
   EXPECT_EQ(cl.config.job_ttl, std::chrono::hours(12));
@@ -150,22 +129,22 @@ TEST_F(ConfigFile, ShutdownGraceAndRetentionAreRead) {
 }
 
 TEST_F(ConfigFile, StreamWriteTimeoutIsReadWithItsDefault) {
-  EXPECT_EQ(parse({}).config.stream_write_timeout, std::chrono::seconds(30));
-  const CommandLine cl = parse({"--config", write("stream_write_timeout: 2m\n")});
+  EXPECT_EQ(parse_tesserad({}).config.stream_write_timeout, std::chrono::seconds(30));
+  const CommandLine cl = parse_tesserad({"--config", write("stream_write_timeout: 2m\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.stream_write_timeout, std::chrono::minutes(2));
   EXPECT_TRUE(cl.warnings.empty());
 }
 
 TEST_F(ConfigFile, TileRetriesAndWatchSettingsAreRead) {
-  const CommandLine defaults = parse({});
+  const CommandLine defaults = parse_tesserad({});
   ASSERT_FALSE(defaults.exit_code) << defaults.message;
   EXPECT_EQ(defaults.config.tile_retries, 2u);
   EXPECT_EQ(defaults.config.watch_buffer, 1024u);
   EXPECT_EQ(defaults.config.watch_write_timeout, std::chrono::seconds(10));
 
-  const CommandLine cl =
-      parse({"--config", write("tile_retries: 0\nwatch_buffer: 16\nwatch_write_timeout: 250ms\n")});
+  const CommandLine cl = parse_tesserad(
+      {"--config", write("tile_retries: 0\nwatch_buffer: 16\nwatch_write_timeout: 250ms\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.tile_retries, 0u);
   EXPECT_EQ(cl.config.watch_buffer, 16u);
@@ -177,7 +156,7 @@ TEST_F(ConfigFile, TileRetriesAndWatchSettingsAreRead) {
            {"tile_retries: -1\n", "tile_retries"},
            {"watch_buffer: 0\n", "watch_buffer"},
            {"watch_write_timeout: 0s\n", "watch_write_timeout"}}) {
-    const CommandLine bad = parse({"--config", write(text)});
+    const CommandLine bad = parse_tesserad({"--config", write(text)});
     ASSERT_TRUE(bad.exit_code) << text;
     EXPECT_NE(bad.message.find(key), std::string::npos) << bad.message;
   }
@@ -195,7 +174,7 @@ TEST(ParseDuration, AcceptsANumberWithAUnit) {
 }
 
 TEST_F(ConfigFile, UnknownKeysWarnWithTheirLine) {
-  const CommandLine cl = parse({"--config", write("threads: 2\nworkers: 9\n")});
+  const CommandLine cl = parse_tesserad({"--config", write("threads: 2\nworkers: 9\n")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.threads, 2u);
   ASSERT_EQ(cl.warnings.size(), 1u);
@@ -222,7 +201,7 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
       {"stream_write_timeout: never\n", "stream_write_timeout: must be a duration"},
   };
   for (const auto& [text, expected] : cases) {
-    const CommandLine cl = parse({"--config", write(text)});
+    const CommandLine cl = parse_tesserad({"--config", write(text)});
     ASSERT_TRUE(cl.exit_code) << text;
     EXPECT_EQ(*cl.exit_code, kExitUsage);
     EXPECT_NE(cl.message.find(expected), std::string::npos)
@@ -231,13 +210,13 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
 }
 
 TEST_F(ConfigFile, AMissingFileIsAnError) {
-  const CommandLine cl = parse({"--config", (dir_ / "absent.yaml").string()});
+  const CommandLine cl = parse_tesserad({"--config", (dir_ / "absent.yaml").string()});
   ASSERT_TRUE(cl.exit_code);
   EXPECT_NE(cl.message.find("cannot read the config file"), std::string::npos) << cl.message;
 }
 
 TEST_F(ConfigFile, AnEmptyFileChangesNothing) {
-  const CommandLine cl = parse({"--config", write("")});
+  const CommandLine cl = parse_tesserad({"--config", write("")});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.listen, kDefaultListen);
 }

@@ -18,6 +18,7 @@
 #include "tessera/image/exr.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 #include "test_scenes.hpp"
+#include "tests/support/loopback_daemon_config.hpp"
 
 namespace tessera::server {
 namespace {
@@ -55,12 +56,7 @@ class DaemonPassesTest : public ::testing::Test {
 
   void start(std::chrono::milliseconds write_timeout = 30s) {
     daemon_.reset();
-    DaemonConfig config;
-    config.listen = "127.0.0.1:0";
-    config.threads = 2;
-    config.data_dir = data_dir_;
-    config.log_level = "warn";
-    config.shutdown_grace = 0ms;
+    DaemonConfig config = test::loopback_daemon_config(data_dir_, 2);
     config.stream_write_timeout = write_timeout;
     daemon_ = std::make_unique<Daemon>(config);
     daemon_->start();

@@ -9,6 +9,7 @@
 
 #include <condition_variable>
 #include <future>
+#include <latch>
 #include <regex>
 #include <set>
 #include <thread>
@@ -16,6 +17,7 @@
 #include "tessera/image/exr.hpp"
 #include "tessera/v1/render.grpc.pb.h"
 #include "test_scenes.hpp"
+#include "tests/support/loopback_daemon_config.hpp"
 
 namespace tessera::server {
 namespace {
@@ -41,12 +43,7 @@ class DaemonTest : public ::testing::Test {
   // (Re)starts the daemon on the same data directory.
   void restart(const std::function<void(DaemonConfig&)>& adjust = {}) {
     daemon_.reset();
-    DaemonConfig config;
-    config.listen = "127.0.0.1:0";
-    config.threads = 2;
-    config.data_dir = data_dir_;
-    config.log_level = "warn";
-    config.shutdown_grace = 0ms;  // nothing here needs tiles to finish at shutdown
+    DaemonConfig config = test::loopback_daemon_config(data_dir_, 2);
     if (adjust) adjust(config);
     daemon_ = std::make_unique<Daemon>(config);
     port_ = daemon_->start();
@@ -620,6 +617,40 @@ TEST_F(DaemonTest, ARequestIdMakesSubmitJobIdempotent) {
   EXPECT_NE(again.id(), first.id());
   EXPECT_TRUE(cancel(again.id()).ok());
   EXPECT_TRUE(cancel(bob_job.id()).ok());
+}
+
+// Attempts of one request that arrive together (a client's retry while its first attempt
+// is still being checked) make one job between them, and each is answered with it,
+// whichever attempt stored it. This is the race DaemonBudgetTest's resubmission of a
+// 3-million-triangle scene provokes, on a scene small enough for `make tsan` to run.
+TEST_F(DaemonTest, ConcurrentAttemptsOfOneRequestIdMakeOneJob) {
+  v1::SubmitJobRequest request;
+  *request.mutable_scene() = tiny_scene();
+  *request.mutable_settings() = long_settings();
+  request.set_name("raced");
+  request.set_submitter("alice");
+  request.set_request_id("7d41c2e09a6b4f13");
+  constexpr std::size_t kAttempts = 8;
+  std::vector<v1::Job> jobs(kAttempts);
+  std::vector<grpc::Status> statuses(kAttempts);
+  std::latch all_ready(kAttempts);
+  std::vector<std::thread> attempts;
+  for (std::size_t i = 0; i < kAttempts; ++i)
+    attempts.emplace_back([&, i] {
+      all_ready.arrive_and_wait();
+      statuses[i] = submit(request, &jobs[i]);
+    });
+  for (std::thread& attempt : attempts) attempt.join();
+
+  for (std::size_t i = 0; i < kAttempts; ++i) {
+    ASSERT_TRUE(statuses[i].ok()) << "attempt " << i << ": " << statuses[i].error_message();
+    EXPECT_EQ(jobs[i].id(), jobs[0].id()) << "attempt " << i;
+  }
+  grpc::ClientContext context;
+  v1::ListJobsResponse list;
+  ASSERT_TRUE(stub_->ListJobs(&context, v1::ListJobsRequest(), &list).ok());
+  EXPECT_EQ(list.jobs_size(), 1);
+  EXPECT_TRUE(cancel(jobs[0].id()).ok());
 }
 
 // GetServerInfo reports the configured limits (not the defaults), the worker threads, the

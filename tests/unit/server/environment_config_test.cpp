@@ -8,37 +8,16 @@
 #include <filesystem>
 #include <fstream>
 
+#include "config_fixture.hpp"
 #include "server/command_line.hpp"
 #include "server/config.hpp"
 
 namespace tessera::server {
 namespace {
 
-CommandLine parse(std::vector<std::string> args, const Environment& environment) {
-  args.insert(args.begin(), "tesserad");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  return parse_command_line(static_cast<int>(argv.size()), argv.data(), environment);
-}
+using testing::parse_tesserad;
 
-class EnvironmentConfigFile : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tesserad-env-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string write(const std::string& text) {
-    const auto path = dir_ / "tesserad.yaml";
-    std::ofstream(path) << text;
-    return path.string();
-  }
-
-  std::filesystem::path dir_;
-};
+class EnvironmentConfigFile : public testing::ConfigFileTest {};
 
 TEST(EnvironmentVariableNames, AreDerivedFromTheKeys) {
   EXPECT_EQ(environment_variable_for("listen"), "TESSERAD_LISTEN");
@@ -103,14 +82,14 @@ TEST_F(EnvironmentConfigFile, FlagsOverrideTheEnvironmentWhichOverridesTheFile) 
   const std::string file = write("threads: 5\nlisten: 127.0.0.1:6000\nlog_level: warn\n");
   const Environment environment = {{"TESSERAD_THREADS", "6"}, {"TESSERAD_LOG_LEVEL", "debug"}};
 
-  const CommandLine env_over_file = parse({"--config", file}, environment);
+  const CommandLine env_over_file = parse_tesserad({"--config", file}, environment);
   ASSERT_FALSE(env_over_file.exit_code) << env_over_file.message;
   EXPECT_EQ(env_over_file.config.threads, 6u);               // environment over file
   EXPECT_EQ(env_over_file.config.listen, "127.0.0.1:6000");  // file over default
   EXPECT_EQ(env_over_file.config.log_level, "debug");
 
   const CommandLine flags_over_env =
-      parse({"--config", file, "--threads", "7", "--log-level", "error"}, environment);
+      parse_tesserad({"--config", file, "--threads", "7", "--log-level", "error"}, environment);
   ASSERT_FALSE(flags_over_env.exit_code) << flags_over_env.message;
   EXPECT_EQ(flags_over_env.config.threads, 7u);
   EXPECT_EQ(flags_over_env.config.log_level, "error");
@@ -119,35 +98,36 @@ TEST_F(EnvironmentConfigFile, FlagsOverrideTheEnvironmentWhichOverridesTheFile) 
 
 TEST_F(EnvironmentConfigFile, TesseradConfigNamesTheFileUnlessAFlagDoes) {
   const std::string file = write("threads: 5\n");
-  const CommandLine from_variable = parse({}, {{"TESSERAD_CONFIG", file}});
+  const CommandLine from_variable = parse_tesserad({}, {{"TESSERAD_CONFIG", file}});
   ASSERT_FALSE(from_variable.exit_code) << from_variable.message;
   EXPECT_EQ(from_variable.config.threads, 5u);
 
   const std::string other = (dir_ / "other.yaml").string();
   std::ofstream(other) << "threads: 2\n";
-  const CommandLine flag_wins = parse({"--config", other}, {{"TESSERAD_CONFIG", file}});
+  const CommandLine flag_wins = parse_tesserad({"--config", other}, {{"TESSERAD_CONFIG", file}});
   ASSERT_FALSE(flag_wins.exit_code) << flag_wins.message;
   EXPECT_EQ(flag_wins.config.threads, 2u);
 }
 
 TEST(EnvironmentConfig, ABadVariableIsAUsageErrorOfTheCommandLine) {
-  const CommandLine cl = parse({}, {{"TESSERAD_MAX_PIXELS", "many"}});
+  const CommandLine cl = parse_tesserad({}, {{"TESSERAD_MAX_PIXELS", "many"}});
   ASSERT_TRUE(cl.exit_code);
   EXPECT_EQ(*cl.exit_code, kExitUsage);
   EXPECT_NE(cl.message.find("TESSERAD_MAX_PIXELS: must be"), std::string::npos) << cl.message;
 }
 
 TEST(CommandLineObservability, MetricsAndLogFormatFlags) {
-  const CommandLine cl = parse({"--metrics-listen", "127.0.0.1:0", "--log-format", "json"}, {});
+  const CommandLine cl =
+      parse_tesserad({"--metrics-listen", "127.0.0.1:0", "--log-format", "json"}, {});
   ASSERT_FALSE(cl.exit_code) << cl.message;
   EXPECT_EQ(cl.config.metrics_listen, "127.0.0.1:0");
   EXPECT_EQ(cl.config.log_format, "json");
-  const CommandLine defaults = parse({}, {});
+  const CommandLine defaults = parse_tesserad({}, {});
   EXPECT_EQ(defaults.config.metrics_listen, "");
   EXPECT_EQ(defaults.config.log_format, "text");
   for (const auto& bad : std::vector<std::vector<std::string>>{{"--log-format", "xml"},
                                                                {"--metrics-listen", "9100"}}) {
-    const CommandLine refused = parse(bad, {});
+    const CommandLine refused = parse_tesserad(bad, {});
     ASSERT_TRUE(refused.exit_code) << bad[0];
     EXPECT_NE(refused.message.find(bad[0]), std::string::npos) << refused.message;
   }

@@ -8,20 +8,14 @@
 #include <fstream>
 
 #include "server/log_text.hpp"
+#include "tests/support/test_dir.hpp"
 
 namespace tessera::server {
 namespace {
 
-class SqliteJobStoreTest : public ::testing::Test {
+class SqliteJobStoreTest : public test::TestDirFixture {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tesserad-store-test-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  SqliteJobStoreTest() : TestDirFixture("tesserad") {}
 
   std::filesystem::path file() const { return dir_ / SqliteJobStore::kFileName; }
 
@@ -52,8 +46,6 @@ class SqliteJobStoreTest : public ::testing::Test {
     sqlite3_close(db);
     return n;
   }
-
-  std::filesystem::path dir_;
 };
 
 // A pass of a tile and the tile's accumulated state are one transaction: the state is

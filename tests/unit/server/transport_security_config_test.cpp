@@ -5,6 +5,7 @@
 
 #include <fstream>
 
+#include "config_fixture.hpp"
 #include "server/command_line.hpp"
 #include "server/config.hpp"
 #include "server/listen_address.hpp"
@@ -12,12 +13,7 @@
 namespace tessera::server {
 namespace {
 
-CommandLine parse(std::vector<std::string> args) {
-  args.insert(args.begin(), "tesserad");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  return parse_command_line(static_cast<int>(argv.size()), argv.data());
-}
+using testing::parse_tesserad;
 
 // The ConfigError message of validating `config`, or "" when it is valid.
 std::string error_of(const DaemonConfig& config) {
@@ -72,20 +68,7 @@ TEST(TransportSecurity, TlsFilesComeInPairsAndClientCaNeedsTls) {
   EXPECT_EQ(error_of(config).rfind("tls_client_ca: needs tls_cert and tls_key", 0), 0u);
 }
 
-class SecurityConfigFile : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = std::filesystem::temp_directory_path() /
-            ("tesserad-security-config-" + std::to_string(::getpid()) + "-" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
-  }
-  void TearDown() override { std::filesystem::remove(path_); }
-  std::string write(const std::string& text) {
-    std::ofstream(path_) << text;
-    return path_.string();
-  }
-  std::filesystem::path path_;
-};
+class SecurityConfigFile : public testing::ConfigFileTest {};
 
 TEST_F(SecurityConfigFile, KeysAndFlagsSetTheSecuritySettings) {
   const std::string file = write(
@@ -94,7 +77,7 @@ TEST_F(SecurityConfigFile, KeysAndFlagsSetTheSecuritySettings) {
       "tls_key: /etc/tessera/server.key\n"
       "tls_client_ca: /etc/tessera/clients.crt\n"
       "tokens: /etc/tessera/tokens.yaml\n");
-  const CommandLine from_file = parse({"--config", file});
+  const CommandLine from_file = parse_tesserad({"--config", file});
   ASSERT_FALSE(from_file.exit_code) << from_file.message;
   EXPECT_TRUE(from_file.warnings.empty());
   EXPECT_EQ(from_file.config.tls_cert, "/etc/tessera/server.crt");
@@ -103,19 +86,21 @@ TEST_F(SecurityConfigFile, KeysAndFlagsSetTheSecuritySettings) {
   EXPECT_EQ(from_file.config.tokens_file, "/etc/tessera/tokens.yaml");
   EXPECT_FALSE(from_file.config.allow_insecure_remote);
 
-  const CommandLine flags = parse({"--config", file, "--tls-cert", "a.crt", "--tls-key", "a.key",
-                                   "--tls-client-ca", "b.crt", "--tokens", "t.yaml"});
+  const CommandLine flags =
+      parse_tesserad({"--config", file, "--tls-cert", "a.crt", "--tls-key", "a.key",
+                      "--tls-client-ca", "b.crt", "--tokens", "t.yaml"});
   ASSERT_FALSE(flags.exit_code) << flags.message;
   EXPECT_EQ(flags.config.tls_cert, "a.crt");
   EXPECT_EQ(flags.config.tls_key, "a.key");
   EXPECT_EQ(flags.config.tls_client_ca, "b.crt");
   EXPECT_EQ(flags.config.tokens_file, "t.yaml");
 
-  const CommandLine insecure = parse({"--listen", "0.0.0.0:6000", "--allow-insecure-remote"});
+  const CommandLine insecure =
+      parse_tesserad({"--listen", "0.0.0.0:6000", "--allow-insecure-remote"});
   ASSERT_FALSE(insecure.exit_code) << insecure.message;
   EXPECT_TRUE(insecure.config.allow_insecure_remote);
   const CommandLine insecure_file =
-      parse({"--config", write("listen: '[::]:6000'\nallow_insecure_remote: true\n")});
+      parse_tesserad({"--config", write("listen: '[::]:6000'\nallow_insecure_remote: true\n")});
   ASSERT_FALSE(insecure_file.exit_code) << insecure_file.message;
   EXPECT_TRUE(insecure_file.config.allow_insecure_remote);
 }
@@ -129,12 +114,12 @@ TEST_F(SecurityConfigFile, BadValuesAreUsageErrorsNamingTheKey) {
       {"tls_client_ca: ca.crt\n", "tls_client_ca: needs tls_cert and tls_key"},
   };
   for (const auto& [text, expected] : cases) {
-    const CommandLine cl = parse({"--config", write(text)});
+    const CommandLine cl = parse_tesserad({"--config", write(text)});
     ASSERT_TRUE(cl.exit_code) << text;
     EXPECT_EQ(*cl.exit_code, kExitUsage);
     EXPECT_NE(cl.message.find(expected), std::string::npos) << cl.message;
   }
-  const CommandLine empty_flag = parse({"--tokens", ""});
+  const CommandLine empty_flag = parse_tesserad({"--tokens", ""});
   ASSERT_TRUE(empty_flag.exit_code);
   EXPECT_NE(empty_flag.message.find("--tokens: must not be empty"), std::string::npos)
       << empty_flag.message;
