@@ -66,12 +66,8 @@ inline bool prepare(const Ray& ray, PreparedRay& r) {
 
 // ---- Box tests -------------------------------------------------------------------------
 
-// The far end of the interval (the box's exit, or the closest hit so far if nearer) is
-// widened by two ulps (folded into the far planes' reciprocals and into t_max), which with the
-// subtract-then-multiply slab test keeps boxes from being missed through rounding (Ize, "Robust BVH
-// ray traversal", JCGT 2013): a flat box holding an axis-aligned quad, or a box entered at the same
-// distance, up to rounding, as the hit found so far.
-constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
+// The far end of each box interval is widened by two ulps (accel/wide_node_sse.hpp says why).
+using wide_node_sse::kFarScale;
 
 #if TESSERA_KERNEL_AVX2
 struct BoxRay {
@@ -112,41 +108,15 @@ TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const Pre
   return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ)));
 }
 #else
-struct BoxRay {
-  __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
-  explicit BoxRay(const PreparedRay& r) {
-    for (int axis = 0; axis < 3; ++axis) {
-      origin[axis] = _mm_set1_ps(r.origin[axis]);
-      inv_direction[axis] = _mm_set1_ps(r.inv_direction[axis]);
-      inv_direction_far[axis] = _mm_set1_ps(r.inv_direction[axis] * kFarScale);
-    }
-    t_min = _mm_set1_ps(r.t_min);
-  }
+// The SSE2 node test is the one the shape BVH's walk uses too (accel/wide_node_sse.hpp).
+struct BoxRay : wide_node_sse::BoxRay {
+  explicit BoxRay(const PreparedRay& r)
+      : wide_node_sse::BoxRay(r.origin, r.inv_direction, r.near_row, r.far_row, r.t_min) {}
 };
 
-TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r,
+TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay&,
                                               const BoxRay& b, float t_max, std::uint32_t* entry) {
-  std::uint32_t mask = 0;
-  const __m128 far_limit = _mm_set1_ps(t_max * kFarScale);
-  for (int half = 0; half < 2; ++half) {
-    const int lane = 4 * half;
-    const auto slab = [&](std::uint32_t row, int axis, const __m128* inv) {
-      return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row] + lane), b.origin[axis]),
-                        inv[axis]);
-    };
-    const __m128 near_x = slab(r.near_row[0], 0, b.inv_direction),
-                 near_y = slab(r.near_row[1], 1, b.inv_direction),
-                 near_z = slab(r.near_row[2], 2, b.inv_direction);
-    const __m128 far_x = slab(r.far_row[0], 0, b.inv_direction_far),
-                 far_y = slab(r.far_row[1], 1, b.inv_direction_far),
-                 far_z = slab(r.far_row[2], 2, b.inv_direction_far);
-    // NaN plane distances go first: see the AVX2 version.
-    const __m128 t_near = _mm_max_ps(near_x, _mm_max_ps(near_y, _mm_max_ps(near_z, b.t_min)));
-    const __m128 t_far = _mm_min_ps(far_x, _mm_min_ps(far_y, _mm_min_ps(far_z, far_limit)));
-    _mm_store_ps(reinterpret_cast<float*>(entry + lane), _mm_max_ps(t_near, _mm_setzero_ps()));
-    mask |= static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmple_ps(t_near, t_far))) << lane;
-  }
-  return mask;
+  return wide_node_sse::test_node(node, b, t_max, entry);
 }
 #endif
 
@@ -497,24 +467,10 @@ struct AllQuery {
 
 // ---- Walks -----------------------------------------------------------------------------
 
-// Stack entries pack the child's entry distance (high half, as float bits) and the child
-// word (low half) into one integer. Entry distances are clamped to >= 0 for the key, where
-// float bits order like the values, so sorting entries is sorting integers and compiles to
-// conditional moves instead of unpredictable branches.
-using StackKey = std::uint64_t;
-
-// `distance_bits`: the bits of a distance >= +0 (test_node clamps them). A key of 0 stands
-// for any entry distance <= 0, so the pop compares keys with max(t_max, 0): a ray with
-// t_min < 0 whose best hit so far lies behind its origin must still visit them.
-TESSERA_KERNEL_INLINE StackKey stack_key(std::uint32_t distance_bits, std::uint32_t child) {
-  return (static_cast<StackKey>(distance_bits) << 32) | child;
-}
-inline float key_distance(StackKey key) {
-  const auto bits = static_cast<std::uint32_t>(key >> 32);
-  float t;
-  std::memcpy(&t, &bits, sizeof t);
-  return t;
-}
+// Stack entries: the entry distance's bits above the child word (accel/wide_node_sse.hpp).
+using wide_node_sse::key_distance;
+using wide_node_sse::stack_key;
+using wide_node_sse::StackKey;
 inline void order(StackKey& a, StackKey& b) {  // a <= b afterwards
   const StackKey lo = a < b ? a : b, hi = a < b ? b : a;
   a = lo;

@@ -11,6 +11,8 @@
 #include <cstring>
 #include <utility>
 
+#include "tessera/accel/wide_node_sse.hpp"
+
 namespace tessera::accel_detail {
 bool cpu_has_avx2() {
   __builtin_cpu_init();

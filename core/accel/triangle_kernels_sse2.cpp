@@ -9,6 +9,8 @@
 #include <cstring>
 #include <utility>
 
+#include "tessera/accel/wide_node_sse.hpp"
+
 #define TESSERA_KERNEL_NS sse2
 #define TESSERA_KERNEL_ISA_NAME "sse2"
 #define TESSERA_KERNEL_AVX2 0
