@@ -2,7 +2,6 @@
 
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -12,6 +11,7 @@
 #include <stdexcept>
 
 #include "server/config.hpp"
+#include "server/yaml_document.hpp"
 
 namespace tessera::server {
 namespace {
@@ -79,14 +79,7 @@ const AccessToken* TokenTable::find(std::string_view token) const {
 }
 
 TokenTable load_token_yaml(const std::string& text, const std::string& display_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    std::string where = display_name;
-    if (!e.mark.is_null()) where.append(":").append(std::to_string(e.mark.line + 1));
-    throw ConfigError(where + ": YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = parse_yaml_document(text, display_name);
   if (!root.IsSequence()) throw ConfigError(display_name + ": must be " + kFormat);
   if (root.size() == 0)
     throw ConfigError(display_name +

@@ -1,7 +1,5 @@
 #include "server/config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include "server/cpu_limits.hpp"
 #include "server/job_cost.hpp"
 #include "server/listen_address.hpp"
+#include "server/yaml_document.hpp"
 
 namespace tessera::server {
 namespace {
@@ -425,14 +424,7 @@ bool apply_setting(DaemonConfig& config, const std::string& display_name, const 
 
 DaemonConfig load_config_yaml(const std::string& text, const std::string& display_name,
                               DaemonConfig config, std::vector<std::string>& warnings) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    std::string where = display_name;
-    if (!e.mark.is_null()) where.append(":").append(std::to_string(e.mark.line + 1));
-    throw ConfigError(where + ": YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = parse_yaml_document(text, display_name);
   if (!root.IsDefined() || root.IsNull()) return config;  // an empty file changes nothing
   if (!root.IsMap())
     throw ConfigError(display_name + ": must be a YAML map of settings (" + kKeys + ")");
