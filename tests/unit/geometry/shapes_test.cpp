@@ -376,6 +376,13 @@ TEST(DegenerateShapes, ZeroAreaShapesAreNeverHit) {
   expect_never_hit(Cone::make(vec3(0.0f), z, 0.0f, 0.0f, 1.0f, true, 0),
                    {across, across_middle, diagonal}, "cone r = 0 at both ends");
   expect_never_hit(Torus::make(vec3(0.0f), z, 1.0f, 0.0f, 0), {rim, across}, "torus r = 0");
+  // A quad whose edges are parallel (a segment) or zero; Quad::make leaves its plane unset.
+  const vec3 x(1.0f, 0.0f, 0.0f);
+  const Ray onto_segment = ray(vec3(0.5f, 0.0f, 5.0f), vec3(0.0f, 0.0f, -1.0f));
+  expect_never_hit(Quad::make(vec3(0.0f), x, 2.0f * x, 0), {onto_segment, across, diagonal},
+                   "quad with parallel edges");
+  expect_never_hit(Quad::make(vec3(0.0f), x, vec3(0.0f), 0), {onto_segment, across}, "quad v = 0");
+  EXPECT_FALSE(Quad::make(vec3(0.0f), x, 2.0f * x, 0).is_rectangle());
   // A flat capped cylinder is still its caps (a disk): hit from above, at the cap's normal,
   // but not along its rim plane.
   const Cylinder flat = Cylinder::make(vec3(0.0f), z, 1.0f, 0.0f, true, 0);
@@ -502,6 +509,34 @@ TEST(Bounds, ContainEverySurfacePoint) {
       EXPECT_GE(cb.upper[a], on_cone[a]);
     }
   }
+}
+
+// The parallelogram coordinates come from axes formed once in Quad::make: a sheared quad
+// hit at a known (s, t) reports it, and the edges of a rectangle give its light frame.
+TEST(Quad, ShearedQuadReportsItsCoordinatesAndRectanglesKeepTheirFrame) {
+  const Quad sheared =
+      Quad::make(vec3(1.0f, 2.0f, 0.0f), vec3(2.0f, 0.0f, 0.0f), vec3(1.0f, 3.0f, 0.0f), 0);
+  EXPECT_FALSE(sheared.is_rectangle());
+  const vec3 target = vec3(1.0f, 2.0f, 0.0f) + 0.25f * sheared.u + 0.75f * sheared.v;
+  HitRecord hit;
+  ASSERT_TRUE(intersect(sheared, ray(target + vec3(0.0f, 0.0f, 4.0f), vec3(0.0f, 0.0f, -1.0f)),
+                        kInfinity, hit, 7u));
+  EXPECT_FLOAT_EQ(hit.t, 4.0f);
+  EXPECT_NEAR(hit.u, 0.25f, 1e-6f);
+  EXPECT_NEAR(hit.v, 0.75f, 1e-6f);
+  EXPECT_EQ(hit.primitive, 7u);
+  // Just outside the s = 1 edge.
+  EXPECT_FALSE(intersect(
+      sheared, ray(target + 0.76f * sheared.u + vec3(0.0f, 0.0f, 4.0f), vec3(0.0f, 0.0f, -1.0f)),
+      kInfinity, hit, 7u));
+
+  const Quad rectangle = Quad::make(vec3(0.0f), vec3(0.0f, 0.0f, 2.0f), vec3(0.0f, 3.0f, 0.0f), 0);
+  ASSERT_TRUE(rectangle.is_rectangle());
+  EXPECT_FLOAT_EQ(rectangle.u_length, 2.0f);
+  EXPECT_FLOAT_EQ(rectangle.v_length, 3.0f);
+  expect_vec_near(rectangle.u_direction, vec3(0.0f, 0.0f, 1.0f), 0.0f);
+  expect_vec_near(rectangle.v_direction, vec3(0.0f, 1.0f, 0.0f), 0.0f);
+  expect_vec_near(rectangle.normal, vec3(-1.0f, 0.0f, 0.0f), 0.0f);
 }
 
 }  // namespace

@@ -16,10 +16,49 @@ struct Quad {
   vec3 normal;  // unit, along u x v
   vec3 w;       // (u x v) / |u x v|^2: maps a plane point to (s, t) with two dot products
   std::uint32_t material;
+  // The plane and the parallelogram's coordinates in double, formed once here instead of
+  // per ray: the unit normal, and the vectors whose dot products with a plane point
+  // relative to the corner give s and t ((v x n) / |n|^2 and (n x u) / |n|^2 for
+  // n = u x v; from the triple product (p x v) . n = p . (v x n)). All zero for a
+  // degenerate quad, which no ray then hits.
+  dvec3 plane_normal{0.0};
+  dvec3 s_axis{0.0};
+  dvec3 t_axis{0.0};
+  // For a rectangle (|u . v| <= 1e-4 |u| |v|), which lights sample by its solid angle: the
+  // unit edge directions and the edge lengths, so the per-sample frame costs no square roots
+  // or divisions. Zero lengths when the quad is not one.
+  vec3 u_direction{0.0f};
+  vec3 v_direction{0.0f};
+  float u_length = 0.0f;
+  float v_length = 0.0f;
+
+  TESSERA_HD bool is_rectangle() const { return u_length > 0.0f; }
 
   static Quad make(const vec3& corner, const vec3& u, const vec3& v, std::uint32_t material) {
     const vec3 n = glm::cross(u, v);
-    return Quad{corner, u, v, glm::normalize(n), n / glm::dot(n, n), material};
+    Quad q{};
+    q.corner = corner;
+    q.u = u;
+    q.v = v;
+    q.normal = glm::normalize(n);
+    q.w = n / glm::dot(n, n);
+    q.material = material;
+    // Products of floats are exact in double, so n_d is u x v rounded once.
+    const dvec3 n_d = glm::cross(dvec3(u), dvec3(v));
+    const double n2 = glm::dot(n_d, n_d);
+    if (n2 > 0.0 && std::isfinite(n2)) {
+      q.plane_normal = n_d / std::sqrt(n2);
+      q.s_axis = glm::cross(dvec3(v), n_d) / n2;
+      q.t_axis = glm::cross(n_d, dvec3(u)) / n2;
+    }
+    const float uu = glm::dot(u, u), vv = glm::dot(v, v), uv = glm::dot(u, v);
+    if (uv * uv <= 1e-8f * uu * vv && uu > 0.0f && vv > 0.0f && std::isfinite(uu * vv)) {
+      q.u_length = std::sqrt(uu);
+      q.v_length = std::sqrt(vv);
+      q.u_direction = u / q.u_length;
+      q.v_direction = v / q.v_length;
+    }
+    return q;
   }
 };
 
@@ -39,20 +78,17 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Quad& q) {
 // uncertainty) does not hit it again.
 TESSERA_HD TESSERA_INLINE bool intersect(const Quad& q, const PreciseRay& ray, float t_max,
                                          HitRecord& hit, std::uint32_t primitive) {
-  const dvec3 u(q.u), v(q.v);
-  const dvec3 n = glm::cross(u, v);
-  const double n2 = glm::dot(n, n);
-  const double denominator = glm::dot(n, ray.direction);
-  if (denominator == 0.0 || !(n2 > 0.0)) return false;  // parallel or degenerate: no 0/0
+  const double denominator = glm::dot(q.plane_normal, ray.direction);
+  if (denominator == 0.0) return false;  // parallel, or a degenerate quad: no 0/0
   const dvec3 offset = ray.origin - dvec3(q.corner);
-  const double height = glm::dot(n, offset);
-  if (std::fabs(height) <= ray.origin_error * std::sqrt(n2)) return false;  // starts on it
+  const double height = glm::dot(q.plane_normal, offset);
+  if (std::fabs(height) <= ray.origin_error) return false;  // starts on it
   const double t = -height / denominator;
   float tf;
   if (!accept_root(t, ray.t_min, t_max, tf)) return false;
   const dvec3 planar = offset + t * ray.direction;
-  const double s = glm::dot(glm::cross(planar, v), n) / n2;
-  const double r = glm::dot(glm::cross(u, planar), n) / n2;
+  const double s = glm::dot(planar, q.s_axis);
+  const double r = glm::dot(planar, q.t_axis);
   if (!(s >= 0.0 && s <= 1.0 && r >= 0.0 && r <= 1.0)) return false;
   hit.t = tf;
   hit.u = static_cast<float>(s);

@@ -20,12 +20,20 @@ struct SphericalRectangle {
   // `corner`, `edge_u` and `edge_v` give the rectangle; the edges must be orthogonal.
   TESSERA_HD static SphericalRectangle make(const vec3& corner, const vec3& edge_u,
                                             const vec3& edge_v, const vec3& origin) {
+    const float eu = glm::length(edge_u), ev = glm::length(edge_v);
+    const vec3 x = edge_u / eu, y = edge_v / ev;
+    return make(corner, x, y, glm::cross(x, y), eu, ev, origin);
+  }
+
+  // The same from the rectangle's unit edge directions x and y, its normal z = x cross y
+  // and its edge lengths, which a light computes once instead of per shading point.
+  TESSERA_HD static SphericalRectangle make(const vec3& corner, const vec3& x, const vec3& y,
+                                            const vec3& z, float eu, float ev, const vec3& origin) {
     SphericalRectangle r;
     r.origin = origin;
-    const float eu = glm::length(edge_u), ev = glm::length(edge_v);
-    r.x = edge_u / eu;
-    r.y = edge_v / ev;
-    r.z = glm::cross(r.x, r.y);
+    r.x = x;
+    r.y = y;
+    r.z = z;
     const vec3 d = corner - origin;
     r.z0 = glm::dot(d, r.z);
     if (r.z0 > 0.0f) {

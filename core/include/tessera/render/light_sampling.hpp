@@ -52,10 +52,11 @@ namespace light_detail {
 inline constexpr float kMinSphericalSolidAngle = 3e-4f;
 inline constexpr float kMaxSphericalSolidAngle = 6.22f;
 
-// |u . v| <= 1e-4 |u| |v|, squared: no square roots on the per-sample path.
-TESSERA_HD TESSERA_INLINE bool rectangular(const Quad& q) {
-  const float uv = glm::dot(q.u, q.v);
-  return uv * uv <= 1e-8f * glm::dot(q.u, q.u) * glm::dot(q.v, q.v);
+// The solid angle of a rectangle (Quad::is_rectangle: |u . v| <= 1e-4 |u| |v|) from its
+// frame, which the quad keeps.
+TESSERA_HD TESSERA_INLINE SphericalRectangle spherical_rectangle(const Quad& q, const vec3& ref) {
+  return SphericalRectangle::make(q.corner, q.u_direction, q.v_direction, q.normal, q.u_length,
+                                  q.v_length, ref);
 }
 
 // Triangles take the spherical map from a larger solid angle: its area is the angle sum
@@ -244,8 +245,8 @@ TESSERA_HD inline bool sample_emitter(const Sphere& s, float area, const vec3& r
 TESSERA_HD inline bool sample_emitter(const Quad& q, float area, const vec3& ref, float u1,
                                       float u2, LightSample& out) {
   using namespace light_detail;
-  if (rectangular(q)) {
-    const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+  if (q.is_rectangle()) {
+    const SphericalRectangle rect = spherical_rectangle(q, ref);
     if (spherical_usable(rect.solid_angle)) {
       const vec3 d = rect.sample(u1, u2) - ref;
       const float distance2 = glm::dot(d, d);
@@ -329,8 +330,8 @@ TESSERA_HD inline float emitter_pdf(const Sphere& s, float area, const vec3& ref
 TESSERA_HD inline float emitter_pdf(const Quad& q, float area, const vec3& ref, const vec3& wi,
                                     float distance, const vec3& light_normal) {
   using namespace light_detail;
-  if (rectangular(q)) {
-    const SphericalRectangle rect = SphericalRectangle::make(q.corner, q.u, q.v, ref);
+  if (q.is_rectangle()) {
+    const SphericalRectangle rect = spherical_rectangle(q, ref);
     if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
   }
   return area_to_solid_angle(area, distance * distance, wi, light_normal);
