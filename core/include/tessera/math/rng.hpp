@@ -23,6 +23,7 @@ class SampleStream {
     index_ = sample_index;
     if (kind == SamplerKind::kSobol) {
       key_ = sobol_pixel_key(seed, pixel_x, pixel_y);
+      mirrored_index_ = reverse_bits(sample_index);
       return;
     }
     std::uint32_t h = mix32(static_cast<std::uint32_t>(seed) ^ 0x2545f491U);
@@ -40,7 +41,7 @@ class SampleStream {
     if (kind_ == SamplerKind::kSobol) {
       std::uint32_t x = 0;
       std::uint32_t y = 0;
-      sobol_pair(key_, index_, d >> 1, x, y);
+      sobol_pair_mirrored(key_, mirrored_index_, d >> 1, x, y);
       return uint_to_unit_float((d & 1U) != 0 ? y : x);
     }
     return uint_to_unit_float(hash_combine(key_, d));
@@ -55,7 +56,7 @@ class SampleStream {
     if (kind_ == SamplerKind::kSobol) {
       std::uint32_t x = 0;
       std::uint32_t y = 0;
-      sobol_pair(key_, index_, dimension_ >> 1, x, y);
+      sobol_pair_mirrored(key_, mirrored_index_, dimension_ >> 1, x, y);
       dimension_ += 2;
       a = uint_to_unit_float(x);
       b = uint_to_unit_float(y);
@@ -79,7 +80,8 @@ class SampleStream {
 
  private:
   std::uint32_t key_ = 0;    // independent: hash of seed, pixel, sample; Sobol: of seed, pixel
-  std::uint32_t index_ = 0;  // the sample index (Sobol only)
+  std::uint32_t index_ = 0;  // the sample index
+  std::uint32_t mirrored_index_ = 0;  // Sobol: its bits mirrored, formed once for every pair
   std::uint32_t dimension_ = 0;
   SamplerKind kind_ = SamplerKind::kIndependent;
 };

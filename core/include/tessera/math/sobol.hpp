@@ -134,23 +134,33 @@ TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t 
 #endif
 }
 
-// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions.
-// The shuffle and the two coordinate scrambles take different seeds: scrambling the index
-// and a coordinate with the same one would tie them together.
-TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
-                                          std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {
+// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions,
+// from the sample index with its bits mirrored (reverse_bits), which a sample stream forms
+// once for all its pairs. The shuffle and the two coordinate scrambles take different
+// seeds: scrambling the index and a coordinate with the same one would tie them together.
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key,
+                                                         std::uint32_t mirrored_sample_index,
+                                                         std::uint32_t pair, std::uint32_t& x,
+                                                         std::uint32_t& y) {
   const std::uint32_t pair_seed = hash_combine(pixel_key, pair);
   // Sample indices stay below 2^16 (SceneLimits::max_samples_per_pixel). The scramble's
   // low 16 bits depend only on the index's low 16 bits, so they are a nested uniform
   // shuffle of [0, 2^16) on their own; keeping only them lets 16-bit tables give the point.
+  // nested_uniform_scramble(index) is reverse(permutation(mirrored index)).
   const std::uint32_t index =
-      nested_uniform_scramble(sample_index, pair_seed) & kSobolIndexMask;
+      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask;
   // nested_uniform_scramble(v) is reverse(permutation(reverse(v))): dimension 0 is the
   // mirrored index, so its scramble is reverse(permutation(index)), and dimension 1 is
   // produced mirrored, so neither needs the mirror taken twice.
   x = reverse_bits(laine_karras_permutation(index, hash_combine(pair_seed, 1U)));
   y = reverse_bits(
       laine_karras_permutation(sobol_dimension1_mirrored(index), hash_combine(pair_seed, 2U)));
+}
+
+// The same from the sample index as it is.
+TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
+                                          std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {
+  sobol_pair_mirrored(pixel_key, reverse_bits(sample_index), pair, x, y);
 }
 
 // One value in [0, 1): dimension `dimension` of sample `sample_index` of the pixel.
