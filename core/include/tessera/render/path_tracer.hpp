@@ -162,11 +162,13 @@ TESSERA_HD TESSERA_INLINE float roulette_survival(const vec3& throughput) {
 // Next-event estimation at a surface point: one light picked by power, one direction towards
 // it by that light's sampler, one any-hit shadow ray. Returns f cos Li / pdf, weighted
 // against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
+// `front_origin` is si.position moved off the surface to the side of si.geometric_normal
+// (offset_ray_origin), which the caller shares with a reflected continuation ray.
 template <typename T>
 TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction& si,
                                 const Frame& frame, const vec3& wo, const Bsdf& bsdf,
                                 const BounceSamples& u, LightStrategy strategy, const T& tracer,
-                                std::uint32_t& rays) {
+                                const vec3& front_origin, std::uint32_t& rays) {
   const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
   if (!(pick.pmf > 0.0f)) return vec3(0.0f);
   const LightSource& light = scene.lights[pick.index];
@@ -187,7 +189,7 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   if (!(pdf > 0.0f)) return vec3(0.0f);
   ++rays;
   const vec3 origin =
-      offset_ray_origin(si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal);
+      side > 0.0f ? front_origin : offset_ray_origin(si.position, -si.geometric_normal);
   // Stop just short of the light so the shadow ray cannot hit the light itself, measured
   // from the offset origin: with ls.wi and ls.distance (measured from si.position) the
   // segment's end, moved by the offset, lies inside a sphere light wherever the sample is
@@ -216,7 +218,8 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
   Bsdf lambert;
   lambert.albedo = vec3(1.0f);
   return estimate_direct(scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u,
-                         LightStrategy::kLight, tracer, rays);
+                         LightStrategy::kLight, tracer,
+                         offset_ray_origin(si.position, si.geometric_normal), rays);
 }
 
 // The share of light `index`'s radiance, reached by a BSDF-sampled ray in `direction`, that
@@ -285,6 +288,8 @@ struct PathHit {
     if (payload.depth + 1 >= max_depth) return;
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
+    // The spawn point on ng's side, for the shadow ray and a reflected continuation alike.
+    const vec3 front_origin = offset_ray_origin(si.position, ng);
     Bsdf bsdf = Bsdf::of(material, si.front_face, albedo);
     const Frame frame = bsdf.anisotropic()
                             ? Frame::from_normal_and_tangent(si.shading_normal,
@@ -305,10 +310,10 @@ struct PathHit {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
     if (sample_lights) {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
-      payload.radiance +=
-          clamp_indirect(payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u,
-                                                              strategy, tracer, payload.rays),
-                         clamp, payload.depth >= 1);
+      payload.radiance += clamp_indirect(
+          payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u, strategy, tracer,
+                                               front_origin, payload.rays),
+          clamp, payload.depth >= 1);
     }
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
 
@@ -345,8 +350,8 @@ struct PathHit {
       if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
     }
-    const vec3 side_normal = side >= 0.0f ? ng : -ng;
-    payload.next_ray = Ray{offset_ray_origin(si.position, side_normal), direction, 0.0f, kInfinity};
+    const vec3 origin = side >= 0.0f ? front_origin : offset_ray_origin(si.position, -ng);
+    payload.next_ray = Ray{origin, direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
   }
