@@ -219,7 +219,7 @@ TEST(Texture, RoughnessTextureSetsTheAlphasAsTheMaterialMaps) {
   SurfaceInteraction si;
   si.uv = vec2(0.5f, 0.5f);  // square (0, 0): color_a, roughness 0.8
   const std::uint32_t quad_ref = make_primitive_ref(PrimitiveType::kQuad, 0);
-  Material scratch;
+  MaterialScratch scratch;
   const Material& m = material_at(view, view.materials[0], quad_ref, si, 0.0f, scratch);
   EXPECT_FLOAT_EQ(m.alpha_x, 0.4f);  // metal: roughness / 2
   const Material& g = material_at(view, view.materials[1], quad_ref, si, 0.0f, scratch);
@@ -227,7 +227,8 @@ TEST(Texture, RoughnessTextureSetsTheAlphasAsTheMaterialMaps) {
   si.uv = vec2(1.5f, 0.5f);           // square (1, 0): color_b
   EXPECT_FLOAT_EQ(material_at(view, view.materials[0], quad_ref, si, 0.0f, scratch).alpha_y, 0.1f);
   // Without a texture the material is used as it is, not copied.
-  EXPECT_EQ(&material_at(view, view.materials[0], quad_ref, si, 0.0f, scratch) == &scratch, true);
+  EXPECT_EQ(&material_at(view, view.materials[0], quad_ref, si, 0.0f, scratch) == &scratch.material,
+            true);
   MaterialDesc plain = metal;
   plain.roughness_texture.clear();
   plain.roughness = 0.6;

@@ -83,7 +83,7 @@ struct FirstHitShade {
         payload.value = 0.5f * si.shading_normal + vec3(0.5f);
       } else {
         const float footprint = scene.camera.footprint_at(hit.t * glm::length(ray.direction));
-        Material textured;
+        MaterialScratch textured;
         const Material& material = material_at(scene, scene.materials[si.material], hit.primitive,
                                                si, footprint, textured);
         const vec3 albedo = albedo_at(scene, material, hit.primitive, si, footprint);

@@ -260,7 +260,7 @@ struct PathHit {
     apply_golf_dimples(scene, scene.materials[si.material], hit.primitive, ray, si);
     const float distance = hit.t * glm::length(ray.direction);
     const float footprint = payload.cone_width + payload.cone_spread * distance;
-    Material textured;
+    MaterialScratch textured;
     const Material& material =
         material_at(scene, scene.materials[si.material], hit.primitive, si, footprint, textured);
     const vec3 albedo = albedo_at(scene, material, hit.primitive, si, footprint);
