@@ -13,9 +13,9 @@ namespace {
 // the host's SSE2 form must give the same bits.
 float reference_axis(float p, float n) {
   const auto of_i = static_cast<std::int32_t>(256.0f * n);
-  std::int32_t bits;
+  std::uint32_t bits;
   std::memcpy(&bits, &p, sizeof bits);
-  bits += p < 0.0f ? -of_i : of_i;
+  bits += static_cast<std::uint32_t>(p < 0.0f ? -of_i : of_i);
   float moved;
   std::memcpy(&moved, &bits, sizeof moved);
   return std::fabs(p) < 1.0f / 32.0f ? p + (1.0f / 65536.0f) * n : moved;

@@ -56,8 +56,11 @@ TESSERA_HD TESSERA_INLINE vec3 offset_ray_origin(const vec3& p, const vec3& norm
   vec3 result;
   for (int axis = 0; axis < 3; ++axis) {
     const std::int32_t of_i = static_cast<std::int32_t>(kIntScale * normal[axis]);
-    const float moved =
-        detail::int_as_float(detail::float_as_int(p[axis]) + (p[axis] < 0.0f ? -of_i : of_i));
+    // Added as unsigned, which wraps: -0.0f's bits are INT_MIN, and that lane's sum, unused
+    // (it is near the origin), would overflow a signed add.
+    const auto step = static_cast<std::uint32_t>(p[axis] < 0.0f ? -of_i : of_i);
+    const float moved = detail::int_as_float(static_cast<std::int32_t>(
+        static_cast<std::uint32_t>(detail::float_as_int(p[axis])) + step));
     result[axis] = std::fabs(p[axis]) < kOrigin ? p[axis] + kFloatScale * normal[axis] : moved;
   }
   return result;
