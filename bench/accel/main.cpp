@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "mesh_files.hpp"
@@ -53,12 +54,12 @@ void print_accel(const TriangleAccel& accel) {
   const AccelStats& s = accel.stats();
   std::printf(
       "accel: %s (%s), build %.3f s, %.1f bytes/triangle, %zu nodes, depth %u, %.2f "
-      "references/triangle\n",
+      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s)\n",
       std::string(accel_kind_name(s.kind)).c_str(), std::string(s.isa).c_str(), s.build_seconds,
       s.triangles ? static_cast<double>(s.bytes) / static_cast<double>(s.triangles) : 0.0, s.nodes,
       s.depth,
-      s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles)
-                  : 0.0);
+      s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles) : 0.0,
+      s.fill_ratio, static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given");
 }
 
 int run_rays(const std::string& mesh_path, const std::string& kind, std::uint32_t width,
@@ -81,8 +82,8 @@ struct TuneOptions {
   std::uint32_t leaf_size = 0;  // 0: the library's defaults
   std::uint32_t bins = 0;
   float traversal_cost = 0.0f;
-  int merge_limit = -1;   // -1: the library's default
-  float presplit = 0.0f;  // AccelBuildOptions::presplit_budget
+  int merge_limit = -1;           // -1: the library's default
+  std::optional<float> presplit;  // AccelBuildOptions::presplit_budget (unset: chosen)
 };
 
 int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
@@ -205,7 +206,7 @@ int main(int argc, char** argv) {
   trace
       ->add_option("--presplit", tune.presplit,
                    "wide BVH: pre-split poorly fitting triangles, this many extra references "
-                   "per triangle at most (0: off, the default)")
+                   "per triangle at most (0: off; default: chosen from the mesh)")
       ->check(CLI::Range(0.0f, 16.0f));
   trace
       ->add_option("--traversal-cost", tune.traversal_cost,

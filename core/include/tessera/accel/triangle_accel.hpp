@@ -42,13 +42,21 @@ struct AccelBuildOptions {
   BvhBuildOptions wide{4, 4, 1.0f, 1.0f, 16, true};
   std::uint32_t wide_merge_limit = 16;
   // For kWide: pre-splitting (presplit.hpp), up to this many extra references per triangle,
-  // given to the triangles that fill their boxes worst. 0, the default, keeps one reference
-  // per triangle: it is not switched on without a measurement that it pays (see
-  // bench/accel/README.md).
-  float presplit_budget = 0.0f;
+  // given to the triangles that fill their boxes worst; 0 keeps one reference per triangle.
+  // Unset (the default): chosen from the mesh by choose_presplit_budget, which pre-splits
+  // only where the triangles fill their boxes poorly (measured, bench/accel/README.md).
+  std::optional<float> presplit_budget;
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };
+
+// The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
+// `fill_ratio`: kAutoPresplitBudget where it is at least kAutoPresplitMinFillRatio, else 0.
+// Measured on the suite of bench/accel/README.md: evenly tessellated meshes (ratio 3-6) lose
+// up to 9% from pre-splitting, long thin triangles (hundreds) gain 50%.
+inline constexpr double kAutoPresplitMinFillRatio = 12.0;
+inline constexpr float kAutoPresplitBudget = 1.0f;
+float choose_presplit_budget(double fill_ratio);
 
 struct AccelStats {
   AccelKind kind = AccelKind::kAuto;  // the structure actually built
@@ -60,6 +68,9 @@ struct AccelStats {
   std::size_t triangles = 0;
   std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
   std::size_t degenerate = 0;       // zero or near-zero area (is_degenerate): dropped, never hit
+  double fill_ratio = 0.0;          // box_fill_ratio of the kept triangles (kWide only)
+  float presplit_budget = 0.0f;     // the pre-split budget used (kWide only; 0: none)
+  bool presplit_chosen = false;     // the budget was chosen from the mesh, not given
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).
