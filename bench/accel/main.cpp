@@ -3,7 +3,7 @@
 //   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N]
 //                       [--accel bvh|wide|octree|brute|auto] [--query closest|any]
 //                       [--repeat R] [--isa auto|sse2]
-//   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
+//   tessera-bench mesh  --shape knot|scatter|tubes|uneven --triangles N --out FILE.ply
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 //   tessera-bench converge SCENE.yaml [--reference REF.exr] [--reference-spp N]
@@ -217,9 +217,9 @@ int main(int argc, char** argv) {
 
   auto* mesh_cmd =
       app.add_subcommand("mesh", "write a deterministic synthetic benchmark mesh as PLY");
-  mesh_cmd->add_option("--shape", shape, "knot or scatter")
+  mesh_cmd->add_option("--shape", shape, "knot, scatter, tubes (long thin) or uneven (sizes)")
       ->required()
-      ->check(CLI::IsMember({"knot", "scatter"}));
+      ->check(CLI::IsMember({"knot", "scatter", "tubes", "uneven"}));
   mesh_cmd->add_option("--triangles", triangles, "at least this many triangles")
       ->check(CLI::Range(1000, 50'000'000));
   mesh_cmd->add_option("--out", out, "PLY file to write")->required();
