@@ -46,7 +46,9 @@ AccelKind choose_accel_kind(std::size_t triangle_count) {
 }
 
 float choose_presplit_budget(double fill_ratio) {
-  return fill_ratio >= kAutoPresplitMinFillRatio ? kAutoPresplitBudget : 0.0f;
+  if (!(fill_ratio >= kAutoPresplitMinFillRatio)) return 0.0f;  // NaN too
+  return static_cast<float>(std::fmin(fill_ratio / kAutoPresplitMinFillRatio,
+                                      static_cast<double>(kAutoPresplitMaxBudget)));
 }
 
 namespace {
@@ -226,8 +228,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
                         accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio,
                         accel.stats_.leaf_references)
           : fmt::format(", not pre-split ({}; box fill ratio {:.1f})",
-                        accel.stats_.presplit_chosen ? "chosen" : "given",
-                        accel.stats_.fill_ratio),
+                        accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio),
       accel.stats_.build_seconds,
       triangles.empty()
           ? 0.0

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <optional>
 #include <random>
 #include <vector>
@@ -144,6 +145,15 @@ TEST(Presplit, BoxFillRatioMeasuresHowPoorlyTrianglesFillTheirBoxes) {
   EXPECT_EQ(box_fill_ratio({}, {}, {}), 0.0);
 }
 
+TEST(Presplit, BudgetGrowsWithTheFillRatioUpToTheCap) {
+  EXPECT_EQ(choose_presplit_budget(0.0), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(5.0), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(std::nan("")), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio), 1.0f);
+  EXPECT_EQ(choose_presplit_budget(2.0 * kAutoPresplitMinFillRatio), 2.0f);
+  EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio), kAutoPresplitMaxBudget);
+}
+
 AccelStats build_stats(const std::vector<Triangle>& tris, std::optional<float> budget) {
   AccelBuildOptions options;
   options.kind = AccelKind::kWide;
@@ -155,7 +165,8 @@ TEST(Presplit, ChosenForThinTrianglesAndNotForAnEvenMesh) {
   const auto thin = slivers(2000, 36);
   const AccelStats thin_auto = build_stats(thin, std::nullopt);
   EXPECT_TRUE(thin_auto.presplit_chosen);
-  EXPECT_EQ(thin_auto.presplit_budget, kAutoPresplitBudget);
+  EXPECT_EQ(thin_auto.presplit_budget, choose_presplit_budget(thin_auto.fill_ratio));
+  EXPECT_GE(thin_auto.presplit_budget, 1.0f);
   EXPECT_GT(thin_auto.fill_ratio, kAutoPresplitMinFillRatio);
   EXPECT_GT(thin_auto.leaf_references, thin.size());  // pieces of one triangle in several leaves
 

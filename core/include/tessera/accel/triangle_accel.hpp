@@ -51,11 +51,16 @@ struct AccelBuildOptions {
 };
 
 // The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
-// `fill_ratio`: kAutoPresplitBudget where it is at least kAutoPresplitMinFillRatio, else 0.
-// Measured on the suite of bench/accel/README.md: evenly tessellated meshes (ratio 3-6) lose
-// up to 9% from pre-splitting, long thin triangles (hundreds) gain 50%.
-inline constexpr double kAutoPresplitMinFillRatio = 12.0;
-inline constexpr float kAutoPresplitBudget = 1.0f;
+// `fill_ratio`: none below kAutoPresplitMinFillRatio, then one extra reference per triangle
+// for every kAutoPresplitMinFillRatio of ratio, up to kAutoPresplitMaxBudget. Measured on the
+// suite of bench/accel/README.md (1 thread, against the same Embree build): evenly
+// tessellated meshes (ratio 2.9-5.2) lose up to 19% from a budget of 1; on tubes of long thin
+// triangles the break-even ratio is about 13, and above it every doubling of the budget up to
+// 4 gains (ratio 31: +21% with 1, +42% with 4; ratio 520: +67% with 1, +300% with 4). 4
+// keeps the build within Embree's high-quality build time and the memory at five references
+// per triangle (250 bytes).
+inline constexpr double kAutoPresplitMinFillRatio = 16.0;
+inline constexpr float kAutoPresplitMaxBudget = 4.0f;
 float choose_presplit_budget(double fill_ratio);
 
 struct AccelStats {
