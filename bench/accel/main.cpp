@@ -4,6 +4,7 @@
 //                       [--accel bvh|wide|octree|brute|auto] [--query closest|any]
 //                       [--repeat R] [--isa auto|sse2]
 //   tessera-bench mesh  --shape knot|scatter|tubes|uneven --triangles N --out FILE.ply
+//                       [--strips S --rings R]  (tubes: tessellation of each tube)
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 //   tessera-bench converge SCENE.yaml [--reference REF.exr] [--reference-spp N]
@@ -130,8 +131,9 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
   return 0;
 }
 
-int run_mesh(const std::string& shape, std::size_t triangles, const std::string& out) {
-  const IndexedMesh mesh = make_synthetic_mesh(*parse_synthetic_mesh(shape), triangles);
+int run_mesh(const std::string& shape, std::size_t triangles, TubeTessellation tubes,
+             const std::string& out) {
+  const IndexedMesh mesh = make_synthetic_mesh(*parse_synthetic_mesh(shape), triangles, tubes);
   write_binary_ply(out, mesh);
   std::printf("wrote %s: %zu triangles, %zu vertices\n", out.c_str(), mesh.triangle_count(),
               mesh.positions.size());
@@ -222,6 +224,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"knot", "scatter", "tubes", "uneven"}));
   mesh_cmd->add_option("--triangles", triangles, "at least this many triangles")
       ->check(CLI::Range(1000, 50'000'000));
+  TubeTessellation tubes;
+  mesh_cmd->add_option("--strips", tubes.strips, "tubes: strips around each tube")
+      ->check(CLI::Range(3u, 4096u));
+  mesh_cmd->add_option("--rings", tubes.rings, "tubes: rings of strips along each tube")
+      ->check(CLI::Range(1u, 4096u));
   mesh_cmd->add_option("--out", out, "PLY file to write")->required();
 
   auto* sizes_cmd =
@@ -323,7 +330,7 @@ int main(int argc, char** argv) {
     if (*specialise) return tessera::bench::run_specialise(specialise_options);
     if (*rays) return run_rays(mesh, kind, width, height, out);
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
-    if (*mesh_cmd) return run_mesh(shape, triangles, out);
+    if (*mesh_cmd) return run_mesh(shape, triangles, tubes, out);
     if (*load) return run_load(mesh, repeat);
     if (*sizes_cmd) {
       run_size_sweep(sizes, sweep_rays, repeat);

@@ -128,16 +128,17 @@ IndexedMesh make_scatter(std::size_t min_triangles) {
   return mesh;
 }
 
-IndexedMesh make_tubes(std::size_t min_triangles) {
-  constexpr std::uint32_t kSegments = 48;  // strips around a tube, two triangles each
+IndexedMesh make_tubes(std::size_t min_triangles, TubeTessellation tess) {
   constexpr float kLength = 8.0f, kRadius = 0.15f, kTwoPi = 6.28318530717958647692f;
-  const std::size_t count = (min_triangles + 2 * kSegments - 1) / (2 * kSegments);
+  const std::uint32_t strips = std::max(3u, tess.strips), rings = std::max(1u, tess.rings);
+  const std::size_t per_tube = std::size_t{2} * strips * rings;
+  const std::size_t count = (min_triangles + per_tube - 1) / per_tube;
   // 3,000 tubes fill a cube of side 24; more or fewer keep that density.
   const float half = 12.0f * std::cbrt(static_cast<float>(count) / 3000.0f);
   constexpr std::uint64_t kStream = 0x7ab35;
   IndexedMesh mesh;
-  mesh.positions.reserve(count * 2 * kSegments);
-  mesh.indices.reserve(count * 6 * kSegments);
+  mesh.positions.reserve(count * strips * (rings + 1));
+  mesh.indices.reserve(count * per_tube * 3);
   for (std::size_t tube = 0; tube < count; ++tube) {
     const auto random = [&](std::uint64_t k) { return random_unit(kStream, 8 * tube + k); };
     const vec3 center = half * (2.0f * vec3(random(0), random(1), random(2)) - 1.0f);
@@ -146,17 +147,21 @@ IndexedMesh make_tubes(std::size_t min_triangles) {
     const vec3 u = glm::normalize(glm::cross(axis, helper));
     const vec3 v = glm::cross(axis, u);
     const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-    for (const float end : {-0.5f, 0.5f})
-      for (std::uint32_t s = 0; s < kSegments; ++s) {
-        const float angle = kTwoPi * static_cast<float>(s) / kSegments;
-        mesh.positions.push_back(center + end * kLength * axis +
+    for (std::uint32_t ring = 0; ring <= rings; ++ring) {
+      const float along = (static_cast<float>(ring) / static_cast<float>(rings) - 0.5f) * kLength;
+      for (std::uint32_t s = 0; s < strips; ++s) {
+        const float angle = kTwoPi * static_cast<float>(s) / static_cast<float>(strips);
+        mesh.positions.push_back(center + along * axis +
                                  kRadius * (std::cos(angle) * u + std::sin(angle) * v));
       }
-    for (std::uint32_t s = 0; s < kSegments; ++s) {
-      const std::uint32_t a0 = base + s, a1 = base + (s + 1) % kSegments;
-      const std::uint32_t b0 = a0 + kSegments, b1 = a1 + kSegments;
-      mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
     }
+    for (std::uint32_t ring = 0; ring < rings; ++ring)
+      for (std::uint32_t s = 0; s < strips; ++s) {
+        const std::uint32_t a0 = base + ring * strips + s;
+        const std::uint32_t a1 = base + ring * strips + (s + 1) % strips;
+        const std::uint32_t b0 = a0 + strips, b1 = a1 + strips;
+        mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
+      }
   }
   return mesh;
 }
@@ -210,14 +215,15 @@ std::optional<SyntheticMesh> parse_synthetic_mesh(std::string_view name) {
   return std::nullopt;
 }
 
-IndexedMesh make_synthetic_mesh(SyntheticMesh kind, std::size_t min_triangles) {
+IndexedMesh make_synthetic_mesh(SyntheticMesh kind, std::size_t min_triangles,
+                                TubeTessellation tubes) {
   switch (kind) {
     case SyntheticMesh::kKnot:
       return make_knot(min_triangles);
     case SyntheticMesh::kScatter:
       return make_scatter(min_triangles);
     case SyntheticMesh::kTubes:
-      return make_tubes(min_triangles);
+      return make_tubes(min_triangles, tubes);
     case SyntheticMesh::kUneven:
       break;
   }
