@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Installs the renderers the benchmarks compare against, skipping those already present:
-# Blender (Cycles, for `tessera-bench converge --peer cycles`) and Embree 3 (embree_compare).
-# Only benchmarks use them; building Tessera and `make test` never do. Run as root (or with
-# sudo available). Safe to run repeatedly.
+# Blender (Cycles, for `tessera-bench converge --peer cycles`) and Embree 3 (embree_compare),
+# and the test meshes of bench/accel/compare_embree.sh's suite: libcgal-demo (CGAL's data:
+# scanned elephant, bunny, armadillo, the fandisk CAD part) and assimp-testmodels (a glTF
+# engine, an IFC house). Only benchmarks use them; building Tessera and `make test` never do.
+# Run as root (or with sudo available). Safe to run repeatedly.
 set -euo pipefail
 
-packages=(blender libembree-dev)
+packages=(blender libembree-dev libcgal-demo assimp-testmodels)
 
 missing=()
 for p in "${packages[@]}"; do

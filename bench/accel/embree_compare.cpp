@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -160,9 +161,11 @@ int main(int argc, char** argv) {
   // Tuning (as tessera-bench trace): measured as ratios, which move less on a busy machine.
   std::uint32_t leaf_size = 0, bins = 0;
   int merge_limit = -1;
-  float traversal_cost = 0.0f, presplit = 0.0f;
+  float traversal_cost = 0.0f;
+  std::optional<float> presplit;
   app.add_option("--presplit", presplit,
-                 "tuning: pre-split budget, extra references per triangle (0: off)")
+                 "tuning: pre-split budget, extra references per triangle (0: off; default: "
+                 "chosen from the mesh)")
       ->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--leaf-size", leaf_size, "tuning: most triangles per BVH leaf");
   app.add_option("--bins", bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
@@ -276,14 +279,22 @@ int main(int argc, char** argv) {
         std::printf("%-22s hit by both at different t: %zu\n", "", t_mismatch);
     }
     // One machine-readable line: ours over each Embree build, and the build-time ratios.
-    std::printf("tessera_mrays_per_s=%.3f tessera_build_s=%.3f", tessera.timing.mrays_per_s,
-                tessera.build_seconds);
+    std::printf(
+        "tessera_mrays_per_s=%.3f tessera_build_s=%.3f tessera_bytes_per_tri=%.1f "
+        "refs_per_tri=%.2f fill_ratio=%.1f presplit=%.2f(%s)",
+        tessera.timing.mrays_per_s, tessera.build_seconds, tessera.bytes_per_triangle,
+        static_cast<double>(s.leaf_references) / triangle_count, s.fill_ratio,
+        static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given");
     for (const Contender& c : contenders) {
       if (&c == &tessera) continue;
       const std::string key = c.name.substr(c.name.find(' ') + 1);
-      std::printf(" ratio_%s=%.3f embree_%s_mrays_per_s=%.3f build_ratio_%s=%.3f", key.c_str(),
-                  tessera.timing.mrays_per_s / c.timing.mrays_per_s, key.c_str(),
-                  c.timing.mrays_per_s, key.c_str(), tessera.build_seconds / c.build_seconds);
+      std::printf(
+          " ratio_%s=%.3f cpu_ratio_%s=%.3f embree_%s_mrays_per_s=%.3f embree_%s_build_s=%.3f "
+          "embree_%s_bytes_per_tri=%.1f build_ratio_%s=%.3f",
+          key.c_str(), tessera.timing.mrays_per_s / c.timing.mrays_per_s, key.c_str(),
+          c.timing.best_cpu_seconds / tessera.timing.best_cpu_seconds, key.c_str(),
+          c.timing.mrays_per_s, key.c_str(), c.build_seconds, key.c_str(), c.bytes_per_triangle,
+          key.c_str(), tessera.build_seconds / c.build_seconds);
     }
     std::printf("\n");
   } catch (const std::exception& e) {

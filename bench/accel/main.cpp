@@ -3,7 +3,8 @@
 //   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N]
 //                       [--accel bvh|wide|octree|brute|auto] [--query closest|any]
 //                       [--repeat R] [--isa auto|sse2]
-//   tessera-bench mesh  --shape knot|scatter --triangles N --out FILE.ply
+//   tessera-bench mesh  --shape knot|scatter|tubes|uneven --triangles N --out FILE.ply
+//                       [--strips S --rings R]  (tubes: tessellation of each tube)
 //   tessera-bench load  --mesh FILE [--repeat R]
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 //   tessera-bench converge SCENE.yaml [--reference REF.exr] [--reference-spp N]
@@ -17,6 +18,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "mesh_files.hpp"
@@ -53,12 +55,12 @@ void print_accel(const TriangleAccel& accel) {
   const AccelStats& s = accel.stats();
   std::printf(
       "accel: %s (%s), build %.3f s, %.1f bytes/triangle, %zu nodes, depth %u, %.2f "
-      "references/triangle\n",
+      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s)\n",
       std::string(accel_kind_name(s.kind)).c_str(), std::string(s.isa).c_str(), s.build_seconds,
       s.triangles ? static_cast<double>(s.bytes) / static_cast<double>(s.triangles) : 0.0, s.nodes,
       s.depth,
-      s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles)
-                  : 0.0);
+      s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles) : 0.0,
+      s.fill_ratio, static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given");
 }
 
 int run_rays(const std::string& mesh_path, const std::string& kind, std::uint32_t width,
@@ -81,8 +83,8 @@ struct TuneOptions {
   std::uint32_t leaf_size = 0;  // 0: the library's defaults
   std::uint32_t bins = 0;
   float traversal_cost = 0.0f;
-  int merge_limit = -1;   // -1: the library's default
-  float presplit = 0.0f;  // AccelBuildOptions::presplit_budget
+  int merge_limit = -1;           // -1: the library's default
+  std::optional<float> presplit;  // AccelBuildOptions::presplit_budget (unset: chosen)
 };
 
 int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
@@ -129,8 +131,9 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
   return 0;
 }
 
-int run_mesh(const std::string& shape, std::size_t triangles, const std::string& out) {
-  const IndexedMesh mesh = make_synthetic_mesh(*parse_synthetic_mesh(shape), triangles);
+int run_mesh(const std::string& shape, std::size_t triangles, TubeTessellation tubes,
+             const std::string& out) {
+  const IndexedMesh mesh = make_synthetic_mesh(*parse_synthetic_mesh(shape), triangles, tubes);
   write_binary_ply(out, mesh);
   std::printf("wrote %s: %zu triangles, %zu vertices\n", out.c_str(), mesh.triangle_count(),
               mesh.positions.size());
@@ -205,7 +208,7 @@ int main(int argc, char** argv) {
   trace
       ->add_option("--presplit", tune.presplit,
                    "wide BVH: pre-split poorly fitting triangles, this many extra references "
-                   "per triangle at most (0: off, the default)")
+                   "per triangle at most (0: off; default: chosen from the mesh)")
       ->check(CLI::Range(0.0f, 16.0f));
   trace
       ->add_option("--traversal-cost", tune.traversal_cost,
@@ -216,11 +219,16 @@ int main(int argc, char** argv) {
 
   auto* mesh_cmd =
       app.add_subcommand("mesh", "write a deterministic synthetic benchmark mesh as PLY");
-  mesh_cmd->add_option("--shape", shape, "knot or scatter")
+  mesh_cmd->add_option("--shape", shape, "knot, scatter, tubes (long thin) or uneven (sizes)")
       ->required()
-      ->check(CLI::IsMember({"knot", "scatter"}));
+      ->check(CLI::IsMember({"knot", "scatter", "tubes", "uneven"}));
   mesh_cmd->add_option("--triangles", triangles, "at least this many triangles")
       ->check(CLI::Range(1000, 50'000'000));
+  TubeTessellation tubes;
+  mesh_cmd->add_option("--strips", tubes.strips, "tubes: strips around each tube")
+      ->check(CLI::Range(3u, 4096u));
+  mesh_cmd->add_option("--rings", tubes.rings, "tubes: rings of strips along each tube")
+      ->check(CLI::Range(1u, 4096u));
   mesh_cmd->add_option("--out", out, "PLY file to write")->required();
 
   auto* sizes_cmd =
@@ -322,7 +330,7 @@ int main(int argc, char** argv) {
     if (*specialise) return tessera::bench::run_specialise(specialise_options);
     if (*rays) return run_rays(mesh, kind, width, height, out);
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
-    if (*mesh_cmd) return run_mesh(shape, triangles, out);
+    if (*mesh_cmd) return run_mesh(shape, triangles, tubes, out);
     if (*load) return run_load(mesh, repeat);
     if (*sizes_cmd) {
       run_size_sweep(sizes, sweep_rays, repeat);

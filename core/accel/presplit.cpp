@@ -122,6 +122,16 @@ Aabb clipped_triangle_bounds(const Triangle& tri, const Aabb& box) {
   return result;
 }
 
+double box_fill_ratio(std::span<const Triangle> triangles, std::span<const std::uint32_t> ids,
+                      std::span<const Aabb> bounds) {
+  double box_area = 0.0, triangle_area = 0.0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    box_area += bounds[i].surface_area();
+    triangle_area += 2.0 * static_cast<double>(surface_area(triangles[ids[i]]));
+  }
+  return triangle_area > 0.0 ? box_area / triangle_area : 0.0;
+}
+
 void presplit_triangles(std::span<const Triangle> triangles, std::span<const std::uint32_t> ids,
                         std::span<const Aabb> bounds, const Aabb& scene, float budget,
                         std::vector<Aabb>& out_bounds, std::vector<std::uint32_t>& out_ids) {

@@ -45,6 +45,12 @@ AccelKind choose_accel_kind(std::size_t triangle_count) {
   return triangle_count <= kBruteForceMaxTriangles ? AccelKind::kBrute : AccelKind::kWide;
 }
 
+float choose_presplit_budget(double fill_ratio) {
+  if (!(fill_ratio >= kAutoPresplitMinFillRatio)) return 0.0f;  // NaN too
+  return static_cast<float>(std::fmin(fill_ratio / kAutoPresplitMinFillRatio,
+                                      static_cast<double>(kAutoPresplitMaxBudget)));
+}
+
 namespace {
 
 // The same admission rule as the SIMD kernels, for the scalar binary-BVH path.
@@ -133,12 +139,17 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     case AccelKind::kWide: {
       BvhBuildOptions wide = options.wide;
       wide.max_leaf_size = std::min(wide.max_leaf_size, kWideMaxLeafItems * 4);
-      // Pre-splitting, when asked for: several references (boxes) per poorly fitting triangle.
-      const bool presplit = options.presplit_budget > 0.0f;
+      // Pre-splitting, asked for or chosen from how poorly the triangles fill their boxes:
+      // several references (boxes) per poorly fitting triangle.
+      accel.stats_.fill_ratio = box_fill_ratio(triangles, ids, bounds);
+      accel.stats_.presplit_chosen = !options.presplit_budget.has_value();
+      accel.stats_.presplit_budget =
+          options.presplit_budget.value_or(choose_presplit_budget(accel.stats_.fill_ratio));
+      const bool presplit = accel.stats_.presplit_budget > 0.0f;
       std::vector<Aabb> piece_bounds;
       std::vector<std::uint32_t> piece_ids;
       if (presplit)
-        presplit_triangles(triangles, ids, bounds, accel.bounds_, options.presplit_budget,
+        presplit_triangles(triangles, ids, bounds, accel.bounds_, accel.stats_.presplit_budget,
                            piece_bounds, piece_ids);
       const Bvh binary =
           presplit ? build_bvh(piece_bounds, piece_ids, wide) : build_bvh(bounds, ids, wide);
@@ -210,9 +221,14 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       accel.stats_.degenerate == 0
           ? std::string()
           : fmt::format(", {} degenerate dropped", accel.stats_.degenerate),
-      kind == AccelKind::kWide && options.presplit_budget > 0.0f
-          ? fmt::format(", pre-split to {} references", accel.stats_.leaf_references)
-          : std::string(),
+      kind != AccelKind::kWide ? std::string()
+      : accel.stats_.presplit_budget > 0.0f
+          ? fmt::format(", pre-split (budget {}, {}; box fill ratio {:.1f}) to {} references",
+                        accel.stats_.presplit_budget,
+                        accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio,
+                        accel.stats_.leaf_references)
+          : fmt::format(", not pre-split ({}; box fill ratio {:.1f})",
+                        accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio),
       accel.stats_.build_seconds,
       triangles.empty()
           ? 0.0

@@ -1,15 +1,19 @@
 // Pre-splitting: the piece boxes bound the triangle's parts (checked on sampled points, with
 // boxes from an independent clip), stay within the budget, and a wide BVH built from them
 // answers exactly as the brute-force reference (triangle_accel_test runs every query on
-// pre-split variants too).
+// pre-split variants too). The automatic choice pre-splits a thin-triangle soup and leaves an
+// evenly tessellated mesh alone; a given budget, 0 included, overrides it.
 #include "tessera/accel/presplit.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "accel_test_scenes.hpp"
+#include "tessera/accel/triangle_accel.hpp"
 
 namespace tessera {
 namespace {
@@ -116,6 +120,76 @@ TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
       }
     }
   }
+}
+
+std::vector<std::uint32_t> all_ids(std::size_t count) {
+  std::vector<std::uint32_t> ids(count);
+  for (std::uint32_t i = 0; i < count; ++i) ids[i] = i;
+  return ids;
+}
+
+double fill_ratio_of(const std::vector<Triangle>& tris) {
+  std::vector<Aabb> boxes;
+  for (const Triangle& t : tris) boxes.push_back(bounds(t));
+  return box_fill_ratio(tris, all_ids(tris.size()), boxes);
+}
+
+TEST(Presplit, BoxFillRatioMeasuresHowPoorlyTrianglesFillTheirBoxes) {
+  // A right triangle in an axis plane fills half of its flat box: box surface 2wh, twice
+  // the triangle's area wh.
+  EXPECT_DOUBLE_EQ(fill_ratio_of({Triangle{vec3(0, 0, 0), vec3(2, 0, 0), vec3(0, 3, 0), 0}}), 2.0);
+  const double sphere = fill_ratio_of(accel_test::closed_sphere(4));
+  EXPECT_GT(sphere, 2.0);
+  EXPECT_LT(sphere, kAutoPresplitMinFillRatio);
+  EXPECT_GT(fill_ratio_of(slivers(500, 35)), 4.0 * kAutoPresplitMinFillRatio);
+  EXPECT_EQ(box_fill_ratio({}, {}, {}), 0.0);
+}
+
+TEST(Presplit, BudgetGrowsWithTheFillRatioUpToTheCap) {
+  EXPECT_EQ(choose_presplit_budget(0.0), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(5.0), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(std::nan("")), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio), 1.0f);
+  EXPECT_EQ(choose_presplit_budget(2.0 * kAutoPresplitMinFillRatio), 2.0f);
+  EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio), kAutoPresplitMaxBudget);
+}
+
+AccelStats build_stats(const std::vector<Triangle>& tris, std::optional<float> budget) {
+  AccelBuildOptions options;
+  options.kind = AccelKind::kWide;
+  options.presplit_budget = budget;
+  return TriangleAccel::build(tris, options).stats();
+}
+
+TEST(Presplit, ChosenForThinTrianglesAndNotForAnEvenMesh) {
+  const auto thin = slivers(2000, 36);
+  const AccelStats thin_auto = build_stats(thin, std::nullopt);
+  EXPECT_TRUE(thin_auto.presplit_chosen);
+  EXPECT_EQ(thin_auto.presplit_budget, choose_presplit_budget(thin_auto.fill_ratio));
+  EXPECT_GE(thin_auto.presplit_budget, 1.0f);
+  EXPECT_GT(thin_auto.fill_ratio, kAutoPresplitMinFillRatio);
+  EXPECT_GT(thin_auto.leaf_references, thin.size());  // pieces of one triangle in several leaves
+
+  const auto even = accel_test::closed_sphere(5);  // 8,192 triangles
+  const AccelStats even_auto = build_stats(even, std::nullopt);
+  EXPECT_TRUE(even_auto.presplit_chosen);
+  EXPECT_EQ(even_auto.presplit_budget, 0.0f);
+  EXPECT_LT(even_auto.fill_ratio, kAutoPresplitMinFillRatio);
+  EXPECT_EQ(even_auto.leaf_references, even.size());
+}
+
+TEST(Presplit, AGivenBudgetOverridesTheChoice) {
+  const auto thin = slivers(2000, 37);
+  const AccelStats off = build_stats(thin, 0.0f);
+  EXPECT_FALSE(off.presplit_chosen);
+  EXPECT_EQ(off.presplit_budget, 0.0f);
+  EXPECT_EQ(off.leaf_references, thin.size());
+
+  const auto even = accel_test::closed_sphere(5);
+  const AccelStats on = build_stats(even, 0.5f);
+  EXPECT_FALSE(on.presplit_chosen);
+  EXPECT_EQ(on.presplit_budget, 0.5f);
+  EXPECT_GT(on.leaf_references, even.size());
 }
 
 }  // namespace

@@ -28,6 +28,14 @@ void presplit_triangles(std::span<const Triangle> triangles, std::span<const std
                         std::span<const Aabb> bounds, const Aabb& scene, float budget,
                         std::vector<Aabb>& out_bounds, std::vector<std::uint32_t>& out_ids);
 
+// How poorly a triangle set fills its boxes: the summed surface areas of the triangles'
+// boxes over twice their summed areas (a box's surface counts both faces, and so does the
+// factor 2). An evenly tessellated surface stays near 2-6 whatever its orientation; long thin
+// diagonal triangles give hundreds. It estimates how many more triangles a ray enters the box
+// of than it crosses, which is what pre-splitting cuts down. 0 for an empty set.
+double box_fill_ratio(std::span<const Triangle> triangles, std::span<const std::uint32_t> ids,
+                      std::span<const Aabb> bounds);
+
 // The box of the part of `tri` inside `box` (empty Aabb when they do not meet), rounded
 // outwards to float and clamped to `box`. Exposed for the tests.
 Aabb clipped_triangle_bounds(const Triangle& tri, const Aabb& box);

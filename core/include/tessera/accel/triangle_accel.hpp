@@ -42,13 +42,26 @@ struct AccelBuildOptions {
   BvhBuildOptions wide{4, 4, 1.0f, 1.0f, 16, true};
   std::uint32_t wide_merge_limit = 16;
   // For kWide: pre-splitting (presplit.hpp), up to this many extra references per triangle,
-  // given to the triangles that fill their boxes worst. 0, the default, keeps one reference
-  // per triangle: it is not switched on without a measurement that it pays (see
-  // bench/accel/README.md).
-  float presplit_budget = 0.0f;
+  // given to the triangles that fill their boxes worst; 0 keeps one reference per triangle.
+  // Unset (the default): chosen from the mesh by choose_presplit_budget, which pre-splits
+  // only where the triangles fill their boxes poorly (measured, bench/accel/README.md).
+  std::optional<float> presplit_budget;
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };
+
+// The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
+// `fill_ratio`: none below kAutoPresplitMinFillRatio, then one extra reference per triangle
+// for every kAutoPresplitMinFillRatio of ratio, up to kAutoPresplitMaxBudget. Measured on the
+// suite of bench/accel/README.md (1 thread, against the same Embree build): evenly
+// tessellated meshes (ratio 2.9-5.2) lose up to 19% from a budget of 1; on tubes of long thin
+// triangles the break-even ratio is about 13, and above it every doubling of the budget up to
+// 4 gains (ratio 31: +21% with 1, +42% with 4; ratio 520: +67% with 1, +300% with 4). 4
+// keeps the build within Embree's high-quality build time and the memory at five references
+// per triangle (250 bytes).
+inline constexpr double kAutoPresplitMinFillRatio = 16.0;
+inline constexpr float kAutoPresplitMaxBudget = 4.0f;
+float choose_presplit_budget(double fill_ratio);
 
 struct AccelStats {
   AccelKind kind = AccelKind::kAuto;  // the structure actually built
@@ -60,6 +73,9 @@ struct AccelStats {
   std::size_t triangles = 0;
   std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
   std::size_t degenerate = 0;       // zero or near-zero area (is_degenerate): dropped, never hit
+  double fill_ratio = 0.0;          // box_fill_ratio of the kept triangles (kWide only)
+  float presplit_budget = 0.0f;     // the pre-split budget used (kWide only; 0: none)
+  bool presplit_chosen = false;     // the budget was chosen from the mesh, not given
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).
