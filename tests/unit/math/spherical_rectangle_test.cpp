@@ -58,13 +58,15 @@ TEST(SphericalRectangle, SampleIsAsCloseToThePapersStepsInDoubleAsTheyAreInFloat
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::uniform_real_distribution<float> spread(-3.0f, 3.0f);
-  const vec3 corner(-0.5f, 1.0f, -0.25f), edge_u(1.0f, 0.0f, 0.0f), edge_v(0.0f, 0.0f, 0.75f);
+  // A 1 x 0.75 rectangle at y = 1, edges along x and z.
+  const vec3 corner(-0.5f, 1.0f, -0.25f), x(1.0f, 0.0f, 0.0f), y(0.0f, 0.0f, 1.0f);
   int points = 0;
   double sum_folded = 0.0, sum_paper = 0.0;
   for (int i = 0; i < 400; ++i) {
     // Below the rectangle from 1 mm to 1 km, beside it and nearly level with it.
     const vec3 origin(spread(rng), 1.0f - std::pow(10.0f, spread(rng)), spread(rng));
-    const SphericalRectangle r = SphericalRectangle::make(corner, edge_u, edge_v, origin);
+    const SphericalRectangle r =
+        SphericalRectangle::make(corner, x, y, glm::cross(x, y), 1.0f, 0.75f, origin);
     if (!(r.solid_angle > 1e-4f)) continue;
     double worst_folded = 0.0, worst_paper = 0.0;
     for (int j = 0; j < 20; ++j) {

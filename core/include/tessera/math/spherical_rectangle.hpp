@@ -17,16 +17,9 @@ struct SphericalRectangle {
   float b0, b1, k;
   float solid_angle = 0.0f;
 
-  // `corner`, `edge_u` and `edge_v` give the rectangle; the edges must be orthogonal.
-  TESSERA_HD static SphericalRectangle make(const vec3& corner, const vec3& edge_u,
-                                            const vec3& edge_v, const vec3& origin) {
-    const float eu = glm::length(edge_u), ev = glm::length(edge_v);
-    const vec3 x = edge_u / eu, y = edge_v / ev;
-    return make(corner, x, y, glm::cross(x, y), eu, ev, origin);
-  }
-
-  // The same from the rectangle's unit edge directions x and y, its normal z = x cross y
-  // and its edge lengths, which a light computes once instead of per shading point.
+  // The rectangle seen from `origin`, given by a corner, its unit edge directions x and y
+  // (orthogonal), its normal z = x cross y and its edge lengths: a light's frame, which the
+  // quad keeps (Quad::make) instead of forming it per shading point.
   TESSERA_HD static SphericalRectangle make(const vec3& corner, const vec3& x, const vec3& y,
                                             const vec3& z, float eu, float ev, const vec3& origin) {
     SphericalRectangle r;
@@ -79,10 +72,10 @@ struct SphericalRectangle {
     // xu = -cu z0 / sqrt(1 - cu^2), folded into one square root and one division:
     // xu = -sign(fu) |sin| z0 / sqrt(num^2 - (1 - b0^2) sin^2) with num = cos b0 - b1. The
     // sample is a chain of dependent square roots and divisions, and each one taken out of
-    // it is time (per sample the light sampler was a third of a diffuse scene's wall
-    // clock, against a sixth of its instructions). A vanishing denominator gives an
-    // infinite xu, which the clamp below takes to the rectangle's edge, as the paper's
-    // clamps did.
+    // it is time (the light sampler was a third of the colour-bleed box's wall clock,
+    // perf's cpu-clock samples, against a sixth of its instructions). A vanishing denominator gives
+    // an infinite xu, which the clamp below takes to the rectangle's edge, as the paper's clamps
+    // did.
     const float num = cos_au * b0 - b1;
     const float n = num * num - (1.0f - b0 * b0) * (sin_au * sin_au);
     float xu = -z0 * (num > 0.0f ? sin_au : -sin_au) / std::sqrt(glm::max(n, 1e-30f));
