@@ -138,8 +138,8 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   bind_pools(pooled);
 
   const Aabb scene_bounds = primitives.bounds();
-  primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
-                                scene->bvh_);
+  scene->simd_triangle_references_ = primitives.build_accelerators(
+      arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_, scene->bvh_);
 #if TESSERA_SHAPE_WIDE_WALK
   scene->shape_wide_bvh_ = collapse_shape_bvh(scene->bvh_);
 #endif

@@ -14,8 +14,9 @@ void PrimitiveList::add(PrimitiveType type, std::uint32_t index, const Aabb& box
   add_if_sampled_emitter(lights_, materials_[material], reference, light_area, visible);
 }
 
-void PrimitiveList::build_accelerators(std::span<const Triangle> triangles,
-                                       TriangleAccel& triangle_accel, Bvh& bvh) {
+std::vector<std::uint32_t> PrimitiveList::build_accelerators(std::span<const Triangle> triangles,
+                                                             TriangleAccel& triangle_accel,
+                                                             Bvh& bvh) {
   const auto is_triangle = [](std::uint32_t reference) {
     return primitive_type(reference) == PrimitiveType::kTriangle;
   };
@@ -48,11 +49,13 @@ void PrimitiveList::build_accelerators(std::span<const Triangle> triangles,
     triangle_accel =
         TriangleAccel::build(visible_triangles, AccelBuildOptions{}, triangle_references);
   // One shape per leaf: a shape test (in double; ~140 instructions for a quad when this was
-  // measured, before Quad::make precomputed its axes) costs far more than a box test, so a tight box per shape pays even where the SAH's unit costs would
-  // share a leaf (measured: -9% render instructions on a Cornell box of quads and spheres).
+  // measured, before Quad::make precomputed its axes) costs far more than a box test, so a tight
+  // box per shape pays even where the SAH's unit costs would share a leaf (measured: -9% render
+  // instructions on a Cornell box of quads and spheres).
   BvhBuildOptions options;
   options.max_leaf_size = 1;
   bvh = build_bvh(boxes_, references_, options);
+  return triangle_references;
 }
 
 }  // namespace tessera

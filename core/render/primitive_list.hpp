@@ -38,8 +38,10 @@ class PrimitiveList {
   // every other shape to the BVH; BvhView::triangles joins the two for BvhTracer. Up to
   // kShapeBvhMaxTriangles triangles beside other shapes stay in the BVH instead (no SIMD
   // structure). Once, after the last shape is stored: it reorders the list.
-  void build_accelerators(std::span<const Triangle> triangles, TriangleAccel& triangle_accel,
-                          Bvh& bvh);
+  // Returns the references of the triangles put into the SIMD structure (a GPU upload puts
+  // them into its own BVH: render/device_scene_source.hpp).
+  std::vector<std::uint32_t> build_accelerators(std::span<const Triangle> triangles,
+                                                TriangleAccel& triangle_accel, Bvh& bvh);
 
   // The bounds of every visible bounded primitive (planes are not among them).
   Aabb bounds() const {

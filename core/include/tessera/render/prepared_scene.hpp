@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "tessera/accel/wide_bvh.hpp"
 #include "tessera/geometry/spline_patch_build.hpp"
 #include "tessera/geometry/trimmed_face_build.hpp"
+#include "tessera/render/device_scene_source.hpp"
 #include "tessera/render/primitive_arrays.hpp"
 #include "tessera/render/render_variants.hpp"
 #include "tessera/render/scene_data.hpp"
@@ -75,6 +77,14 @@ class PreparedScene {
   // state of another tile or render, and under adaptive sampling.
   TileStats accumulate_tile(const TileRect& tile, TileAccumulation& state, std::uint32_t end) const;
 
+  // The scene as a GPU backend uploads it (render/device_scene_source.hpp): built on first
+  // use, then shared by every device and tile of the job. Thread-safe.
+  const DeviceSceneSource& device_source() const;
+  // Renders the beauty pass of one tile on the CPU through device_source().view: the binary
+  // BVH walk, arrays and pipeline device code runs, so the device layout is checked against
+  // render_tile on machines without a GPU. The source must be supported.
+  TileStats render_tile_device_layout(const TileRect& tile, std::span<float> rgba) const;
+
   // The specialisation this scene renders with, and what the scene needed.
   const RenderVariant& variant() const { return *variant_; }
   const PipelineFeatures& required_features() const { return required_; }
@@ -110,6 +120,7 @@ class PreparedScene {
   std::vector<LightTreeNode> light_tree_;  // empty: pick_light uses the alias table
   Bvh bvh_;                                // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;           // visible triangles, named by their tagged references
+  std::vector<std::uint32_t> simd_triangle_references_;  // those triangles' references
   // bvh_ in eight-wide nodes: what the CPU walks (accel/shape_wide_bvh.hpp).
   WideBvh shape_wide_bvh_;
   // Shared mesh geometry: object-space triangles (and attributes when stored) of every
@@ -135,6 +146,8 @@ class PreparedScene {
   PipelineFeatures required_;
   const RenderVariant* variant_ = nullptr;
   double build_seconds_ = 0.0;
+  mutable std::once_flag device_source_once_;
+  mutable std::unique_ptr<DeviceSceneSource> device_source_;
 };
 
 }  // namespace tessera

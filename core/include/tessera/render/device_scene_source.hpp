@@ -1,0 +1,45 @@
+#pragma once
+// A job's scene as a GPU backend uploads it. The CPU traces mesh triangles through its SIMD
+// structure (BvhView::triangles) and the other shapes through an eight-wide tree; device
+// code walks one binary BVH (traverse_bvh) and reads nothing else. The device layout is
+// therefore a second binary BVH over every visible bounded primitive, mesh triangles
+// included, beside the flat arrays the CPU already has, and a list of the buffers to copy:
+// each one a host array and the SceneView pointer its device copy replaces.
+//
+// PreparedScene::device_source builds it; PreparedScene::render_tile_device_layout renders
+// through it on the CPU, so the layout is tested on machines without a GPU (the walk, the
+// arrays and the pipeline are the code nvcc compiles for the device).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "tessera/accel/bvh.hpp"
+#include "tessera/render/scene_data.hpp"
+
+namespace tessera {
+
+struct DeviceBuffer {
+  const void* host = nullptr;
+  std::size_t bytes = 0;
+  // Points the view's field at the buffer's copy (host or device memory).
+  void (*assign)(SceneView& view, const void* copy) = nullptr;
+};
+
+struct DeviceSceneSource {
+  // Host pointers throughout; the BVH is `bvh`, with no SIMD triangles, instance levels or
+  // wide nodes, as device code sees it.
+  SceneView view;
+  std::vector<DeviceBuffer> buffers;
+  Bvh bvh;  // over every visible bounded primitive; `view.bvh` and a buffer point into it
+  // Empty when the device path renders this scene as the CPU does; otherwise why it cannot
+  // (the scheduler then keeps the job's tiles on the CPU).
+  std::string unsupported;
+
+  std::size_t bytes() const {
+    std::size_t total = 0;
+    for (const DeviceBuffer& b : buffers) total += b.bytes;
+    return total;
+  }
+};
+
+}  // namespace tessera

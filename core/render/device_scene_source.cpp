@@ -1,0 +1,146 @@
+// PreparedScene::device_source: the job's scene as a GPU backend uploads it
+// (tessera/render/device_scene_source.hpp), and the CPU render through it that tests the
+// layout without a GPU.
+#include <algorithm>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "tessera/render/prepared_scene.hpp"
+
+namespace tessera {
+
+namespace {
+
+// A buffer for `array` whose copy the view's field `kField` (a SceneShapes or SceneView
+// member) points to.
+template <auto kField, typename T>
+DeviceBuffer buffer_for(const std::vector<T>& array) {
+  DeviceBuffer b;
+  b.host = array.data();
+  b.bytes = array.size() * sizeof(T);
+  b.assign = [](SceneView& view, const void* copy) { view.*kField = static_cast<const T*>(copy); };
+  return b;
+}
+
+// One buffer per stored primitive type that has any.
+template <typename... P>
+void add_shape_buffers(scene_detail::PrimitiveList<P...>, const PrimitiveArrays& arrays,
+                       std::vector<DeviceBuffer>& buffers) {
+  const auto add = [&](auto primitive) {
+    using Primitive = decltype(primitive);
+    const auto& array = arrays.of<Primitive::tag>();
+    if (!array.empty()) buffers.push_back(buffer_for<Primitive::array>(array));
+  };
+  (add(P{}), ...);
+}
+
+// Why the device path cannot render these arrays, or "" when it can: patches and trimmed
+// faces point into host pools (Bézier pieces, trim loops), which are not uploaded.
+template <typename... P>
+std::string unsupported_shapes(scene_detail::PrimitiveList<P...>, const PrimitiveArrays& arrays) {
+  bool host_pointers = false;
+  const auto check = [&](auto primitive) {
+    using Primitive = decltype(primitive);
+    if constexpr ((Primitive::shape_bit & (kShapePatch | kShapeTrimmed)) != 0)
+      host_pointers = host_pointers || !arrays.of<Primitive::tag>().empty();
+  };
+  (check(P{}), ...);
+  return host_pointers ? "spline patches and trimmed faces point into host memory" : "";
+}
+
+}  // namespace
+
+const DeviceSceneSource& PreparedScene::device_source() const {
+  std::call_once(device_source_once_, [this] {
+    auto source = std::make_unique<DeviceSceneSource>();
+    if (settings_.integrator != IntegratorKind::kPath)
+      source->unsupported = std::string("the device runs the path tracer, not the ") +
+                            to_string(settings_.integrator) + " integrator";
+    if (source->unsupported.empty())
+      source->unsupported = unsupported_shapes(scene_detail::StoredPrimitives{}, arrays_);
+    if (source->unsupported.empty() && !mesh_placements_.empty())
+      source->unsupported =
+          "meshes placed more than once share a two-level structure the device does not walk";
+
+    // One BVH over the shape BVH's primitives and the triangles kept apart from it.
+    const SceneView host = view();
+    std::vector<std::uint32_t> references(bvh_.primitives.begin(), bvh_.primitives.end());
+    references.insert(references.end(), simd_triangle_references_.begin(),
+                      simd_triangle_references_.end());
+    std::vector<Aabb> boxes(references.size());
+    for (std::size_t i = 0; i < references.size(); ++i)
+      boxes[i] = scene_detail::dispatch<kAllShapes>(
+          host, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
+    source->bvh = build_bvh(boxes, references);
+
+    SceneView& v = source->view;
+    v = host;
+    v.bvh = source->bvh.view();  // no SIMD triangles, instance level or wide nodes
+    v.instanced_triangles = nullptr;
+    v.instanced_attributes = nullptr;
+    v.mesh_placements = nullptr;
+    v.mesh_placement_count = 0;
+
+    std::vector<DeviceBuffer>& b = source->buffers;
+    add_shape_buffers(scene_detail::StoredPrimitives{}, arrays_, b);
+    const auto add = [&b](const DeviceBuffer& buffer) {
+      if (buffer.bytes > 0) b.push_back(buffer);
+    };
+    add(buffer_for<&SceneView::triangle_attributes>(triangle_attributes_));
+    add(buffer_for<&SceneView::materials>(materials_));
+    add(buffer_for<&SceneView::textures>(textures_));
+    add(buffer_for<&SceneView::texels>(texels_));
+    add(buffer_for<&SceneView::lights>(lights_));
+    add(buffer_for<&SceneView::light_alias>(light_alias_));
+    add(buffer_for<&SceneView::light_tree>(light_tree_));
+    add(buffer_for<&SceneView::analytic_lights>(analytic_lights_));
+    const auto sized = [](const void* host_data, std::size_t bytes,
+                          void (*assign)(SceneView&, const void*)) {
+      DeviceBuffer buffer;
+      buffer.host = host_data;
+      buffer.bytes = bytes;
+      buffer.assign = assign;
+      return buffer;
+    };
+    add(sized(source->bvh.nodes.data(), source->bvh.nodes.size() * sizeof(BvhNode),
+              [](SceneView& view, const void* copy) {
+                view.bvh.nodes = static_cast<const BvhNode*>(copy);
+              }));
+    add(sized(source->bvh.primitives.data(), source->bvh.primitives.size() * sizeof(std::uint32_t),
+              [](SceneView& view, const void* copy) {
+                view.bvh.primitives = static_cast<const std::uint32_t*>(copy);
+              }));
+    add(sized(environment_pixels_.data(), environment_pixels_.size() * sizeof(float),
+              [](SceneView& view, const void* copy) {
+                view.environment.image = static_cast<const float*>(copy);
+              }));
+    add(sized(environment_marginal_.data(), environment_marginal_.size() * sizeof(float),
+              [](SceneView& view, const void* copy) {
+                view.environment.distribution.marginal_cdf = static_cast<const float*>(copy);
+              }));
+    add(sized(environment_conditional_.data(), environment_conditional_.size() * sizeof(float),
+              [](SceneView& view, const void* copy) {
+                view.environment.distribution.conditional_cdf = static_cast<const float*>(copy);
+              }));
+    device_source_ = std::move(source);
+  });
+  return *device_source_;
+}
+
+TileStats PreparedScene::render_tile_device_layout(const TileRect& tile,
+                                                   std::span<float> rgba) const {
+  const DeviceSceneSource& source = device_source();
+  if (!source.unsupported.empty())
+    throw std::invalid_argument("render_tile_device_layout: " + source.unsupported);
+  std::fill(rgba.begin(), rgba.end(), 0.0f);
+  FilmPlanes film;
+  film.beauty = rgba.data();
+  // The variant the device kernel compiles (every feature on), not the scene's smallest.
+  return all_features_variant(IntegratorKind::kPath).render(source.view, settings_, tile, film);
+}
+
+}  // namespace tessera

@@ -1,0 +1,220 @@
+// The scene as a GPU backend uploads it (PreparedScene::device_source): one binary BVH over
+// every visible bounded primitive, mesh triangles included, and the flat arrays. Rendered
+// on the CPU through that layout (the walk and pipeline nvcc compiles for the device), an
+// image must equal the CPU's: both draw the same samples, and a triangle gives the same hit
+// bit for bit through a BVH leaf as through the SIMD structure. Only a tie (two surfaces
+// at the same distance, as on the shared edge of two triangles) may resolve differently,
+// so a few pixels may differ; the test bounds how many. (When this was written, every
+// scene here, RayON's included, came out bit for bit the same.)
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tessera/render/prepared_scene.hpp"
+#include "tessera/scene/yaml_loader.hpp"
+
+namespace tessera {
+namespace {
+
+const std::filesystem::path kExamples =
+    std::filesystem::path(TESSERA_SOURCE_DIR) / "examples" / "scenes";
+const std::filesystem::path kRayonDir = std::filesystem::path(TESSERA_SHARED_DIR) / "rayon-scenes";
+
+struct Comparison {
+  std::size_t pixels = 0;
+  std::size_t differing = 0;  // pixels whose RGBA is not bit for bit the same
+  double mean_cpu = 0.0;      // mean of the CPU image's RGB
+  double mean_device = 0.0;   // mean of the device-layout image's RGB
+};
+
+Comparison compare_layouts(const PreparedScene& scene) {
+  const RenderSettings& r = scene.settings();
+  Comparison c;
+  for (const TileRect& tile : make_tiles(r.width, r.height, r.tile_size)) {
+    std::vector<float> cpu(tile.pixel_count() * 4), device(tile.pixel_count() * 4);
+    scene.render_tile(tile, cpu);
+    scene.render_tile_device_layout(tile, device);
+    for (std::size_t p = 0; p < tile.pixel_count(); ++p) {
+      bool same = true;
+      for (int k = 0; k < 4; ++k) same = same && cpu[4 * p + k] == device[4 * p + k];
+      c.differing += same ? 0 : 1;
+      for (int k = 0; k < 3; ++k) {
+        c.mean_cpu += cpu[4 * p + k];
+        c.mean_device += device[4 * p + k];
+      }
+    }
+    c.pixels += tile.pixel_count();
+  }
+  c.mean_cpu /= 3.0 * static_cast<double>(c.pixels);
+  c.mean_device /= 3.0 * static_cast<double>(c.pixels);
+  return c;
+}
+
+void shrink(RenderSettings& r) {
+  r.width = 40;
+  r.height = 30;
+  r.samples_per_pixel = 4;
+  r.max_depth = 5;
+  r.tile_size = 16;
+}
+
+// Every primitive reference the CPU traces appears in the device BVH exactly once.
+void expect_every_primitive_once(const PreparedScene& scene) {
+  const DeviceSceneSource& source = scene.device_source();
+  std::multiset<std::uint32_t> seen(source.bvh.primitives.begin(), source.bvh.primitives.end());
+  for (std::uint32_t reference : seen) ASSERT_EQ(seen.count(reference), 1u) << reference;
+  const SceneView view = scene.view();
+  std::size_t expected = 0;
+  for (std::uint32_t i = 0; i < view.bvh.node_count; ++i)
+    if (view.bvh.nodes[i].is_leaf()) expected += view.bvh.nodes[i].count;
+  if (view.bvh.triangles != nullptr) expected += view.bvh.triangles->stats().triangles;
+  EXPECT_EQ(source.bvh.primitives.size(), expected);
+  EXPECT_EQ(source.view.bvh.triangles, nullptr);
+  EXPECT_EQ(source.view.bvh.wide_nodes, nullptr);
+  EXPECT_EQ(source.view.bvh.instances, nullptr);
+}
+
+// At most 1% of pixels may differ (ties), and the image's mean by no more than 1%.
+void expect_same_image(const PreparedScene& scene, const std::string& name) {
+  SCOPED_TRACE(name);
+  ASSERT_EQ(scene.device_source().unsupported, "");
+  expect_every_primitive_once(scene);
+  const Comparison c = compare_layouts(scene);
+  EXPECT_LE(c.differing, c.pixels / 100) << c.differing << " of " << c.pixels << " pixels differ";
+  EXPECT_NEAR(c.mean_device, c.mean_cpu, 0.01 * c.mean_cpu + 1e-6);
+  EXPECT_GT(c.mean_cpu, 0.0);
+}
+
+TEST(DeviceLayout, ExampleScenesRenderAsOnTheCpu) {
+  for (const char* name : {"cornell.yaml", "shapes.yaml", "textures.yaml"}) {
+    LoadedScene loaded = load_scene_file(kExamples / name);
+    shrink(loaded.scene.render);
+    expect_same_image(*PreparedScene::build(loaded.scene), name);
+  }
+}
+
+TEST(DeviceLayout, PatchesAreReportedUnsupported) {
+  LoadedScene loaded = load_scene_file(kExamples / "patches.yaml");
+  shrink(loaded.scene.render);
+  const auto scene = PreparedScene::build(loaded.scene);
+  EXPECT_NE(scene->device_source().unsupported.find("patches"), std::string::npos);
+  std::vector<float> rgba(16 * 16 * 4);
+  EXPECT_THROW(scene->render_tile_device_layout(TileRect{0, 0, 0, 16, 16}, rgba),
+               std::invalid_argument);
+}
+
+// A mesh large enough for the SIMD structure beside other shapes: its triangles must join
+// the device BVH. Placed twice, the mesh is shared (two-level) unless the job bakes it.
+SceneDescription mesh_scene(std::uint32_t copies) {
+  SceneDescription scene;
+  scene.camera.position = {0.0, 0.5, 4.0};
+  scene.camera.look_at = {0.0, 0.0, 0.0};
+  MaterialDesc white;
+  white.name = "white";
+  scene.materials.push_back(white);
+  MaterialDesc light;
+  light.name = "light";
+  light.type = MaterialType::kLight;
+  light.emission = {8.0, 8.0, 8.0};
+  scene.materials.push_back(light);
+  TriangleMeshDesc grid;
+  constexpr int kCells = 24;  // 1,152 triangles: above the shape BVH's share
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const double x = -1.0 + 2.0 * i / kCells, z = -1.0 + 2.0 * j / kCells;
+      grid.positions.push_back({x, 0.2 * std::sin(3.0 * x) * std::cos(2.0 * z), z});
+    }
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const auto v = static_cast<std::uint32_t>(j * (kCells + 1) + i);
+      const std::uint32_t row = kCells + 1;
+      for (std::uint32_t k : {v, v + 1, v + row, v + 1, v + row + 1, v + row})
+        grid.indices.push_back(k);
+    }
+  for (std::uint32_t c = 0; c < copies; ++c) {
+    TriangleMeshDesc placed = grid;
+    placed.transform = TransformDesc{};
+    placed.transform->translate = {0.0, -0.5 + 0.6 * c, 0.0};
+    scene.meshes.push_back(placed);
+  }
+  scene.spheres.push_back(SphereDesc{.center = {0.5, 0.4, 0.2}, .radius = 0.3});
+  SphereDesc lamp{.center = {0.0, 2.5, 1.0}, .radius = 0.4};
+  lamp.material = 1;
+  scene.spheres.push_back(lamp);
+  shrink(scene.render);
+  return scene;
+}
+
+TEST(DeviceLayout, MeshTrianglesJoinTheDeviceBvh) {
+  const auto scene = PreparedScene::build(mesh_scene(1));
+  ASSERT_NE(scene->view().bvh.triangles, nullptr) << "the CPU should trace the mesh apart";
+  expect_same_image(*scene, "one mesh");
+}
+
+TEST(DeviceLayout, SharedMeshesNeedBaking) {
+  const SceneDescription description = mesh_scene(2);
+  const auto shared = PreparedScene::build(description);
+  ASSERT_GT(shared->shared_mesh_placements(), 0u);
+  EXPECT_NE(shared->device_source().unsupported, "");
+  PrepareOptions bake;
+  bake.instancing = false;
+  expect_same_image(*PreparedScene::build(description, bake), "baked placements");
+}
+
+TEST(DeviceLayout, BuffersCoverEveryArrayTheViewPointsTo) {
+  LoadedScene loaded = load_scene_file(kExamples / "textures.yaml");
+  shrink(loaded.scene.render);
+  const auto scene = PreparedScene::build(loaded.scene);
+  const DeviceSceneSource& source = scene->device_source();
+  // Pointing every field at a copy must move every pointer the device reads: copy each
+  // buffer, assign, and check that no pointer into the host arrays is left.
+  std::vector<std::vector<unsigned char>> copies;
+  SceneView moved = source.view;
+  for (const DeviceBuffer& b : source.buffers) {
+    ASSERT_GT(b.bytes, 0u);
+    ASSERT_NE(b.assign, nullptr);
+    const auto* bytes = static_cast<const unsigned char*>(b.host);
+    copies.emplace_back(bytes, bytes + b.bytes);
+    b.assign(moved, copies.back().data());
+  }
+  EXPECT_NE(moved.materials, source.view.materials);
+  EXPECT_NE(moved.bvh.nodes, source.view.bvh.nodes);
+  EXPECT_NE(moved.bvh.primitives, source.view.bvh.primitives);
+  EXPECT_NE(moved.textures, source.view.textures);
+  EXPECT_NE(moved.texels, source.view.texels);
+  EXPECT_GT(source.bytes(), 0u);
+}
+
+TEST(DeviceLayout, RayonScenesRenderAsOnTheCpu) {
+  std::vector<std::filesystem::path> scenes;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(kRayonDir, ec))
+    if (entry.path().extension() == ".yaml") scenes.push_back(entry.path());
+  if (scenes.empty()) GTEST_SKIP() << "no RayON scenes in " << kRayonDir;
+  std::sort(scenes.begin(), scenes.end());
+  int compared = 0;
+  for (const auto& path : scenes) {
+    LoadedScene loaded;
+    try {
+      loaded = load_scene_file(path);
+    } catch (const SceneError&) {
+      continue;  // the scene whose model is not shipped (rayon_scenes_test.cpp checks it)
+    }
+    shrink(loaded.scene.render);
+    PrepareOptions bake;
+    bake.instancing = false;
+    const auto scene = PreparedScene::build(loaded.scene, bake);
+    if (!scene->device_source().unsupported.empty()) continue;
+    expect_same_image(*scene, path.filename().string());
+    ++compared;
+  }
+  EXPECT_GT(compared, 0);
+}
+
+}  // namespace
+}  // namespace tessera
