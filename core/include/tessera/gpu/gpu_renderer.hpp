@@ -1,0 +1,51 @@
+#pragma once
+// The GPU backend's host interface, free of CUDA types so that code built without nvcc can
+// include it. Implemented in core/cuda/ (the tessera_cuda library, built when nvcc is found:
+// TESSERA_CUDA=AUTO|ON); TESSERA_HAS_CUDA is defined for its users.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tessera/render/prepared_scene.hpp"
+
+namespace tessera::gpu {
+
+struct DeviceInfo {
+  int index = 0;
+  std::string name;
+  std::size_t memory_bytes = 0;
+  int compute_major = 0, compute_minor = 0;
+  int multiprocessors = 0;
+};
+
+// The CUDA devices this process can use; empty when there are none or no driver.
+std::vector<DeviceInfo> list_devices();
+
+// One job's scene uploaded to one device (PreparedScene::device_source), rendering tiles of
+// its beauty pass with the same samples the CPU draws. Not thread-safe: one per worker.
+class TileRenderer {
+ public:
+  // Uploads the scene to `device`. Throws std::runtime_error naming the CUDA error, or
+  // std::invalid_argument when the device path cannot render the scene (a patch, a trimmed
+  // face, a shared mesh, an integrator other than the path tracer).
+  TileRenderer(int device, std::shared_ptr<const PreparedScene> scene);
+  ~TileRenderer();
+  TileRenderer(const TileRenderer&) = delete;
+  TileRenderer& operator=(const TileRenderer&) = delete;
+
+  // Renders `tile` into `rgba` (tile.width * tile.height * 4 floats, overwritten), as
+  // PreparedScene::render_tile does on the CPU. Throws std::runtime_error on a CUDA error; the
+  // caller then renders the tile on the CPU.
+  TileStats render_tile(const TileRect& tile, std::span<float> rgba);
+
+  std::size_t uploaded_bytes() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace tessera::gpu
