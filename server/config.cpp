@@ -323,6 +323,12 @@ bool apply_setting(DaemonConfig& config, const std::string& display_name, const 
         throw ConfigError(located(display_name, value, key) + ": must be an integer from 1 to " +
                           std::to_string(kMaxThreads) + ", got " + scalar_text(value));
       config.threads = static_cast<unsigned>(threads);
+    } else if (key == "gpus") {
+      const std::string gpus = read_string(display_name, value, key);
+      if (gpus != "all" && gpus != "none")
+        throw ConfigError(located(display_name, value, key) + ": must be all or none, got '" +
+                          gpus + "'");
+      config.gpus = gpus == "all";
     } else if (key == "data") {
       const std::string data = read_string(display_name, value, key);
       if (data.empty())

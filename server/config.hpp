@@ -32,6 +32,10 @@ std::optional<LogFormat> parse_log_format(const std::string& name);
 struct DaemonConfig {
   std::string listen = kDefaultListen;        // HOST:PORT; port 0 picks a free one
   unsigned threads = default_thread_count();  // render worker threads
+  // Render on every CUDA GPU found as well (key `gpus: all`, the default), or on the CPU
+  // threads alone (`gpus: none`). Without the CUDA backend (no nvcc at build time) there
+  // are none to use either way.
+  bool gpus = true;
   // Created at start if missing; holds the job store (jobs.sqlite3 and its WAL files).
   // Empty: the jobs live in memory only (in-process daemons in tests); tesserad defaults
   // to ./var.
@@ -122,11 +126,11 @@ std::size_t effective_memory_budget(const DaemonConfig& config);
 // Throws ConfigError for the first invalid setting.
 void validate_config(const DaemonConfig& config);
 
-// Reads the keys listen, threads, data, log_level, log_format, metrics_listen, shutdown_grace,
-// job_ttl, max_jobs, max_jobs_per_submitter, tile_retries, watch_buffer, watch_write_timeout,
-// stream_write_timeout, the security settings (tls_cert, tls_key, tls_client_ca,
-// allow_insecure_remote, tokens) and the budgets (max_receive_message_bytes, max_width,
-// max_height, max_pixels, max_samples_per_pixel, max_primitives, memory_budget,
+// Reads the keys listen, threads, gpus, data, log_level, log_format, metrics_listen,
+// shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter, tile_retries, watch_buffer,
+// watch_write_timeout, stream_write_timeout, the security settings (tls_cert, tls_key,
+// tls_client_ca, allow_insecure_remote, tokens) and the budgets (max_receive_message_bytes,
+// max_width, max_height, max_pixels, max_samples_per_pixel, max_primitives, memory_budget,
 // prepare_timeout) from a YAML file on top of `base`. Durations are a number with a unit:
 // 500ms, 30s, 15m, 12h, 7d; sizes a number with an optional unit: 512MiB, 8GiB. Unknown keys
 // are reported in `warnings`; bad values

@@ -1,3 +1,6 @@
+#if defined(TESSERA_HAS_CUDA)
+#include "server/gpu_tile_device.hpp"
+#endif
 #include "server/daemon.hpp"
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
@@ -26,8 +29,8 @@
 #include "server/render_service.hpp"
 #include "server/rpc_log.hpp"
 #include "server/scheduler.hpp"
-#include "server/server_info.hpp"
 #include "server/server_credentials.hpp"
+#include "server/server_info.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
 
@@ -237,6 +240,11 @@ int Daemon::start() {
   options.prepare_timeout = d.config.prepare_timeout;
   options.tile_retries = static_cast<std::uint32_t>(d.config.tile_retries);
   options.metrics = &d.metrics;
+#if defined(TESSERA_HAS_CUDA)
+  if (d.config.gpus) options.devices = gpu_tile_devices();
+#endif
+  std::vector<std::string> gpu_names;
+  for (const auto& device : options.devices) gpu_names.push_back(device->name());
   options.load_scene = [&d](const Job& job) { return load_scene(*d.store, job, d.config.limits); };
   options.on_job_released = [&d](const Job& job) {
     d.jobs->forget(job.id());
@@ -248,7 +256,7 @@ int Daemon::start() {
       std::chrono::milliseconds(100), d.config.stream_write_timeout);
   d.service->set_memory_budget(effective_memory_budget(d.config));
   d.service->enable_watch(*d.watch_hub);
-  d.service->set_server_info(make_server_info(d.config));
+  d.service->set_server_info(make_server_info(d.config, gpu_names));
   d.service->set_access_control(std::move(access));
 
   // Jobs a previous run left queued or running carry on where they stopped; paused ones

@@ -33,6 +33,9 @@ struct Scheduler::Entry {
   unsigned in_flight = 0;  // tasks of this entry running on workers
   // Replaced by a new entry (requeue): hands out nothing more.
   bool retired = false;
+  // Per device (SchedulerOptions::devices, same order): it takes this job's tiles. Set
+  // when the job is prepared.
+  std::vector<bool> device_accepts;
   // Queued as a fresh entry once this one's tasks have returned (requeue): the job's live
   // object, which may differ from `job` (a worker may still be using `job`).
   std::shared_ptr<Job> successor;
@@ -64,8 +67,11 @@ Scheduler::~Scheduler() {
 void Scheduler::start() {
   std::lock_guard lock(mutex_);
   if (stopping_ || !workers_.empty()) return;
-  workers_.reserve(options_.threads);
-  for (unsigned i = 0; i < options_.threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  workers_.reserve(options_.threads + options_.devices.size());
+  for (unsigned i = 0; i < options_.threads; ++i)
+    workers_.emplace_back([this] { worker_loop(nullptr); });
+  for (const auto& device : options_.devices)
+    workers_.emplace_back([this, d = device.get()] { worker_loop(d); });
 }
 
 namespace {
@@ -234,15 +240,25 @@ bool has_work(const Entry& entry) {
 
 }  // namespace
 
-bool Scheduler::take_task_locked(Task& task) {
+bool Scheduler::take_task_locked(Task& task, const TileDevice* device) {
   prune_locked();
   if (stopping_) return false;
+  // A device worker sees only the prepared jobs that device accepts; the rest of the queue
+  // (and preparing jobs) is the CPU workers'.
+  std::size_t device_index = 0;
+  if (device != nullptr)
+    while (options_.devices[device_index].get() != device) ++device_index;
+  const auto available = [&](const Entry& entry) {
+    if (!has_work(entry)) return false;
+    return device == nullptr || (entry.prepared && device_index < entry.device_accepts.size() &&
+                                 entry.device_accepts[device_index]);
+  };
   // queue_ is ordered by priority, then submission: the first entry with work sets the
   // priority, and the least recently served submitter at that priority gets the task.
   std::shared_ptr<Entry> chosen;
   std::uint64_t chosen_served = 0;
   for (const auto& entry : queue_) {
-    if (!has_work(*entry)) continue;
+    if (!available(*entry)) continue;
     if (chosen && entry->job->priority() != chosen->job->priority()) break;
     const auto it = last_served_.find(entry->job->submitter());
     const std::uint64_t served = it == last_served_.end() ? 0 : it->second;
@@ -256,7 +272,7 @@ bool Scheduler::take_task_locked(Task& task) {
   if (chosen->prepared && options_.yield_every > 0 &&
       chosen->next_tile >= options_.long_job_tiles && (served_ + 1) % options_.yield_every == 0) {
     for (const auto& entry : queue_)
-      if (entry->job->priority() < chosen->job->priority() && has_work(*entry)) {
+      if (entry->job->priority() < chosen->job->priority() && available(*entry)) {
         chosen = entry;
         break;
       }
@@ -275,18 +291,18 @@ bool Scheduler::take_task_locked(Task& task) {
   return true;
 }
 
-void Scheduler::worker_loop() {
+void Scheduler::worker_loop(TileDevice* device) {
   for (;;) {
     Task task;
     {
       std::unique_lock lock(mutex_);
-      work_available_.wait(lock, [&] { return stopping_ || take_task_locked(task); });
+      work_available_.wait(lock, [&] { return stopping_ || take_task_locked(task, device); });
       if (!task.entry) return;  // stopping
     }
     if (task.prepare)
       prepare(*task.entry);
     else
-      render(*task.entry, task.tile);
+      render(*task.entry, task.tile, device);
     {
       std::lock_guard lock(mutex_);
       if (!task.prepare) task.entry->rendering[task.tile.rect.index] = false;
@@ -374,7 +390,21 @@ void Scheduler::prepare(Entry& entry) {
                           prepared->build_seconds(), prepared->bvh_depth()));
     if (options_.on_job_started) options_.on_job_started(job);
   }
+  // Which devices take the job's tiles, asked here on the CPU worker: a GPU's answer builds
+  // the scene's device layout (PreparedScene::device_source), which must not hold the lock.
+  std::vector<bool> device_accepts(options_.devices.size(), false);
+  if (prepared && prepared->settings().pass_count() == 1 && prepared->settings().aovs == 0) {
+    for (std::size_t d = 0; d < options_.devices.size(); ++d) {
+      try {
+        device_accepts[d] = options_.devices[d]->accepts(*prepared);
+      } catch (const std::exception& e) {
+        spdlog::warn("job {}: {} cannot take its tiles: {}", job.id(), options_.devices[d]->name(),
+                     e.what());
+      }
+    }
+  }
   std::lock_guard lock(mutex_);
+  entry.device_accepts = std::move(device_accepts);
   entry.scene.reset();
   entry.tiles = std::move(pending);
   entry.rendering.assign(grid_tiles, false);
@@ -459,7 +489,23 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
   return job.add_tile_pass(work.unit, options_.owner, exr, stats.rays, kept, last);
 }
 
-void Scheduler::render(Entry& entry, const TileWork& work) {
+TileStats Scheduler::render_whole_tile(Entry& entry, const TileWork& work, TileDevice* device,
+                                       TilePasses& passes) {
+  const TileRect& rect = work.rect;
+  if (device != nullptr) {
+    try {
+      passes.beauty.resize(rect.pixel_count() * 4);
+      for (auto& plane : passes.aovs) plane.clear();
+      return device->render_tile(entry.prepared, rect, passes.beauty);
+    } catch (const std::exception& e) {
+      spdlog::warn("job {}: tile {} failed on {}, rendering it on the CPU: {}", entry.job->id(),
+                   rect.index, device->name(), e.what());
+    }
+  }
+  return entry.prepared->render_tile(rect, passes);
+}
+
+void Scheduler::render(Entry& entry, const TileWork& work, TileDevice* device) {
   Job& job = *entry.job;
   const TileRect& rect = work.rect;
   // Cancelled or paused after the tile was handed out (a resumed job is queued afresh).
@@ -483,7 +529,7 @@ void Scheduler::render(Entry& entry, const TileWork& work) {
       {
         const TileCancelScope cancel(&job.stop_flag());
         const auto trace_start = std::chrono::steady_clock::now();
-        stats = entry.prepared->render_tile(rect, passes);
+        stats = render_whole_tile(entry, work, device, passes);
         count_trace(stats, trace_start);
       }
       // A raised flag may have cut the tile short: it is incomplete, so never stored. The

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "server/job.hpp"
+#include "server/tile_device.hpp"
 #include "tessera/render/prepared_scene.hpp"
 
 namespace tessera::server {
@@ -64,6 +65,10 @@ struct SchedulerOptions {
   // Counters for /metrics (tiles, samples, rays, trace and preparation time, queue
   // latency); null: not counted. Must outlive the scheduler.
   DaemonMetrics* metrics = nullptr;
+  // Devices besides the `threads` CPU workers (GPUs), one worker thread each. A device
+  // takes tiles of the jobs it accepts (TileDevice::accepts) that render in one pass without
+  // AOVs; every other job's tiles, and job preparation, stay with the CPU workers.
+  std::vector<std::shared_ptr<TileDevice>> devices;
 };
 
 // What the scheduler holds now (for /metrics).
@@ -142,11 +147,16 @@ class Scheduler {
   struct Task;
 
   static bool queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b);
-  void worker_loop();
-  bool take_task_locked(Task& task);
+  // `device`: null for a CPU worker.
+  void worker_loop(TileDevice* device);
+  bool take_task_locked(Task& task, const TileDevice* device);
   void prune_locked();
   void prepare(Entry& entry);
-  void render(Entry& entry, const TileWork& work);
+  void render(Entry& entry, const TileWork& work, TileDevice* device);
+  // The one-pass render of `work` into `passes`: on `device` when there is one, falling back
+  // to the CPU (logged) when it fails.
+  TileStats render_whole_tile(Entry& entry, const TileWork& work, TileDevice* device,
+                              TilePasses& passes);
   // A pass of a tile of a job with passes: continues the tile's stored state and stores the
   // new one with the tile's image after the pass. Nothing when the pass was cut short (the
   // claim is then still held).

@@ -61,7 +61,7 @@ std::string cpu_model() {
 
 }  // namespace
 
-v1::ServerInfo make_server_info(const DaemonConfig& config) {
+v1::ServerInfo make_server_info(const DaemonConfig& config, const std::vector<std::string>& gpus) {
   v1::ServerInfo info;
   info.set_version(TESSERA_VERSION);
   v1::BuildInfo& build = *info.mutable_build();
@@ -73,6 +73,12 @@ v1::ServerInfo make_server_info(const DaemonConfig& config) {
   cpu.set_kind("cpu");
   cpu.set_name(cpu_model());
   cpu.set_threads(config.threads);
+  for (const std::string& name : gpus) {
+    v1::Device& gpu = *info.add_devices();
+    gpu.set_kind("gpu");
+    gpu.set_name(name);
+    gpu.set_threads(1);  // one scheduler worker feeds it
+  }
 
   const SceneLimits& scene = config.limits;
   v1::ServerLimits& limits = *info.mutable_limits();

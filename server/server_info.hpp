@@ -1,4 +1,6 @@
 #pragma once
+#include <string>
+#include <vector>
 #include "server/config.hpp"
 #include "tessera/v1/render.pb.h"
 
@@ -8,6 +10,8 @@ namespace tessera::server {
 // devices, the limits it enforces (the memory budget resolved) and what the renderer
 // supports. The capabilities are read from the renderer's own name tables and kind
 // declarations, not listed here, so a new integrator or shape appears without an edit.
-v1::ServerInfo make_server_info(const DaemonConfig& config);
+// `gpus`: the names of the GPUs the scheduler renders on (one device entry each).
+v1::ServerInfo make_server_info(const DaemonConfig& config,
+                                const std::vector<std::string>& gpus = {});
 
 }  // namespace tessera::server

@@ -136,6 +136,14 @@ TEST_F(ConfigFile, StreamWriteTimeoutIsReadWithItsDefault) {
   EXPECT_TRUE(cl.warnings.empty());
 }
 
+TEST_F(ConfigFile, GpusDefaultToAllAndCanBeTurnedOff) {
+  EXPECT_TRUE(parse_tesserad({}).config.gpus);
+  const CommandLine cl = parse_tesserad({"--config", write("gpus: none\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_FALSE(cl.config.gpus);
+  EXPECT_TRUE(cl.warnings.empty());
+}
+
 TEST_F(ConfigFile, TileRetriesAndWatchSettingsAreRead) {
   const CommandLine defaults = parse_tesserad({});
   ASSERT_FALSE(defaults.exit_code) << defaults.message;
@@ -199,6 +207,7 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
       {"max_jobs: lots\n", "max_jobs: must be a whole number"},
       {"stream_write_timeout: 0s\n", ":1: stream_write_timeout: must be at least 1ms, got '0s'"},
       {"stream_write_timeout: never\n", "stream_write_timeout: must be a duration"},
+      {"gpus: some\n", ":1: gpus: must be all or none, got 'some'"},
   };
   for (const auto& [text, expected] : cases) {
     const CommandLine cl = parse_tesserad({"--config", write(text)});

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "server/job_id.hpp"
+#include "server/job_passes.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/image/exr.hpp"
 #include "test_scenes.hpp"
@@ -39,8 +40,7 @@ JobRecord make_record(const std::string& name, int priority, const SceneDescript
   record.submitter = submitter;
   record.priority = priority;
   record.settings = r;
-  record.tiles_total =
-      static_cast<std::uint32_t>(make_tiles(r.width, r.height, r.tile_size).size());
+  record.tiles_total = static_cast<std::uint32_t>(PassLayout(r).units());  // tiles x passes
   record.submitted_unix_ms = unix_millis_now();
   return record;
 }
@@ -478,6 +478,93 @@ TEST(Scheduler, RejectsAJobWhoseTileCountDoesNotMatchItsScene) {
   record.tiles_total = 5;
   auto job = std::make_shared<Job>(test_store(), test_store().create_job(record, {}));
   EXPECT_THROW(scheduler.submit(job, scene), std::logic_error);
+}
+
+// A device that renders through the scene's device layout on the CPU (what a GPU renders,
+// tests/unit/render/device_layout_test.cpp), counting its tiles; or one whose every tile
+// fails, or one that takes no job.
+class StandInDevice : public TileDevice {
+ public:
+  enum class Mode { kRender, kFail, kRefuse };
+  explicit StandInDevice(Mode mode) : mode_(mode) {}
+  std::string name() const override { return "stand-in device"; }
+  bool accepts(const PreparedScene& scene) const override {
+    return mode_ != Mode::kRefuse && scene.device_source().unsupported.empty();
+  }
+  TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene, const TileRect& tile,
+                        std::span<float> rgba) override {
+    ++attempts;
+    if (mode_ == Mode::kFail) throw std::runtime_error("the device fell off the bus");
+    return scene->render_tile_device_layout(tile, rgba);
+  }
+  std::atomic<int> attempts{0};
+
+ private:
+  Mode mode_;
+};
+
+// The job's image, tile by tile, from a scheduler with `devices` beside one CPU worker.
+std::vector<std::vector<float>> render_with(const SceneDescription& scene,
+                                            std::vector<std::shared_ptr<TileDevice>> devices,
+                                            std::uint32_t* tiles_done = nullptr) {
+  auto job = make_job("devices", 0, scene);
+  SchedulerOptions options;
+  options.threads = 1;
+  options.devices = std::move(devices);
+  // Slow enough per tile that the device's worker is up before the CPU worker is through.
+  options.on_tile_started = [](const Job&, const TileRect&) { std::this_thread::sleep_for(2ms); };
+  Scheduler scheduler(options);
+  scheduler.submit(job, scene);
+  scheduler.start();
+  std::vector<StoredTile> tiles;
+  subscribe(*job, &tiles);
+  scheduler.wait_idle();
+  EXPECT_EQ(job->state(), JobState::kCompleted);
+  if (tiles_done) *tiles_done = job->info().progress.tiles_done;
+  std::vector<std::vector<float>> images(tiles.size());
+  for (const StoredTile& tile : tiles) {
+    EXPECT_LT(tile.index, images.size());
+    if (tile.index < images.size()) images[tile.index] = decode_exr(tile.exr).pixels;
+  }
+  return images;
+}
+
+TEST(SchedulerDevices, ADeviceTakesTilesFromTheSameQueueAndTheImageIsTheCpus) {
+  const SceneDescription scene = tiny_description(64, 48, 8);  // 48 tiles
+  const auto cpu_only = render_with(scene, {});
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender);
+  std::uint32_t done = 0;
+  const auto mixed = render_with(scene, {device}, &done);
+  EXPECT_EQ(done, 48u);
+  EXPECT_GT(device->attempts.load(), 0);
+  EXPECT_LT(device->attempts.load(), 48);  // the CPU worker took tiles too
+  EXPECT_EQ(mixed, cpu_only);
+}
+
+TEST(SchedulerDevices, ATileThatFailsOnTheDeviceIsRenderedOnTheCpu) {
+  const SceneDescription scene = tiny_description(32, 32, 8);
+  const auto cpu_only = render_with(scene, {});
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kFail);
+  const auto mixed = render_with(scene, {device});
+  EXPECT_GT(device->attempts.load(), 0);
+  EXPECT_EQ(mixed, cpu_only);
+}
+
+TEST(SchedulerDevices, JobsADeviceCannotRenderStayOnTheCpu) {
+  auto refusing = std::make_shared<StandInDevice>(StandInDevice::Mode::kRefuse);
+  render_with(tiny_description(32, 32, 8), {refusing});
+  EXPECT_EQ(refusing->attempts.load(), 0);
+
+  // Passes and AOVs are the CPU's: the device path renders one-pass beauty tiles.
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender);
+  SceneDescription with_aovs = tiny_description(32, 32, 8);
+  with_aovs.render.aovs = kAovAlbedo;
+  render_with(with_aovs, {device});
+  SceneDescription with_passes = tiny_description(32, 32, 8);
+  with_passes.render.samples_per_pixel = 4;
+  with_passes.render.passes = 2;
+  render_with(with_passes, {device});
+  EXPECT_EQ(device->attempts.load(), 0);
 }
 
 }  // namespace

@@ -1,0 +1,62 @@
+#include "server/gpu_tile_device.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <string>
+
+#include "tessera/gpu/gpu_renderer.hpp"
+
+namespace tessera::server {
+
+namespace {
+
+// A job's scene is uploaded when the device takes its first tile and stays until the device
+// takes a tile of another job (one worker thread per device, so no locking): a job's tiles
+// mostly come in a run, and a re-upload costs only copies.
+class GpuTileDevice : public TileDevice {
+ public:
+  explicit GpuTileDevice(const gpu::DeviceInfo& info)
+      : info_(info), name_("gpu" + std::to_string(info.index) + " " + info.name) {}
+
+  std::string name() const override { return name_; }
+
+  bool accepts(const PreparedScene& scene) const override {
+    const DeviceSceneSource& source = scene.device_source();
+    // Leaves a fifth of the device's memory to the film, the stack and the driver.
+    return source.unsupported.empty() && source.bytes() < info_.memory_bytes / 5 * 4;
+  }
+
+  TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene, const TileRect& tile,
+                        std::span<float> rgba) override {
+    if (scene != scene_) {
+      renderer_.reset();
+      scene_.reset();
+      renderer_ = std::make_unique<gpu::TileRenderer>(info_.index, scene);
+      scene_ = scene;
+      spdlog::debug("{}: scene uploaded, {:.1f} MiB", name_,
+                    static_cast<double>(renderer_->uploaded_bytes()) / (1 << 20));
+    }
+    return renderer_->render_tile(tile, rgba);
+  }
+
+ private:
+  gpu::DeviceInfo info_;
+  std::string name_;
+  std::shared_ptr<const PreparedScene> scene_;
+  std::unique_ptr<gpu::TileRenderer> renderer_;
+};
+
+}  // namespace
+
+std::vector<std::shared_ptr<TileDevice>> gpu_tile_devices() {
+  std::vector<std::shared_ptr<TileDevice>> devices;
+  for (const gpu::DeviceInfo& info : gpu::list_devices()) {
+    spdlog::info("GPU {}: {}, {:.1f} GiB, compute capability {}.{}, {} multiprocessors", info.index,
+                 info.name, static_cast<double>(info.memory_bytes) / (1 << 30), info.compute_major,
+                 info.compute_minor, info.multiprocessors);
+    devices.push_back(std::make_shared<GpuTileDevice>(info));
+  }
+  return devices;
+}
+
+}  // namespace tessera::server
