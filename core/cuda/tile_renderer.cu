@@ -1,77 +1,14 @@
-// The device side of the path tracer: the same pipeline, programs and BVH traversal the
-// CPU runs, compiled by nvcc from the shared headers. One thread renders all samples of
-// one pixel, so film writes never race. gpu::TileRenderer (below) uploads a job's
-// PreparedScene::device_source and renders tiles with launch_path_tracer_tile.
+// gpu::TileRenderer: uploads a job's PreparedScene::device_source to one CUDA device and
+// renders tiles with the kernel of the smallest feature set covering the scene
+// (path_tracer_kernel.cuh).
 #include <cuda_runtime.h>
 
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "path_tracer_kernel.cuh"
 #include "tessera/gpu/gpu_renderer.hpp"
-
-#include "tessera/render/path_tracer.hpp"
-#include "tessera/render/pixel_sampling.hpp"
-
-namespace tessera::cuda {
-
-namespace {
-
-// Every feature but the shapes PreparedScene::device_source refuses (patches and trimmed
-// faces point into host memory): their intersection code (Bézier clipping, trim loops) is
-// most of the all-features kernel's per-thread stack (29 KB with them, -Xptxas -v).
-constexpr PipelineFeatures kDeviceFeatures{kAllShapes & ~(kShapePatch | kShapeTrimmed), true, true,
-                                           true};
-using DeviceConfig = PathTracerConfig<kDeviceFeatures>;
-
-// Never interrupts: a device tile is cancelled by not launching it.
-struct NeverInterrupted {
-  __device__ bool operator()() const { return false; }
-};
-
-__global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, PixelSampling sampling,
-                                        std::uint32_t max_depth, SamplerKind sampler,
-                                        LightStrategy strategy, float clamp,
-                                        bool transparent_background, TileRect tile, FilmPlanes film,
-                                        unsigned long long* ray_count) {
-  const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
-  const std::uint32_t local_y = blockIdx.y * blockDim.y + threadIdx.y;
-  if (local_x >= tile.width || local_y >= tile.height) return;
-  std::uint64_t rays = 0;
-  const PathRayGeneration<kDeviceFeatures.aovs> generation{
-      scene.camera, seed, tile, sampling.sample_weight(), film, &rays, sampler};
-  const BvhTracer<SceneIntersection<kDeviceFeatures.shapes>> tracer(
-      scene.bvh, SceneIntersection<kDeviceFeatures.shapes>{scene});
-  const Pipeline<DeviceConfig> pipeline(
-      generation, tracer, PathHit<kDeviceFeatures>{scene, max_depth, strategy, clamp},
-      PathMiss<kDeviceFeatures>{scene, strategy, transparent_background, clamp});
-  NeverInterrupted interrupted;
-  render_pixel(pipeline, tile.x + local_x, tile.y + local_y, tile, film, sampling, interrupted);
-  atomicAdd(ray_count, static_cast<unsigned long long>(rays));
-}
-
-}  // namespace
-
-// Renders one tile on the current device, each pixel as the CPU does (render_pixel:
-// adaptive sampling and refinement included). Every pointer in `scene` and `film` must be
-// device memory; `ray_count` too. `clamp` and `transparent_background` are the render
-// settings'. The film's depth plane must start at +inf and the others at 0, as
-// PreparedScene::render_tile sets them. Returns the launch status.
-cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
-                                    const PixelSampling& sampling, std::uint32_t max_depth,
-                                    SamplerKind sampler, LightStrategy strategy, float clamp,
-                                    bool transparent_background, const TileRect& tile,
-                                    const FilmPlanes& film, unsigned long long* ray_count,
-                                    cudaStream_t stream) {
-  const dim3 block(8, 8);
-  const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
-  path_tracer_tile_kernel<<<grid, block, 0, stream>>>(scene, seed, sampling, max_depth, sampler,
-                                                      strategy, clamp, transparent_background, tile,
-                                                      film, ray_count);
-  return cudaGetLastError();
-}
-
-}  // namespace tessera::cuda
 
 namespace tessera::gpu {
 
@@ -182,10 +119,12 @@ TileStats TileRenderer::render_tile(const TileRect& tile, std::span<float> rgba)
   film.beauty = static_cast<float*>(s.film.pointer);
   const PixelSampling sampling{0, r.samples_per_pixel, r.min_samples_per_pixel,
                                static_cast<float>(r.target_error), 0};
-  check(tessera::cuda::launch_path_tracer_tile(
-            s.view, r.seed, sampling, r.max_depth, r.sampler, r.light_strategy,
-            static_cast<float>(r.clamp), r.transparent_background, tile, film,
-            static_cast<unsigned long long*>(s.ray_count.pointer), s.stream),
+  const auto launch = (s.scene->required_features().shapes & ~kCommonShapes) == 0
+                          ? &cuda::launch_path_tracer_tile<cuda::kDeviceCommonShapes>
+                          : &cuda::launch_path_tracer_tile<cuda::kDeviceAllShapes>;
+  check(launch(s.view, r.seed, sampling, r.max_depth, r.sampler, r.light_strategy,
+               static_cast<float>(r.clamp), r.transparent_background, tile, film,
+               static_cast<unsigned long long*>(s.ray_count.pointer), s.stream),
         "kernel launch");
   unsigned long long rays = 0;
   check(cudaMemcpyAsync(rgba.data(), s.film.pointer, bytes, cudaMemcpyDeviceToHost, s.stream),

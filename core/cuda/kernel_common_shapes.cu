@@ -1,0 +1,8 @@
+// The device kernel for scenes of spheres, rectangles and triangles (path_tracer_kernel.cuh).
+#include "path_tracer_kernel.cuh"
+
+namespace tessera::cuda {
+
+template TESSERA_DEVICE_LAUNCH(kDeviceCommonShapes);
+
+}  // namespace tessera::cuda

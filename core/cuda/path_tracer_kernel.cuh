@@ -1,0 +1,94 @@
+#pragma once
+// The device side of the path tracer: the same pipeline, programs and BVH traversal the
+// CPU runs, compiled by nvcc from the shared headers. One thread renders all samples of
+// one pixel, so film writes never race. Each .cu file of core/cuda instantiates one feature
+// set (as the CPU compiles one variant per set), so nvcc compiles them in parallel;
+// gpu::TileRenderer (path_tracer_device.cu) picks one per scene.
+#include <cuda_runtime.h>
+
+#include "tessera/render/path_tracer.hpp"
+#include "tessera/render/pixel_sampling.hpp"
+
+namespace tessera::cuda {
+
+// The feature sets compiled for the device. Neither holds the shapes
+// PreparedScene::device_source refuses (patches and trimmed faces point into host memory):
+// their intersection code (Bézier clipping, trim loops) made most of an all-features
+// kernel's per-thread stack (29 KB with them). -Xptxas -v for sm_90: kDeviceCommonShapes
+// 4.4 KB of stack and 194 registers, no spills; kDeviceAllShapes 6.2 KB and 255 registers
+// with spills.
+// Kernels are templates on the shape mask alone (nvcc's launch stubs take no class-type
+// template arguments); every other feature is on.
+inline constexpr unsigned kDeviceCommonShapes = kCommonShapes;
+inline constexpr unsigned kDeviceAllShapes = kAllShapes & ~(kShapePatch | kShapeTrimmed);
+
+// Never interrupts: a device tile is cancelled by not launching it.
+struct NeverInterrupted {
+  __device__ bool operator()() const { return false; }
+};
+
+template <unsigned kShapes>
+__global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, PixelSampling sampling,
+                                        std::uint32_t max_depth, SamplerKind sampler,
+                                        LightStrategy strategy, float clamp,
+                                        bool transparent_background, TileRect tile, FilmPlanes film,
+                                        unsigned long long* ray_count) {
+  const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
+  const std::uint32_t local_y = blockIdx.y * blockDim.y + threadIdx.y;
+  if (local_x >= tile.width || local_y >= tile.height) return;
+  constexpr PipelineFeatures kFeatures{kShapes, true, true, true};
+  std::uint64_t rays = 0;
+  const PathRayGeneration<kFeatures.aovs> generation{
+      scene.camera, seed, tile, sampling.sample_weight(), film, &rays, sampler};
+  const BvhTracer<SceneIntersection<kFeatures.shapes>> tracer(
+      scene.bvh, SceneIntersection<kFeatures.shapes>{scene});
+  const Pipeline<PathTracerConfig<kFeatures>> pipeline(
+      generation, tracer, PathHit<kFeatures>{scene, max_depth, strategy, clamp},
+      PathMiss<kFeatures>{scene, strategy, transparent_background, clamp});
+  NeverInterrupted interrupted;
+  render_pixel(pipeline, tile.x + local_x, tile.y + local_y, tile, film, sampling, interrupted);
+  atomicAdd(ray_count, static_cast<unsigned long long>(rays));
+}
+
+// Renders one tile on the current device with the kernel of kShapes, each pixel as the
+// CPU does (render_pixel: adaptive sampling and refinement included). Every pointer in
+// `scene` and `film` must be device memory; `ray_count` too. `clamp` and
+// `transparent_background` are the render settings'. The film's depth plane must start at
+// +inf and the others at 0, as PreparedScene::render_tile sets them. Returns the launch
+// status. Instantiated once per feature set, each in its own .cu file.
+template <unsigned kShapes>
+cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
+                                    const PixelSampling& sampling, std::uint32_t max_depth,
+                                    SamplerKind sampler, LightStrategy strategy, float clamp,
+                                    bool transparent_background, const TileRect& tile,
+                                    const FilmPlanes& film, unsigned long long* ray_count,
+                                    cudaStream_t stream);
+
+#if defined(__CUDACC__)
+template <unsigned kShapes>
+cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
+                                    const PixelSampling& sampling, std::uint32_t max_depth,
+                                    SamplerKind sampler, LightStrategy strategy, float clamp,
+                                    bool transparent_background, const TileRect& tile,
+                                    const FilmPlanes& film, unsigned long long* ray_count,
+                                    cudaStream_t stream) {
+  const dim3 block(8, 8);
+  const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
+  path_tracer_tile_kernel<kShapes>
+      <<<grid, block, 0, stream>>>(scene, seed, sampling, max_depth, sampler, strategy, clamp,
+                                   transparent_background, tile, film, ray_count);
+  return cudaGetLastError();
+}
+#endif
+
+// Instantiated in kernel_common_shapes.cu and kernel_all_shapes.cu alone, so the files that
+// launch them do not compile the kernels again.
+#define TESSERA_DEVICE_LAUNCH(shapes)                                                      \
+  cudaError_t launch_path_tracer_tile<shapes>(                                             \
+      const SceneView&, std::uint64_t, const PixelSampling&, std::uint32_t, SamplerKind,   \
+      LightStrategy, float, bool, const TileRect&, const FilmPlanes&, unsigned long long*, \
+      cudaStream_t)
+extern template TESSERA_DEVICE_LAUNCH(kDeviceCommonShapes);
+extern template TESSERA_DEVICE_LAUNCH(kDeviceAllShapes);
+
+}  // namespace tessera::cuda
