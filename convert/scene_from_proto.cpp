@@ -331,6 +331,11 @@ RenderSettings settings_from_proto(const v1::RenderSettings& in) {
     if (strategy->name() ==
         proto_fields::enum_value_name("LIGHT_STRATEGY_", light_strategy_names()[i]))
       out.light_strategy = static_cast<LightStrategy>(i);
+  const pb::EnumValueDescriptor* device =
+      v1::RenderDevice_descriptor()->FindValueByNumber(in.device());
+  for (std::size_t i = 0; device != nullptr && i < render_device_names().size(); ++i)
+    if (device->name() == proto_fields::enum_value_name("RENDER_DEVICE_", render_device_names()[i]))
+      out.device = static_cast<RenderDevice>(i);
   out.aovs = aov_mask_from_proto(in);
   return out;
 }
@@ -348,6 +353,9 @@ v1::RenderSettings settings_to_proto(const RenderSettings& in) {
   const auto* strategy = v1::LightStrategy_descriptor()->FindValueByName(
       proto_fields::enum_value_name("LIGHT_STRATEGY_", to_string(in.light_strategy)));
   out.set_light_strategy(static_cast<v1::LightStrategy>(strategy->number()));
+  const auto* device = v1::RenderDevice_descriptor()->FindValueByName(
+      proto_fields::enum_value_name("RENDER_DEVICE_", to_string(in.device)));
+  out.set_device(static_cast<v1::RenderDevice>(device->number()));
   for (std::size_t i = 0; i < aov_names().size(); ++i)
     if ((in.aovs & (1u << i)) != 0)
       out.add_aovs(static_cast<v1::Aov>(
@@ -408,6 +416,10 @@ SceneConversion scene_from_proto(const v1::Scene& in, const v1::RenderSettings& 
                "unknown light strategy value " + std::to_string(settings.light_strategy()) +
                    " (expected " + proto_enum_values("LIGHT_STRATEGY_", light_strategy_names()) +
                    ")");
+  if (!v1::RenderDevice_IsValid(settings.device()))
+    check.fail("settings.device",
+               "unknown device value " + std::to_string(settings.device()) + " (expected " +
+                   proto_enum_values("RENDER_DEVICE_", render_device_names()) + ")");
   for (int i = 0; i < settings.aovs_size(); ++i)
     if (settings.aovs(i) < v1::AOV_ALBEDO || !v1::Aov_IsValid(settings.aovs(i)))
       check.fail("settings.aovs[" + std::to_string(i) + "]",

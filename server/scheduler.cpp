@@ -250,8 +250,10 @@ bool Scheduler::take_task_locked(Task& task, const TileDevice* device) {
     while (options_.devices[device_index].get() != device) ++device_index;
   const auto available = [&](const Entry& entry) {
     if (!has_work(entry)) return false;
-    return device == nullptr || (entry.prepared && device_index < entry.device_accepts.size() &&
-                                 entry.device_accepts[device_index]);
+    if (device == nullptr)  // preparation is the CPU's; a GPU job's tiles are not
+      return !entry.prepared || entry.prepared->settings().device != RenderDevice::kGpu;
+    return entry.prepared && device_index < entry.device_accepts.size() &&
+           entry.device_accepts[device_index];
   };
   // queue_ is ordered by priority, then submission: the first entry with work sets the
   // priority, and the least recently served submitter at that priority gets the task.
@@ -316,9 +318,41 @@ void Scheduler::worker_loop(TileDevice* device) {
   }
 }
 
+std::vector<bool> Scheduler::devices_for(const Job& job, const PreparedScene& scene) const {
+  // Asked on the CPU worker that prepares the job: a GPU's answer builds the scene's device
+  // layout (PreparedScene::device_source), which must not hold the lock.
+  const RenderSettings& r = scene.settings();
+  std::vector<bool> accepts(options_.devices.size(), false);
+  if (r.device == RenderDevice::kCpu) return accepts;
+  std::string why_not;
+  if (options_.devices.empty()) {
+    why_not = "this daemon renders on no GPU";
+  } else if (r.pass_count() > 1 || r.aovs != 0) {
+    why_not = "GPUs render one-pass jobs without AOVs";
+  } else {
+    for (std::size_t d = 0; d < options_.devices.size(); ++d) {
+      try {
+        accepts[d] = options_.devices[d]->accepts(scene);
+      } catch (const std::exception& e) {
+        spdlog::warn("job {}: {} cannot take its tiles: {}", job.id(), options_.devices[d]->name(),
+                     e.what());
+      }
+    }
+    if (std::find(accepts.begin(), accepts.end(), true) == accepts.end()) {
+      const std::string& unsupported = scene.device_source().unsupported;
+      why_not = "no GPU of this daemon takes the scene" +
+                (unsupported.empty() ? std::string() : " (" + unsupported + ")");
+    }
+  }
+  if (r.device == RenderDevice::kGpu && !why_not.empty())
+    throw std::runtime_error("render.device is gpu, but " + why_not);
+  return accepts;
+}
+
 void Scheduler::prepare(Entry& entry) {
   Job& job = *entry.job;
   std::shared_ptr<const PreparedScene> prepared;
+  std::vector<bool> device_accepts(options_.devices.size(), false);
   std::vector<TileWork> pending;
   std::size_t stored = 0;
   std::size_t grid_tiles = 0;
@@ -354,6 +388,7 @@ void Scheduler::prepare(Entry& entry) {
             fmt::format("it took {:.1f} s, longer than the daemon's limit of {:.1f} s "
                         "(prepare_timeout in its configuration)",
                         took.count(), options_.prepare_timeout.count() / 1000.0));
+      device_accepts = devices_for(job, *prepared);
       // Tiles (and passes of tiles) stored before, by a daemon that stopped or died, are
       // not rendered again. Work is in store-index order: pass 1 of every tile, then pass 2.
       const std::vector<std::uint32_t> done = job.stored_tile_indices();
@@ -389,19 +424,6 @@ void Scheduler::prepare(Entry& entry) {
                           pending.size() + stored, stored, prepared->features().summary(),
                           prepared->build_seconds(), prepared->bvh_depth()));
     if (options_.on_job_started) options_.on_job_started(job);
-  }
-  // Which devices take the job's tiles, asked here on the CPU worker: a GPU's answer builds
-  // the scene's device layout (PreparedScene::device_source), which must not hold the lock.
-  std::vector<bool> device_accepts(options_.devices.size(), false);
-  if (prepared && prepared->settings().pass_count() == 1 && prepared->settings().aovs == 0) {
-    for (std::size_t d = 0; d < options_.devices.size(); ++d) {
-      try {
-        device_accepts[d] = options_.devices[d]->accepts(*prepared);
-      } catch (const std::exception& e) {
-        spdlog::warn("job {}: {} cannot take its tiles: {}", job.id(), options_.devices[d]->name(),
-                     e.what());
-      }
-    }
   }
   std::lock_guard lock(mutex_);
   entry.device_accepts = std::move(device_accepts);

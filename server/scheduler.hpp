@@ -67,7 +67,9 @@ struct SchedulerOptions {
   DaemonMetrics* metrics = nullptr;
   // Devices besides the `threads` CPU workers (GPUs), one worker thread each. A device
   // takes tiles of the jobs it accepts (TileDevice::accepts) that render in one pass without
-  // AOVs; every other job's tiles, and job preparation, stay with the CPU workers.
+  // AOVs, unless the job asks for the CPU (render.device); a job that asks for a GPU renders on
+  // the devices alone, and fails when none accepts it. Every other job's tiles, and job
+  // preparation, stay with the CPU workers.
   std::vector<std::shared_ptr<TileDevice>> devices;
 };
 
@@ -152,6 +154,9 @@ class Scheduler {
   bool take_task_locked(Task& task, const TileDevice* device);
   void prune_locked();
   void prepare(Entry& entry);
+  // Per device, whether it takes `scene`'s tiles (render.device, one pass without AOVs,
+  // TileDevice::accepts). Throws for a job that asks for a GPU when none takes it.
+  std::vector<bool> devices_for(const Job& job, const PreparedScene& scene) const;
   void render(Entry& entry, const TileWork& work, TileDevice* device);
   // The one-pass render of `work` into `passes`: on `device` when there is one, falling back
   // to the CPU (logged) when it fails.

@@ -37,6 +37,8 @@ constexpr std::string_view kAovNameViews[] = {"albedo",       "normal",   "depth
                                               "primitive_id", "variance", "sample_count"};
 constexpr std::string_view kSamplerNames[] = {"independent", "sobol"};
 constexpr std::string_view kLightStrategyNames[] = {"mis", "light", "bsdf"};
+constexpr std::string_view kRenderDeviceNames[] = {"any", "cpu", "gpu"};
+static_assert(std::size(kRenderDeviceNames) == static_cast<std::size_t>(RenderDevice::kGpu) + 1);
 static_assert(std::size(kMaterialTypeNames) ==
               static_cast<std::size_t>(MaterialType::kShowNormals) + 1);
 static_assert(std::size(kIntegratorNames) == static_cast<std::size_t>(IntegratorKind::kPhong) + 1);
@@ -122,6 +124,19 @@ std::span<const std::string_view> light_strategy_names() {
   return kLightStrategyNames;
 }
 
+const char* to_string(RenderDevice device) {
+  const auto i = static_cast<std::size_t>(device);
+  return i < std::size(kRenderDeviceNames) ? kRenderDeviceNames[i].data() : "unknown";
+}
+
+std::optional<RenderDevice> render_device_from_string(const std::string& name) {
+  return from_name<RenderDevice>(kRenderDeviceNames, name);
+}
+
+std::span<const std::string_view> render_device_names() {
+  return kRenderDeviceNames;
+}
+
 std::optional<AovBit> aov_from_string(const std::string& name) {
   for (std::uint32_t i = 0; i < std::size(kAovNameViews); ++i)
     if (name == kAovNameViews[i]) return static_cast<AovBit>(1u << i);
@@ -163,9 +178,9 @@ TriangleMeshDesc transformed_mesh(const TriangleMeshDesc& mesh, const TransformD
 }
 
 std::size_t SceneDescription::analytic_shape_count() const {
-  return spheres.size() + displaced_spheres.size() + quads.size() + planes.size() + disks.size() + cylinders.size() +
-         cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() + sdf_capsules.size() +
-         patches.size() + trimmed_faces.size();
+  return spheres.size() + displaced_spheres.size() + quads.size() + planes.size() + disks.size() +
+         cylinders.size() + cones.size() + tori.size() + sdf_boxes.size() + sdf_tori.size() +
+         sdf_capsules.size() + patches.size() + trimmed_faces.size();
 }
 
 std::vector<double> clamped_uniform_knots(std::uint32_t count) {

@@ -751,6 +751,16 @@ class SceneBuilder {
                      joined(light_strategy_names()) + ")");
       r.light_strategy = *strategy;
     });
+    optional(node, "device", path, [&](auto& n, auto& f) {
+      const std::string name = in_.string(n, f);
+      const auto device = render_device_from_string(name);
+      if (!device)
+        in_.fail(n, f,
+                 "unknown device '" + name + "'" +
+                     schema::did_you_mean(name, render_device_names()) + " (expected " +
+                     joined(render_device_names()) + ")");
+      r.device = *device;
+    });
     optional(node, "aovs", path, [&](auto& n, auto& f) {
       if (!n.IsSequence())
         in_.fail(n, f, "must be a list of AOV names (" + joined(aov_names()) + ")");

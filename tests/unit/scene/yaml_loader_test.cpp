@@ -314,6 +314,24 @@ TEST(YamlLoaderRender, SamplerLightStrategyAndTheirDefaults) {
             LightStrategy::kMis);
 }
 
+TEST(YamlLoaderRender, DeviceIsReadWithItsDefaultAndABadOneNamed) {
+  EXPECT_EQ(load_scene_yaml("render: { spp: 2 }\n", "s.yaml", ".").scene.render.device,
+            RenderDevice::kAny);
+  EXPECT_EQ(load_scene_yaml("render: { device: gpu }\n", "s.yaml", ".").scene.render.device,
+            RenderDevice::kGpu);
+  EXPECT_EQ(load_scene_yaml("render: { device: cpu }\n", "s.yaml", ".").scene.render.device,
+            RenderDevice::kCpu);
+  try {
+    load_scene_yaml("render:\n  device: gpus\n", "scene.yaml", ".");
+    FAIL() << "device: gpus was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.issue().field, "render.device");
+    EXPECT_EQ(e.issue().line, 2);
+    EXPECT_EQ(e.issue().message,
+              "unknown device 'gpus' (did you mean 'gpu'?) (expected any, cpu or gpu)");
+  }
+}
+
 TEST(YamlLoaderRender, BadSamplerAndLightStrategyNameTheFieldAndSuggest) {
   const auto error_of = [](const std::string& text) {
     try {

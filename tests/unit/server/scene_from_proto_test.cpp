@@ -140,6 +140,23 @@ TEST(SceneFromProto, SamplerAndLightStrategyConvertBothWays) {
   EXPECT_EQ(back.light_strategy(), v1::LIGHT_STRATEGY_LIGHT);
 }
 
+TEST(SceneFromProto, DeviceConvertsBothWaysAndAnUnknownOneIsNamed) {
+  v1::RenderSettings in = tiny_settings();
+  EXPECT_EQ(settings_from_proto(in).device, RenderDevice::kAny);  // unspecified
+  EXPECT_EQ(settings_to_proto(settings_from_proto(in)).device(), v1::RENDER_DEVICE_ANY);
+  in.set_device(v1::RENDER_DEVICE_GPU);
+  EXPECT_EQ(settings_from_proto(in).device, RenderDevice::kGpu);
+  EXPECT_EQ(settings_to_proto(settings_from_proto(in)).device(), v1::RENDER_DEVICE_GPU);
+  in.set_device(v1::RENDER_DEVICE_CPU);
+  EXPECT_EQ(settings_from_proto(in).device, RenderDevice::kCpu);
+  EXPECT_EQ(settings_to_proto(settings_from_proto(in)).device(), v1::RENDER_DEVICE_CPU);
+  v1::RenderSettings settings = tiny_settings();
+  settings.set_device(static_cast<v1::RenderDevice>(9));
+  expect_single_issue(tiny_scene(), settings, "settings.device",
+                      "unknown device value 9 (expected RENDER_DEVICE_ANY, RENDER_DEVICE_CPU or "
+                      "RENDER_DEVICE_GPU)");
+}
+
 TEST(SceneFromProto, UnknownSamplerAndLightStrategyNameTheFieldAndTheValues) {
   v1::RenderSettings settings = tiny_settings();
   settings.set_sampler(static_cast<v1::Sampler>(7));

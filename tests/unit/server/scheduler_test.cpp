@@ -550,6 +550,42 @@ TEST(SchedulerDevices, ATileThatFailsOnTheDeviceIsRenderedOnTheCpu) {
   EXPECT_EQ(mixed, cpu_only);
 }
 
+TEST(SchedulerDevices, RenderDeviceKeepsAJobOnTheCpuOrOnTheDevices) {
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender);
+  SceneDescription cpu = tiny_description(32, 32, 8);
+  cpu.render.device = RenderDevice::kCpu;
+  render_with(cpu, {device});
+  EXPECT_EQ(device->attempts.load(), 0);
+
+  SceneDescription gpu = tiny_description(32, 32, 8);  // 16 tiles
+  gpu.render.device = RenderDevice::kGpu;
+  const auto on_device = render_with(gpu, {device});
+  EXPECT_EQ(device->attempts.load(), 16);  // the CPU worker prepared the job and took none
+  EXPECT_EQ(on_device, render_with(tiny_description(32, 32, 8), {}));
+}
+
+TEST(SchedulerDevices, AGpuJobFailsSayingWhyWhenNoDeviceTakesIt) {
+  SceneDescription gpu = tiny_description(16, 16, 8);
+  gpu.render.device = RenderDevice::kGpu;
+  for (const bool with_device : {false, true}) {
+    auto job = make_job("gpu only", 0, gpu);
+    SchedulerOptions options;
+    options.threads = 1;
+    if (with_device)
+      options.devices = {std::make_shared<StandInDevice>(StandInDevice::Mode::kRefuse)};
+    Scheduler scheduler(options);
+    scheduler.submit(job, gpu);
+    scheduler.start();
+    scheduler.wait_idle();
+    EXPECT_EQ(job->state(), JobState::kFailed);
+    EXPECT_EQ(job->info().error,
+              with_device ? "scene preparation failed: render.device is gpu, but no GPU of this "
+                            "daemon takes the scene"
+                          : "scene preparation failed: render.device is gpu, but this daemon "
+                            "renders on no GPU");
+  }
+}
+
 TEST(SchedulerDevices, JobsADeviceCannotRenderStayOnTheCpu) {
   auto refusing = std::make_shared<StandInDevice>(StandInDevice::Mode::kRefuse);
   render_with(tiny_description(32, 32, 8), {refusing});

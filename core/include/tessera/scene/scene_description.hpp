@@ -432,6 +432,13 @@ const char* to_string(LightStrategy strategy);
 std::optional<LightStrategy> light_strategy_from_string(const std::string& name);
 std::span<const std::string_view> light_strategy_names();  // in LightStrategy order
 
+// Where a daemon may render a job's tiles: any worker, the CPU threads alone, or its GPUs
+// alone (a GPU job the daemon's GPUs cannot render fails, saying why).
+enum class RenderDevice : std::uint32_t { kAny, kCpu, kGpu };
+const char* to_string(RenderDevice device);
+std::optional<RenderDevice> render_device_from_string(const std::string& name);
+std::span<const std::string_view> render_device_names();  // in RenderDevice order
+
 // Arbitrary output variables a job may ask for besides the beauty pass.
 enum AovBit : std::uint32_t {
   kAovAlbedo = 1u << 0,
@@ -462,6 +469,7 @@ struct RenderSettings {
   std::uint32_t aovs = 0;  // AovBit mask; only the path integrator produces AOVs
   SamplerKind sampler = SamplerKind::kSobol;
   LightStrategy light_strategy = LightStrategy::kMis;
+  RenderDevice device = RenderDevice::kAny;
   // Camera rays that miss leave RGB 0 as well as alpha 0 (Cycles' "transparent film"), so
   // the image composites over a plate; the background still lights the scene.
   bool transparent_background = false;

@@ -275,6 +275,7 @@ struct RenderKind {
        .doc = "extra outputs: albedo, normal, depth, primitive_id, variance, sample_count"},
       {.name = "sampler", .doc = "sobol (default) or independent"},
       {.name = "light_strategy", .doc = "direct light: mis (default), light or bsdf"},
+      {.name = "device", .doc = "where a daemon renders the job: any (default), cpu or gpu"},
       {.name = "transparent_background",
        .member = &Desc::transparent_background,
        .doc = "camera rays that miss leave RGB and alpha 0 (the background still lights the "
