@@ -62,15 +62,6 @@ cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
                                     SamplerKind sampler, LightStrategy strategy, float clamp,
                                     bool transparent_background, const TileRect& tile,
                                     const FilmPlanes& film, unsigned long long* ray_count,
-                                    cudaStream_t stream);
-
-#if defined(__CUDACC__)
-template <unsigned kShapes>
-cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
-                                    const PixelSampling& sampling, std::uint32_t max_depth,
-                                    SamplerKind sampler, LightStrategy strategy, float clamp,
-                                    bool transparent_background, const TileRect& tile,
-                                    const FilmPlanes& film, unsigned long long* ray_count,
                                     cudaStream_t stream) {
   const dim3 block(8, 8);
   const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
@@ -79,7 +70,6 @@ cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
                                    transparent_background, tile, film, ray_count);
   return cudaGetLastError();
 }
-#endif
 
 // Instantiated in kernel_common_shapes.cu and kernel_all_shapes.cu alone, so the files that
 // launch them do not compile the kernels again.
