@@ -338,7 +338,9 @@ std::vector<bool> Scheduler::devices_for(const Job& job, const PreparedScene& sc
                      e.what());
       }
     }
-    if (std::find(accepts.begin(), accepts.end(), true) == accepts.end()) {
+    // The reason is only for a job that must have a GPU: device_source is a BVH build.
+    if (r.device == RenderDevice::kGpu &&
+        std::find(accepts.begin(), accepts.end(), true) == accepts.end()) {
       const std::string& unsupported = scene.device_source().unsupported;
       why_not = "no GPU of this daemon takes the scene" +
                 (unsupported.empty() ? std::string() : " (" + unsupported + ")");
