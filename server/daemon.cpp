@@ -1,6 +1,3 @@
-#if defined(TESSERA_HAS_CUDA)
-#include "server/gpu_tile_device.hpp"
-#endif
 #include "server/daemon.hpp"
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
@@ -31,6 +28,9 @@
 #include "server/scheduler.hpp"
 #include "server/server_credentials.hpp"
 #include "server/server_info.hpp"
+#if defined(TESSERA_HAS_CUDA)
+#include "server/gpu_tile_device.hpp"
+#endif
 #include "server/sqlite_job_store.hpp"
 #include "tessera/render/memory_estimate.hpp"
 

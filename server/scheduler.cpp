@@ -69,9 +69,9 @@ void Scheduler::start() {
   if (stopping_ || !workers_.empty()) return;
   workers_.reserve(options_.threads + options_.devices.size());
   for (unsigned i = 0; i < options_.threads; ++i)
-    workers_.emplace_back([this] { worker_loop(nullptr); });
-  for (const auto& device : options_.devices)
-    workers_.emplace_back([this, d = device.get()] { worker_loop(d); });
+    workers_.emplace_back([this] { worker_loop(kCpuWorker); });
+  for (std::size_t d = 0; d < options_.devices.size(); ++d)
+    workers_.emplace_back([this, d] { worker_loop(d); });
 }
 
 namespace {
@@ -240,20 +240,16 @@ bool has_work(const Entry& entry) {
 
 }  // namespace
 
-bool Scheduler::take_task_locked(Task& task, const TileDevice* device) {
+bool Scheduler::take_task_locked(Task& task, std::size_t device) {
   prune_locked();
   if (stopping_) return false;
   // A device worker sees only the prepared jobs that device accepts; the rest of the queue
   // (and preparing jobs) is the CPU workers'.
-  std::size_t device_index = 0;
-  if (device != nullptr)
-    while (options_.devices[device_index].get() != device) ++device_index;
   const auto available = [&](const Entry& entry) {
     if (!has_work(entry)) return false;
-    if (device == nullptr)  // preparation is the CPU's; a GPU job's tiles are not
+    if (device == kCpuWorker)  // preparation is the CPU's; a GPU job's tiles are not
       return !entry.prepared || entry.prepared->settings().device != RenderDevice::kGpu;
-    return entry.prepared && device_index < entry.device_accepts.size() &&
-           entry.device_accepts[device_index];
+    return entry.prepared && device < entry.device_accepts.size() && entry.device_accepts[device];
   };
   // queue_ is ordered by priority, then submission: the first entry with work sets the
   // priority, and the least recently served submitter at that priority gets the task.
@@ -293,7 +289,7 @@ bool Scheduler::take_task_locked(Task& task, const TileDevice* device) {
   return true;
 }
 
-void Scheduler::worker_loop(TileDevice* device) {
+void Scheduler::worker_loop(std::size_t device) {
   for (;;) {
     Task task;
     {
@@ -304,7 +300,8 @@ void Scheduler::worker_loop(TileDevice* device) {
     if (task.prepare)
       prepare(*task.entry);
     else
-      render(*task.entry, task.tile, device);
+      render(*task.entry, task.tile,
+             device == kCpuWorker ? nullptr : options_.devices[device].get());
     {
       std::lock_guard lock(mutex_);
       if (!task.prepare) task.entry->rendering[task.tile.rect.index] = false;

@@ -149,9 +149,10 @@ class Scheduler {
   struct Task;
 
   static bool queue_order(const std::shared_ptr<Entry>& a, const std::shared_ptr<Entry>& b);
-  // `device`: null for a CPU worker.
-  void worker_loop(TileDevice* device);
-  bool take_task_locked(Task& task, const TileDevice* device);
+  // `device`: the worker's index in options_.devices, or kCpuWorker.
+  static constexpr std::size_t kCpuWorker = static_cast<std::size_t>(-1);
+  void worker_loop(std::size_t device);
+  bool take_task_locked(Task& task, std::size_t device);
   void prune_locked();
   void prepare(Entry& entry);
   // Per device, whether it takes `scene`'s tiles (render.device, one pass without AOVs,

@@ -117,8 +117,7 @@ TileStats TileRenderer::render_tile(const TileRect& tile, std::span<float> rgba)
   const RenderSettings& r = s.scene->settings();
   FilmPlanes film;
   film.beauty = static_cast<float*>(s.film.pointer);
-  const PixelSampling sampling{0, r.samples_per_pixel, r.min_samples_per_pixel,
-                               static_cast<float>(r.target_error), 0};
+  const PixelSampling sampling = pixel_sampling(r, film);
   const auto launch = (s.scene->required_features().shapes & ~kCommonShapes) == 0
                           ? &cuda::launch_path_tracer_tile<cuda::kDeviceCommonShapes>
                           : &cuda::launch_path_tracer_tile<cuda::kDeviceAllShapes>;

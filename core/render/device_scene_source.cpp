@@ -6,7 +6,6 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "tessera/render/prepared_scene.hpp"
@@ -65,6 +64,10 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     if (source->unsupported.empty() && !mesh_placements_.empty())
       source->unsupported =
           "meshes placed more than once share a two-level structure the device does not walk";
+    if (!source->unsupported.empty()) {  // nothing to upload: no BVH build
+      device_source_ = std::move(source);
+      return;
+    }
 
     // One BVH over the shape BVH's primitives and the triangles kept apart from it.
     const SceneView host = view();

@@ -29,14 +29,6 @@ class CancelPoll {
   std::uint32_t until_check_ = 0;
 };
 
-// The sampling of every pixel of a render: settings.samples_per_pixel is the end, the film
-// says where refinement starts.
-inline PixelSampling pixel_sampling(const RenderSettings& settings, const FilmPlanes& film) {
-  return PixelSampling{film.first_sample, settings.samples_per_pixel,
-                       settings.min_samples_per_pixel, static_cast<float>(settings.target_error),
-                       film.total_samples};
-}
-
 template <typename P>
 void run_tile(const P& pipeline, const TileRect& tile, const PixelSampling& sampling,
               const FilmPlanes& film) {

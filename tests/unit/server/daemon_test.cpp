@@ -1,5 +1,6 @@
 // The daemon in-process on an ephemeral port, driven through the generated gRPC stub.
 #include "server/daemon.hpp"
+#include "server/server_info.hpp"
 
 #include "server/sqlite_job_store.hpp"
 
@@ -651,6 +652,21 @@ TEST_F(DaemonTest, ConcurrentAttemptsOfOneRequestIdMakeOneJob) {
   ASSERT_TRUE(stub_->ListJobs(&context, v1::ListJobsRequest(), &list).ok());
   EXPECT_EQ(list.jobs_size(), 1);
   EXPECT_TRUE(cancel(jobs[0].id()).ok());
+}
+
+// The GPUs the scheduler renders on follow the CPU entry, one worker each (a daemon in a
+// test has none, so the answer is built directly).
+TEST(ServerInfo, GpusFollowTheCpuEntry) {
+  DaemonConfig config;
+  config.threads = 3;
+  const v1::ServerInfo info = make_server_info(config, {"gpu0 A", "gpu1 B"});
+  ASSERT_EQ(info.devices_size(), 3);
+  EXPECT_EQ(info.devices(0).kind(), "cpu");
+  EXPECT_EQ(info.devices(0).threads(), 3u);
+  EXPECT_EQ(info.devices(1).kind(), "gpu");
+  EXPECT_EQ(info.devices(1).name(), "gpu0 A");
+  EXPECT_EQ(info.devices(2).name(), "gpu1 B");
+  EXPECT_EQ(info.devices(2).threads(), 1u);
 }
 
 // GetServerInfo reports the configured limits (not the defaults), the worker threads, the

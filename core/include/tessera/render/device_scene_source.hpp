@@ -32,7 +32,7 @@ struct DeviceSceneSource {
   std::vector<DeviceBuffer> buffers;
   Bvh bvh;  // over every visible bounded primitive; `view.bvh` and a buffer point into it
   // Empty when the device path renders this scene as the CPU does; otherwise why it cannot
-  // (the scheduler then keeps the job's tiles on the CPU).
+  // (the scheduler then keeps the job's tiles on the CPU), and nothing else is built.
   std::string unsupported;
 
   std::size_t bytes() const {

@@ -10,6 +10,7 @@
 #include "tessera/render/film.hpp"
 #include "tessera/render/pixel_variance.hpp"
 #include "tessera/render/tile.hpp"
+#include "tessera/scene/scene_description.hpp"
 
 namespace tessera {
 
@@ -109,6 +110,14 @@ TESSERA_HD bool render_pixel(const Pipeline& pipeline, std::uint32_t x, std::uin
   if (film.sample_count)
     FilmPlanes::add(film.sample_count, at, vec3(static_cast<float>(taken)), 1.0f);
   return true;
+}
+
+// The sampling of every pixel of a render, on the CPU and the GPU alike: settings.samples_per_pixel
+// is the end, the film says where refinement starts.
+inline PixelSampling pixel_sampling(const RenderSettings& settings, const FilmPlanes& film) {
+  return PixelSampling{film.first_sample, settings.samples_per_pixel,
+                       settings.min_samples_per_pixel, static_cast<float>(settings.target_error),
+                       film.total_samples};
 }
 
 }  // namespace tessera
