@@ -281,10 +281,11 @@ int main(int argc, char** argv) {
     // One machine-readable line: ours over each Embree build, and the build-time ratios.
     std::printf(
         "tessera_mrays_per_s=%.3f tessera_build_s=%.3f tessera_bytes_per_tri=%.1f "
-        "refs_per_tri=%.2f fill_ratio=%.1f presplit=%.2f(%s)",
+        "refs_per_tri=%.2f fill_ratio=%.1f presplit=%.2f(%s) sah_nodes=%.3f sah_blocks=%.3f",
         tessera.timing.mrays_per_s, tessera.build_seconds, tessera.bytes_per_triangle,
         static_cast<double>(s.leaf_references) / triangle_count, s.fill_ratio,
-        static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given");
+        static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given", s.sah.nodes,
+        s.sah.leaves);
     for (const Contender& c : contenders) {
       if (&c == &tessera) continue;
       const std::string key = c.name.substr(c.name.find(' ') + 1);

@@ -55,12 +55,14 @@ void print_accel(const TriangleAccel& accel) {
   const AccelStats& s = accel.stats();
   std::printf(
       "accel: %s (%s), build %.3f s, %.1f bytes/triangle, %zu nodes, depth %u, %.2f "
-      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s)\n",
+      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s), SAH cost %.3f "
+      "(nodes %.3f + blocks %.3f)\n",
       std::string(accel_kind_name(s.kind)).c_str(), std::string(s.isa).c_str(), s.build_seconds,
       s.triangles ? static_cast<double>(s.bytes) / static_cast<double>(s.triangles) : 0.0, s.nodes,
       s.depth,
       s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles) : 0.0,
-      s.fill_ratio, static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given");
+      s.fill_ratio, static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given",
+      s.sah.nodes + s.sah.leaves, s.sah.nodes, s.sah.leaves);
 }
 
 int run_rays(const std::string& mesh_path, const std::string& kind, std::uint32_t width,

@@ -204,6 +204,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     accel.stats_.bytes = accel.wide_.bytes() + accel.blocks_.size() * sizeof(TriangleBlock4);
     accel.stats_.nodes = accel.wide_.nodes.size();
     accel.stats_.depth = accel.wide_.depth;
+    accel.stats_.sah = wide_sah_cost(accel.wide_);
     accel.stats_.leaf_references = 0;
     for (const TriangleBlock4& block : accel.blocks_)
       for (std::uint32_t id : block.ids)

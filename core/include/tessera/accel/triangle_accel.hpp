@@ -76,6 +76,7 @@ struct AccelStats {
   double fill_ratio = 0.0;          // box_fill_ratio of the kept triangles (kWide only)
   float presplit_budget = 0.0f;     // the pre-split budget used (kWide only; 0: none)
   bool presplit_chosen = false;     // the budget was chosen from the mesh, not given
+  WideSahCost sah{};                // of the wide tree (kWide and kOctree): its quality
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).

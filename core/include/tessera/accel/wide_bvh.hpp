@@ -64,6 +64,18 @@ inline constexpr std::uint32_t kWideStackSize = (kWideBvhWidth - 1) * kMaxBvhDep
 // Bvh::primitives into a wide child word (see make_wide_leaf).
 using WideLeafEncoder = std::function<std::uint32_t(std::uint32_t offset, std::uint32_t count)>;
 
+// The tree's expected cost for a ray that crosses its root box (surface area heuristic,
+// in Embree's normalisation so the two builders' trees can be compared): `nodes` sums the
+// areas of the interior nodes, `leaves` those of the leaves times their item count (triangle
+// blocks), both relative to the root box's area. A random ray through the root box tests
+// `nodes` wide nodes and `leaves` blocks on average, ignoring that a closest-hit walk
+// stops early.
+struct WideSahCost {
+  double nodes = 0.0;
+  double leaves = 0.0;
+};
+WideSahCost wide_sah_cost(const WideBvh& tree);
+
 // Collapses a binary BVH: each wide node takes the children of a binary node and keeps
 // opening its largest (by surface area) interior child until it has eight children or
 // only leaves. The wide tree is never deeper than the binary one.
