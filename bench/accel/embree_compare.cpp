@@ -162,6 +162,7 @@ int main(int argc, char** argv) {
   std::uint32_t leaf_size = 0, bins = 0;
   int merge_limit = -1;
   float traversal_cost = 0.0f;
+  std::optional<float> sbvh;
   std::optional<float> presplit;
   app.add_option("--presplit", presplit,
                  "tuning: pre-split budget, extra references per triangle (0: off; default: "
@@ -171,6 +172,10 @@ int main(int argc, char** argv) {
   app.add_option("--bins", bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
   app.add_option("--merge", merge_limit, "tuning: largest subtree merged into one wide leaf")
       ->check(CLI::Range(0, 124));
+  app.add_option("--sbvh", sbvh,
+                 "wide BVH: spatial splits, up to this many extra references per triangle (0: "
+                 "binned build; default: chosen from the mesh)")
+      ->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--traversal-cost", traversal_cost, "tuning: SAH node cost per block cost");
   CLI11_PARSE(app, argc, argv);
 
@@ -216,6 +221,7 @@ int main(int argc, char** argv) {
     if (traversal_cost != 0.0f) options.wide.traversal_cost = traversal_cost;
     if (merge_limit >= 0) options.wide_merge_limit = static_cast<std::uint32_t>(merge_limit);
     options.presplit_budget = presplit;
+    options.spatial_split_budget = sbvh;
     tbb::task_arena arena(static_cast<int>(threads));
     TriangleAccel ours;
     arena.execute([&] { ours = TriangleAccel::build(triangles, options); });
@@ -281,11 +287,13 @@ int main(int argc, char** argv) {
     // One machine-readable line: ours over each Embree build, and the build-time ratios.
     std::printf(
         "tessera_mrays_per_s=%.3f tessera_build_s=%.3f tessera_bytes_per_tri=%.1f "
-        "refs_per_tri=%.2f fill_ratio=%.1f presplit=%.2f(%s) sah_nodes=%.3f sah_blocks=%.3f",
+        "refs_per_tri=%.2f fill_ratio=%.1f presplit=%.2f(%s) sbvh=%.2f(%s) sah_nodes=%.3f "
+        "sah_blocks=%.3f",
         tessera.timing.mrays_per_s, tessera.build_seconds, tessera.bytes_per_triangle,
         static_cast<double>(s.leaf_references) / triangle_count, s.fill_ratio,
-        static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given", s.sah.nodes,
-        s.sah.leaves);
+        static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given",
+        static_cast<double>(s.spatial_split_budget), s.spatial_split_chosen ? "chosen" : "given",
+        s.sah.nodes, s.sah.leaves);
     for (const Contender& c : contenders) {
       if (&c == &tessera) continue;
       const std::string key = c.name.substr(c.name.find(' ') + 1);

@@ -55,13 +55,14 @@ void print_accel(const TriangleAccel& accel) {
   const AccelStats& s = accel.stats();
   std::printf(
       "accel: %s (%s), build %.3f s, %.1f bytes/triangle, %zu nodes, depth %u, %.2f "
-      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s), SAH cost %.3f "
-      "(nodes %.3f + blocks %.3f)\n",
+      "references/triangle, box fill ratio %.1f, pre-split budget %.2f (%s), spatial-split budget "
+      "%.2f (%s), SAH cost %.3f (nodes %.3f + blocks %.3f)\n",
       std::string(accel_kind_name(s.kind)).c_str(), std::string(s.isa).c_str(), s.build_seconds,
       s.triangles ? static_cast<double>(s.bytes) / static_cast<double>(s.triangles) : 0.0, s.nodes,
       s.depth,
       s.triangles ? static_cast<double>(s.leaf_references) / static_cast<double>(s.triangles) : 0.0,
       s.fill_ratio, static_cast<double>(s.presplit_budget), s.presplit_chosen ? "chosen" : "given",
+      static_cast<double>(s.spatial_split_budget), s.spatial_split_chosen ? "chosen" : "given",
       s.sah.nodes + s.sah.leaves, s.sah.nodes, s.sah.leaves);
 }
 
@@ -87,6 +88,7 @@ struct TuneOptions {
   float traversal_cost = 0.0f;
   int merge_limit = -1;           // -1: the library's default
   std::optional<float> presplit;  // AccelBuildOptions::presplit_budget (unset: chosen)
+  std::optional<float> sbvh;      // AccelBuildOptions::spatial_split_budget (unset: chosen)
 };
 
 int run_trace_command(const std::string& mesh_path, const std::string& rays_path, unsigned threads,
@@ -107,6 +109,7 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
   if (tune.merge_limit >= 0)
     options.wide_merge_limit = static_cast<std::uint32_t>(tune.merge_limit);
   options.presplit_budget = tune.presplit;
+  options.spatial_split_budget = tune.sbvh;
   const TriangleAccel accel = TriangleAccel::build(triangles, options);
   print_accel(accel);
 
@@ -206,6 +209,11 @@ int main(int argc, char** argv) {
           "--merge", tune.merge_limit,
           "tuning: the wide BVH makes binary subtrees of at most this many triangles one leaf")
       ->check(CLI::Range(0, 124));
+  trace
+      ->add_option("--sbvh", tune.sbvh,
+                   "wide BVH: spatial splits (instead of pre-splitting), up to this many extra "
+                   "references per triangle (0: the binned build; default: chosen from the mesh)")
+      ->check(CLI::Range(0.0f, 16.0f));
   trace->add_option("--bins", tune.bins, "tuning: SAH bins per axis")->check(CLI::Range(2u, 64u));
   trace
       ->add_option("--presplit", tune.presplit,

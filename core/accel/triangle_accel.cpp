@@ -10,6 +10,7 @@
 
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/accel/presplit.hpp"
+#include "tessera/accel/sbvh.hpp"
 #include "triangle_kernels.hpp"
 
 namespace tessera {
@@ -43,6 +44,11 @@ bool cpu_supports_avx2_kernels() {
 
 AccelKind choose_accel_kind(std::size_t triangle_count) {
   return triangle_count <= kBruteForceMaxTriangles ? AccelKind::kBrute : AccelKind::kWide;
+}
+
+float choose_spatial_split_budget(std::size_t triangle_count, float presplit_budget) {
+  if (presplit_budget > 0.0f || triangle_count > kAutoSpatialSplitMaxTriangles) return 0.0f;
+  return kAutoSpatialSplitBudget;
 }
 
 float choose_presplit_budget(double fill_ratio) {
@@ -145,6 +151,12 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       accel.stats_.presplit_chosen = !options.presplit_budget.has_value();
       accel.stats_.presplit_budget =
           options.presplit_budget.value_or(choose_presplit_budget(accel.stats_.fill_ratio));
+      // Spatial splits, given or chosen, replace pre-splitting.
+      accel.stats_.spatial_split_chosen = !options.spatial_split_budget.has_value();
+      accel.stats_.spatial_split_budget = options.spatial_split_budget.value_or(
+          choose_spatial_split_budget(ids.size(), accel.stats_.presplit_budget));
+      const bool spatial = accel.stats_.spatial_split_budget > 0.0f;
+      if (spatial) accel.stats_.presplit_budget = 0.0f;
       const bool presplit = accel.stats_.presplit_budget > 0.0f;
       std::vector<Aabb> piece_bounds;
       std::vector<std::uint32_t> piece_ids;
@@ -152,7 +164,12 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
         presplit_triangles(triangles, ids, bounds, accel.bounds_, accel.stats_.presplit_budget,
                            piece_bounds, piece_ids);
       const Bvh binary =
-          presplit ? build_bvh(piece_bounds, piece_ids, wide) : build_bvh(bounds, ids, wide);
+          spatial ? build_sbvh(
+                        triangles, ids,
+                        SpatialSplitOptions{
+                            .bvh = wide, .max_extra_references = accel.stats_.spatial_split_budget})
+          : presplit ? build_bvh(piece_bounds, piece_ids, wide)
+                     : build_bvh(bounds, ids, wide);
       accel.blocks_.reserve(binary.primitives.size() / 3 + 1);
       std::vector<std::uint32_t> leaf_ids;
       accel.wide_ = collapse_to_wide(
@@ -160,7 +177,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
           [&](std::uint32_t offset, std::uint32_t count) {
             std::span<const std::uint32_t> leaf =
                 std::span<const std::uint32_t>(binary.primitives).subspan(offset, count);
-            if (presplit) {  // pieces of one triangle can meet in a leaf: test it once
+            if (presplit || spatial) {  // parts of one triangle can meet in a leaf: test it once
               leaf_ids.assign(leaf.begin(), leaf.end());
               std::sort(leaf_ids.begin(), leaf_ids.end());
               leaf_ids.erase(std::unique(leaf_ids.begin(), leaf_ids.end()), leaf_ids.end());
@@ -223,6 +240,11 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
           ? std::string()
           : fmt::format(", {} degenerate dropped", accel.stats_.degenerate),
       kind != AccelKind::kWide ? std::string()
+      : accel.stats_.spatial_split_budget > 0.0f
+          ? fmt::format(", spatial splits (budget {}, {}; box fill ratio {:.1f}) to {} references",
+                        accel.stats_.spatial_split_budget,
+                        accel.stats_.spatial_split_chosen ? "chosen" : "given",
+                        accel.stats_.fill_ratio, accel.stats_.leaf_references)
       : accel.stats_.presplit_budget > 0.0f
           ? fmt::format(", pre-split (budget {}, {}; box fill ratio {:.1f}) to {} references",
                         accel.stats_.presplit_budget,

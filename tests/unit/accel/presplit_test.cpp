@@ -154,28 +154,36 @@ TEST(Presplit, BudgetGrowsWithTheFillRatioUpToTheCap) {
   EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio), kAutoPresplitMaxBudget);
 }
 
-AccelStats build_stats(const std::vector<Triangle>& tris, std::optional<float> budget) {
+// Pre-splitting belongs to the binned builder: spatial splits stay off unless asked for.
+AccelStats build_stats(const std::vector<Triangle>& tris, std::optional<float> budget,
+                       std::optional<float> spatial_budget = 0.0f) {
   AccelBuildOptions options;
   options.kind = AccelKind::kWide;
   options.presplit_budget = budget;
+  options.spatial_split_budget = spatial_budget;
   return TriangleAccel::build(tris, options).stats();
 }
 
 TEST(Presplit, ChosenForThinTrianglesAndNotForAnEvenMesh) {
   const auto thin = slivers(2000, 36);
-  const AccelStats thin_auto = build_stats(thin, std::nullopt);
+  const AccelStats thin_auto = build_stats(thin, std::nullopt, std::nullopt);
   EXPECT_TRUE(thin_auto.presplit_chosen);
+  EXPECT_TRUE(thin_auto.spatial_split_chosen);
+  EXPECT_EQ(thin_auto.spatial_split_budget, 0.0f);  // pre-split instead
   EXPECT_EQ(thin_auto.presplit_budget, choose_presplit_budget(thin_auto.fill_ratio));
   EXPECT_GE(thin_auto.presplit_budget, 1.0f);
   EXPECT_GT(thin_auto.fill_ratio, kAutoPresplitMinFillRatio);
   EXPECT_GT(thin_auto.leaf_references, thin.size());  // pieces of one triangle in several leaves
 
   const auto even = accel_test::closed_sphere(5);  // 8,192 triangles
-  const AccelStats even_auto = build_stats(even, std::nullopt);
+  const AccelStats even_auto = build_stats(even, std::nullopt, std::nullopt);
   EXPECT_TRUE(even_auto.presplit_chosen);
   EXPECT_EQ(even_auto.presplit_budget, 0.0f);
   EXPECT_LT(even_auto.fill_ratio, kAutoPresplitMinFillRatio);
-  EXPECT_EQ(even_auto.leaf_references, even.size());
+  EXPECT_TRUE(even_auto.spatial_split_chosen);  // spatial splits instead, within their budget
+  EXPECT_EQ(even_auto.spatial_split_budget, kAutoSpatialSplitBudget);
+  EXPECT_LE(even_auto.leaf_references, 2 * even.size());
+  EXPECT_EQ(build_stats(even, std::nullopt).leaf_references, even.size());  // binned: one each
 }
 
 TEST(Presplit, AGivenBudgetOverridesTheChoice) {

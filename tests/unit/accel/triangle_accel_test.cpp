@@ -21,11 +21,12 @@ struct Variant {
   AccelKind kind;
   bool avx2;
   float presplit = 0.0f;  // AccelBuildOptions::presplit_budget (wide BVH only)
+  float sbvh = 0.0f;      // AccelBuildOptions::spatial_split_budget (wide BVH only)
 };
 
 std::string variant_name(const testing::TestParamInfo<Variant>& info) {
   return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2") +
-         (info.param.presplit > 0.0f ? "_presplit" : "");
+         (info.param.presplit > 0.0f ? "_presplit" : "") + (info.param.sbvh > 0.0f ? "_sbvh" : "");
 }
 
 class TriangleAccelTest : public testing::TestWithParam<Variant> {
@@ -40,6 +41,7 @@ class TriangleAccelTest : public testing::TestWithParam<Variant> {
     options.kind = GetParam().kind;
     options.allow_avx2 = GetParam().avx2;
     options.presplit_budget = GetParam().presplit;
+    options.spatial_split_budget = GetParam().sbvh;
     options.octree.leaf_size = 4;  // deep octrees: more duplicated references
     TriangleAccel accel = TriangleAccel::build(tris, options);
     EXPECT_EQ(accel.stats().kind, GetParam().kind);
@@ -120,7 +122,7 @@ TEST_P(TriangleAccelTest, LongThinTrianglesMatchBruteForce) {
     tris.push_back(Triangle{a, b, 0.5f * (a + b) + 0.03f * accel_test::random_direction(rng), 0});
   }
   const TriangleAccel accel = build(tris);
-  if (GetParam().presplit > 0.0f) {
+  if (GetParam().presplit > 0.0f || GetParam().sbvh > 0.0f) {
     EXPECT_GT(accel.stats().leaf_references, tris.size());
   }
   const auto rays = accel_test::test_rays(1500, 26, 1.5f);
@@ -299,6 +301,7 @@ TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
   options.kind = GetParam().kind;
   options.allow_avx2 = GetParam().avx2;
   options.presplit_budget = GetParam().presplit;
+  options.spatial_split_budget = GetParam().sbvh;
   const TriangleAccel accel = TriangleAccel::build(tris, options, references);
   std::size_t hits = 0;
   for (const Ray& ray : accel_test::test_rays(300, 18, 1.5f)) {
@@ -325,7 +328,9 @@ INSTANTIATE_TEST_SUITE_P(
                     Variant{AccelKind::kWide, true}, Variant{AccelKind::kOctree, false},
                     Variant{AccelKind::kOctree, true}, Variant{AccelKind::kBrute, false},
                     Variant{AccelKind::kBrute, true}, Variant{AccelKind::kWide, false, 1.0f},
-                    Variant{AccelKind::kWide, true, 1.0f}),
+                    Variant{AccelKind::kWide, true, 1.0f},
+                    Variant{AccelKind::kWide, false, 0.0f, 1.0f},
+                    Variant{AccelKind::kWide, true, 0.0f, 1.0f}),
     variant_name);
 
 TEST(AccelChooser, BruteForceForFewTrianglesWideBvhOtherwise) {

@@ -46,6 +46,11 @@ struct AccelBuildOptions {
   // Unset (the default): chosen from the mesh by choose_presplit_budget, which pre-splits
   // only where the triangles fill their boxes poorly (measured, bench/accel/README.md).
   std::optional<float> presplit_budget;
+  // For kWide: build the binary BVH with spatial splits (sbvh.hpp) instead of the binned
+  // builder, with up to this many extra references per triangle; 0: the binned builder. A
+  // budget above 0 turns pre-splitting off. Unset (the default): chosen by
+  // choose_spatial_split_budget.
+  std::optional<float> spatial_split_budget;
   OctreeLimits octree{};
   bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
 };
@@ -63,6 +68,19 @@ inline constexpr double kAutoPresplitMinFillRatio = 16.0;
 inline constexpr float kAutoPresplitMaxBudget = 4.0f;
 float choose_presplit_budget(double fill_ratio);
 
+// The spatial-split budget for a mesh of `triangle_count` kept triangles whose pre-split
+// budget (given or chosen) is `presplit_budget`: kAutoSpatialSplitBudget where nothing is
+// pre-split and the mesh has at most kAutoSpatialSplitMaxTriangles triangles, 0 otherwise
+// (the binned builder, several times faster, for the largest meshes; pre-splitting for
+// meshes of long thin triangles, where it measured far better than spatial splits: tubes
+// 2.2x Embree's diffuse speed against 0.7x). Measured over the mesh suite
+// (bench/accel/README.md): spatial splits took engine from 0.85x to 1.0-1.05x Embree high
+// on diffuse rays, uneven from 0.92x to 1.0x, bunny from 0.92x to 0.97x, and cost house 6%
+// (still above Embree), for builds within twice Embree's high-quality build.
+inline constexpr float kAutoSpatialSplitBudget = 1.0f;
+inline constexpr std::size_t kAutoSpatialSplitMaxTriangles = std::size_t{4} << 20;
+float choose_spatial_split_budget(std::size_t triangle_count, float presplit_budget);
+
 struct AccelStats {
   AccelKind kind = AccelKind::kAuto;  // the structure actually built
   std::string_view isa;               // "scalar", "sse2" or "avx2"
@@ -71,12 +89,14 @@ struct AccelStats {
   std::size_t nodes = 0;
   std::uint32_t depth = 0;
   std::size_t triangles = 0;
-  std::size_t leaf_references = 0;  // > triangles where the octree duplicates references
-  std::size_t degenerate = 0;       // zero or near-zero area (is_degenerate): dropped, never hit
-  double fill_ratio = 0.0;          // box_fill_ratio of the kept triangles (kWide only)
-  float presplit_budget = 0.0f;     // the pre-split budget used (kWide only; 0: none)
-  bool presplit_chosen = false;     // the budget was chosen from the mesh, not given
-  WideSahCost sah{};                // of the wide tree (kWide and kOctree): its quality
+  std::size_t leaf_references = 0;    // > triangles where the octree duplicates references
+  std::size_t degenerate = 0;         // zero or near-zero area (is_degenerate): dropped, never hit
+  double fill_ratio = 0.0;            // box_fill_ratio of the kept triangles (kWide only)
+  float presplit_budget = 0.0f;       // the pre-split budget used (kWide only; 0: none)
+  bool presplit_chosen = false;       // the budget was chosen from the mesh, not given
+  float spatial_split_budget = 0.0f;  // spatial splits' budget (kWide only; 0: binned build)
+  bool spatial_split_chosen = false;  // that budget was chosen, not given
+  WideSahCost sah{};                  // of the wide tree (kWide and kOctree): its quality
 };
 
 // True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).

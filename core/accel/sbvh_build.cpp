@@ -1,0 +1,407 @@
+// Spatial-split BVH build (Stich, Friedrich and Dietrich 2009), written from the paper's
+// description: top-down, each node compares the best binned object split with the best
+// spatial split (a plane through the node's box, straddling triangles clipped to each side)
+// by the surface-area heuristic, and tries the spatial one only where the object split's
+// children overlap. Nodes are written depth-first in the flattened layout; large nodes
+// build their two children in parallel, each into a tree of its own that is then appended.
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "tessera/accel/sbvh.hpp"
+
+namespace tessera {
+namespace {
+
+// One reference: a triangle (by its index in the caller's array) and the box of the part
+// of it this node holds.
+struct Ref {
+  Aabb box;
+  std::uint32_t id;
+};
+
+constexpr std::uint32_t kSpatialBins = 16;
+
+struct ObjectSplit {
+  int axis = -1;
+  std::uint32_t bin = 0;  // references in bins below this go left
+  float cost = kInfinity;
+  Aabb left, right;
+};
+
+struct SpatialSplit {
+  int axis = -1;
+  float position = 0.0f;
+  float cost = kInfinity;
+  std::uint32_t left_count = 0, right_count = 0;
+};
+
+Aabb intersection(const Aabb& a, const Aabb& b) {
+  return Aabb{glm::max(a.lower, b.lower), glm::min(a.upper, b.upper)};
+}
+
+std::uint32_t ceil_log2(std::uint32_t x) {
+  return x <= 1 ? 0 : 32 - static_cast<std::uint32_t>(std::countl_zero(x - 1));
+}
+
+// Boxes of the parts of `triangle` within `box` on either side of the plane `axis` =
+// `position`. Edge crossings are padded by a few ulps across the plane's other axes, so the
+// boxes always hold the true parts (the leaves test the whole triangle; only the boxes are
+// clipped, and a box that missed a sliver of its part would lose hits).
+void split_reference(const Triangle& triangle, const Aabb& box, int axis, float position,
+                     Aabb& left, Aabb& right) {
+  left = Aabb{};
+  right = Aabb{};
+  const vec3 vertices[3] = {triangle.p0, triangle.p1, triangle.p2};
+  for (int i = 0; i < 3; ++i) {
+    const vec3& a = vertices[i];
+    const vec3& b = vertices[i == 2 ? 0 : i + 1];
+    const float pa = a[axis], pb = b[axis];
+    if (pa <= position) left.extend(a);
+    if (pa >= position) right.extend(a);
+    if ((pa < position && pb > position) || (pa > position && pb < position)) {
+      const float t = (position - pa) / (pb - pa);
+      vec3 crossing = a + (b - a) * t;
+      const vec3 pad = (glm::abs(a) + glm::abs(b)) * 1e-6f;
+      crossing[axis] = position;
+      vec3 low = crossing - pad, high = crossing + pad;
+      low[axis] = high[axis] = position;
+      for (Aabb* side : {&left, &right}) {
+        side->extend(low);
+        side->extend(high);
+      }
+    }
+  }
+  left = intersection(left, box);
+  right = intersection(right, box);
+  left.upper[axis] = std::min(left.upper[axis], position);
+  right.lower[axis] = std::max(right.lower[axis], position);
+}
+
+class SpatialBuilder {
+ public:
+  SpatialBuilder(std::span<const Triangle> triangles, const SpatialSplitOptions& options)
+      : triangles_(triangles), options_(options) {}
+
+  Bvh build(std::vector<Ref> refs) {
+    Bvh out;
+    if (refs.empty()) return out;
+    const auto budget = static_cast<std::size_t>(std::max(0.0f, options_.max_extra_references) *
+                                                 static_cast<float>(refs.size()));
+    Aabb bounds;
+    for (const Ref& r : refs) bounds.extend(r.box);
+    root_area_ = bounds.surface_area();
+    out.nodes.reserve(refs.size() * 2);
+    out.primitives.reserve(refs.size() + budget);
+    out.depth = build_node(out, refs, bounds, 1, budget);
+    return out;
+  }
+
+ private:
+  std::uint32_t blocks(std::uint32_t count) const {
+    const std::uint32_t size = options_.bvh.leaf_block_size;
+    return (count + size - 1) / size;
+  }
+  float side_cost(const Aabb& box, std::uint32_t count) const {
+    return count == 0 ? 0.0f : box.surface_area() * static_cast<float>(blocks(count));
+  }
+
+  // Builds the subtree of `refs` (whose boxes' union is `bounds`) at the end of `out`, with
+  // up to `budget` extra references; returns its depth. The budget left after a split is
+  // shared by the children in proportion to their references, so the tree is the same
+  // whether they are built one after the other or in parallel.
+  std::uint32_t build_node(Bvh& out, std::vector<Ref>& refs, const Aabb& bounds,
+                           std::uint32_t depth, std::size_t budget) const {
+    const auto index = static_cast<std::uint32_t>(out.nodes.size());
+    out.nodes.emplace_back();
+    const auto count = static_cast<std::uint32_t>(refs.size());
+    const std::uint32_t max_leaf = options_.bvh.max_leaf_size;
+    const auto make_leaf = [&] {
+      out.nodes[index] = BvhNode{bounds.lower, static_cast<std::uint32_t>(out.primitives.size()),
+                                 bounds.upper, count};
+      for (const Ref& r : refs) out.primitives.push_back(r.id);
+      return depth;
+    };
+    if (count == 1 || depth >= kMaxBvhDepth) return make_leaf();
+
+    std::vector<Ref> left, right;
+    const bool near_depth_cap =
+        depth + 1 + ceil_log2((count + max_leaf - 1) / max_leaf) >= kMaxBvhDepth;
+    bool split = false;
+    if (!near_depth_cap) {
+      const ObjectSplit object = find_object_split(refs);
+      SpatialSplit spatial;
+      if (object.axis >= 0 && budget > 0 &&
+          intersection(object.left, object.right).surface_area() >
+              options_.min_overlap * root_area_)
+        spatial = find_spatial_split(refs, bounds, budget);
+      const float best = std::min(object.cost, spatial.cost);
+      if (best < kInfinity) {
+        const float area = bounds.surface_area();
+        const float leaf_cost = options_.bvh.intersection_cost * static_cast<float>(blocks(count));
+        const float split_cost =
+            options_.bvh.traversal_cost +
+            options_.bvh.intersection_cost * (area > 0.0f ? best / area : 0.0f);
+        if (count <= max_leaf && leaf_cost <= split_cost) return make_leaf();
+        if (spatial.cost < object.cost) {
+          partition_spatial(refs, spatial, left, right);
+        } else {
+          partition_object(refs, object, left, right);
+        }
+        split = !left.empty() && !right.empty();
+      }
+    }
+    if (!split) {
+      if (count <= max_leaf && !near_depth_cap) return make_leaf();
+      median_split(refs, left, right);
+    }
+    std::vector<Ref>().swap(refs);  // this node's list is no longer needed
+    const std::size_t used = left.size() + right.size() - count;
+    const std::size_t remaining = budget > used ? budget - used : 0;
+    const auto left_budget =
+        static_cast<std::size_t>(static_cast<double>(remaining) * static_cast<double>(left.size()) /
+                                 static_cast<double>(left.size() + right.size()));
+    const std::size_t right_budget = remaining - left_budget;
+    Aabb left_bounds, right_bounds;
+    for (const Ref& r : left) left_bounds.extend(r.box);
+    for (const Ref& r : right) right_bounds.extend(r.box);
+    std::uint32_t left_depth = 0, right_depth = 0;
+    if (options_.bvh.parallel && count >= kParallelTaskSize) {
+      // Each child into a tree of its own, then appended: only large nodes pay the copy.
+      Bvh left_tree, right_tree;
+      tbb::parallel_invoke(
+          [&] { left_depth = build_node(left_tree, left, left_bounds, depth + 1, left_budget); },
+          [&] {
+            right_depth = build_node(right_tree, right, right_bounds, depth + 1, right_budget);
+          });
+      append(out, left_tree);
+      const auto right_index = static_cast<std::uint32_t>(out.nodes.size());
+      append(out, right_tree);
+      out.nodes[index] = BvhNode{bounds.lower, right_index, bounds.upper, 0};
+    } else {
+      left_depth = build_node(out, left, left_bounds, depth + 1, left_budget);
+      const auto right_index = static_cast<std::uint32_t>(out.nodes.size());
+      right_depth = build_node(out, right, right_bounds, depth + 1, right_budget);
+      out.nodes[index] = BvhNode{bounds.lower, right_index, bounds.upper, 0};
+    }
+    return std::max(left_depth, right_depth);
+  }
+
+  // Appends a subtree built on its own, moving its node and primitive indices.
+  static void append(Bvh& out, const Bvh& subtree) {
+    const auto node_base = static_cast<std::uint32_t>(out.nodes.size());
+    const auto primitive_base = static_cast<std::uint32_t>(out.primitives.size());
+    for (BvhNode node : subtree.nodes) {
+      node.offset += node.is_leaf() ? primitive_base : node_base;
+      out.nodes.push_back(node);
+    }
+    out.primitives.insert(out.primitives.end(), subtree.primitives.begin(),
+                          subtree.primitives.end());
+  }
+
+  static constexpr std::uint32_t kParallelTaskSize = 4096;
+
+  struct CentroidBins {
+    Aabb centroids;
+    vec3 scale{0.0f};
+    std::uint32_t bin_count = 0;
+    std::uint32_t bin(const Ref& r, int axis) const {
+      const float c = r.box.lower[axis] + r.box.upper[axis];
+      const auto b = static_cast<std::int32_t>((c - centroids.lower[axis]) * scale[axis]);
+      return static_cast<std::uint32_t>(
+          std::clamp<std::int32_t>(b, 0, static_cast<std::int32_t>(bin_count) - 1));
+    }
+  };
+
+  CentroidBins centroid_bins(const std::vector<Ref>& refs) const {
+    CentroidBins m;
+    for (const Ref& r : refs) m.centroids.extend(r.box.lower + r.box.upper);
+    m.bin_count =
+        std::min(options_.bvh.bin_count, 4 + static_cast<std::uint32_t>(refs.size()) / 20);
+    m.bin_count = std::clamp(m.bin_count, 2u, kMaxBvhBins);
+    const vec3 extent = m.centroids.extent();
+    for (int axis = 0; axis < 3; ++axis)
+      m.scale[axis] = extent[axis] > 0.0f
+                          ? static_cast<float>(m.bin_count) * (1.0f - 1e-6f) / extent[axis]
+                          : 0.0f;
+    return m;
+  }
+
+  ObjectSplit find_object_split(const std::vector<Ref>& refs) const {
+    const CentroidBins m = centroid_bins(refs);
+    ObjectSplit best;
+    Aabb boxes[kMaxBvhBins];
+    std::uint32_t counts[kMaxBvhBins];
+    Aabb right_boxes[kMaxBvhBins];
+    float right_costs[kMaxBvhBins];
+    for (int axis = 0; axis < 3; ++axis) {
+      if (m.scale[axis] == 0.0f) continue;
+      for (std::uint32_t b = 0; b < m.bin_count; ++b) {
+        boxes[b] = Aabb{};
+        counts[b] = 0;
+      }
+      for (const Ref& r : refs) {
+        const std::uint32_t b = m.bin(r, axis);
+        boxes[b].extend(r.box);
+        ++counts[b];
+      }
+      Aabb accumulated;
+      std::uint32_t accumulated_count = 0;
+      for (std::uint32_t b = m.bin_count - 1; b > 0; --b) {
+        accumulated.extend(boxes[b]);
+        accumulated_count += counts[b];
+        right_boxes[b] = accumulated;
+        right_costs[b] = side_cost(accumulated, accumulated_count);
+      }
+      accumulated = Aabb{};
+      accumulated_count = 0;
+      for (std::uint32_t b = 1; b < m.bin_count; ++b) {
+        accumulated.extend(boxes[b - 1]);
+        accumulated_count += counts[b - 1];
+        if (accumulated_count == 0 || accumulated_count == refs.size()) continue;
+        const float cost = side_cost(accumulated, accumulated_count) + right_costs[b];
+        if (cost < best.cost) best = ObjectSplit{axis, b, cost, accumulated, right_boxes[b]};
+      }
+    }
+    return best;
+  }
+
+  SpatialSplit find_spatial_split(const std::vector<Ref>& refs, const Aabb& bounds,
+                                  std::size_t budget) const {
+    SpatialSplit best;
+    const vec3 extent = bounds.extent();
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(extent[axis] > 0.0f)) continue;
+      // Planes at position[1..kSpatialBins-1]; bin j lies between planes j and j + 1.
+      float position[kSpatialBins + 1];
+      const float width = extent[axis] / static_cast<float>(kSpatialBins);
+      for (std::uint32_t j = 0; j <= kSpatialBins; ++j)
+        position[j] = bounds.lower[axis] + width * static_cast<float>(j);
+      position[0] = -kInfinity;
+      position[kSpatialBins] = kInfinity;
+      Aabb boxes[kSpatialBins];
+      std::uint32_t entries[kSpatialBins] = {}, exits[kSpatialBins] = {};
+      for (const Ref& r : refs) {
+        // first: the lowest bin with a part of the reference (lower < its upper plane);
+        // last: the highest (upper > its lower plane); a reference lying in a plane goes
+        // to the bin above it, as partition_spatial sends it right.
+        const float lower = r.box.lower[axis], upper = r.box.upper[axis];
+        auto guess = [&](float x) {
+          const auto j = static_cast<std::int32_t>((x - bounds.lower[axis]) / width);
+          return static_cast<std::uint32_t>(
+              std::clamp<std::int32_t>(j, 0, static_cast<std::int32_t>(kSpatialBins) - 1));
+        };
+        std::uint32_t first = guess(lower);
+        while (first > 0 && lower < position[first]) --first;
+        while (first + 1 < kSpatialBins && lower >= position[first + 1]) ++first;
+        std::uint32_t last = guess(upper);
+        while (last + 1 < kSpatialBins && upper > position[last + 1]) ++last;
+        while (last > 0 && upper <= position[last]) --last;
+        if (last < first) last = first;
+        ++entries[first];
+        ++exits[last];
+        Aabb rest = r.box;
+        for (std::uint32_t j = first; j < last; ++j) {
+          Aabb part, remainder;
+          split_reference(triangles_[r.id], rest, axis, position[j + 1], part, remainder);
+          boxes[j].extend(part);
+          rest = remainder;
+        }
+        boxes[last].extend(rest);
+      }
+      Aabb right_boxes[kSpatialBins];
+      std::uint32_t right_counts[kSpatialBins];
+      Aabb accumulated;
+      std::uint32_t accumulated_count = 0;
+      for (std::uint32_t j = kSpatialBins - 1; j > 0; --j) {
+        accumulated.extend(boxes[j]);
+        accumulated_count += exits[j];
+        right_boxes[j] = accumulated;
+        right_counts[j] = accumulated_count;
+      }
+      accumulated = Aabb{};
+      accumulated_count = 0;
+      for (std::uint32_t j = 1; j < kSpatialBins; ++j) {
+        accumulated.extend(boxes[j - 1]);
+        accumulated_count += entries[j - 1];
+        const std::uint32_t right_count = right_counts[j];
+        if (accumulated_count == 0 || right_count == 0 || accumulated_count == refs.size() ||
+            right_count == refs.size())
+          continue;
+        if (accumulated_count + right_count - refs.size() > budget) continue;
+        const float cost =
+            side_cost(accumulated, accumulated_count) + side_cost(right_boxes[j], right_count);
+        if (cost < best.cost)
+          best = SpatialSplit{axis, position[j], cost, accumulated_count, right_count};
+      }
+    }
+    return best;
+  }
+
+  void partition_object(const std::vector<Ref>& refs, const ObjectSplit& split,
+                        std::vector<Ref>& left, std::vector<Ref>& right) const {
+    const CentroidBins m = centroid_bins(refs);
+    for (const Ref& r : refs) (m.bin(r, split.axis) < split.bin ? left : right).push_back(r);
+  }
+
+  void partition_spatial(const std::vector<Ref>& refs, const SpatialSplit& split,
+                         std::vector<Ref>& left, std::vector<Ref>& right) const {
+    left.reserve(split.left_count);
+    right.reserve(split.right_count);
+    const int axis = split.axis;
+    for (const Ref& r : refs) {
+      if (r.box.lower[axis] >= split.position) {
+        right.push_back(r);
+      } else if (r.box.upper[axis] <= split.position) {
+        left.push_back(r);
+      } else {
+        // The box straddles the plane; the part inside it may not (boxes are padded), and
+        // an empty side gets no reference.
+        Aabb l, rr;
+        split_reference(triangles_[r.id], r.box, axis, split.position, l, rr);
+        if (!l.empty()) left.push_back(Ref{l, r.id});
+        if (!rr.empty()) right.push_back(Ref{rr, r.id});
+      }
+    }
+  }
+
+  // Halves the list at the median centroid of its widest centroid axis.
+  static void median_split(std::vector<Ref>& refs, std::vector<Ref>& left,
+                           std::vector<Ref>& right) {
+    Aabb centroids;
+    for (const Ref& r : refs) centroids.extend(r.box.lower + r.box.upper);
+    const int axis = centroids.largest_axis();
+    const auto middle = refs.begin() + static_cast<std::ptrdiff_t>(refs.size() / 2);
+    std::nth_element(refs.begin(), middle, refs.end(), [axis](const Ref& a, const Ref& b) {
+      return a.box.lower[axis] + a.box.upper[axis] < b.box.lower[axis] + b.box.upper[axis];
+    });
+    left.assign(refs.begin(), middle);
+    right.assign(middle, refs.end());
+  }
+
+  std::span<const Triangle> triangles_;
+  const SpatialSplitOptions& options_;
+  float root_area_ = 0.0f;
+};
+
+}  // namespace
+
+Bvh build_sbvh(std::span<const Triangle> triangles, std::span<const std::uint32_t> ids,
+               const SpatialSplitOptions& options) {
+  std::vector<Ref> refs;
+  refs.reserve(ids.size());
+  for (std::uint32_t id : ids) {
+    if (id >= triangles.size()) throw std::invalid_argument("build_sbvh: id out of range");
+    refs.push_back(Ref{bounds(triangles[id]), id});
+  }
+  SpatialSplitOptions checked = options;
+  checked.bvh.max_leaf_size = std::max(1u, checked.bvh.max_leaf_size);
+  checked.bvh.leaf_block_size = std::max(1u, checked.bvh.leaf_block_size);
+  return SpatialBuilder(triangles, checked).build(std::move(refs));
+}
+
+}  // namespace tessera
