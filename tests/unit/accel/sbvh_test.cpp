@@ -153,6 +153,31 @@ TEST(Sbvh, SubsetOfIdsAndEmptyInput) {
 namespace tessera {
 namespace {
 
+// Large nodes build their children in parallel; the budget is shared out in proportion, so
+// the tree is the same as the sequential build's, node for node.
+TEST(Sbvh, ParallelBuildGivesTheSequentialTree) {
+  std::vector<Triangle> tris = accel_test::closed_sphere(5);  // 8,192 even triangles
+  const auto thin = slivers(4000, 21);
+  tris.insert(tris.end(), thin.begin(), thin.end());
+  SpatialSplitOptions options;
+  options.max_extra_references = 0.5f;
+  options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, true};
+  const Bvh parallel = build_sbvh(tris, all_ids(tris.size()), options);
+  options.bvh.parallel = false;
+  const Bvh sequential = build_sbvh(tris, all_ids(tris.size()), options);
+  ASSERT_EQ(parallel.nodes.size(), sequential.nodes.size());
+  ASSERT_EQ(parallel.primitives, sequential.primitives);
+  EXPECT_EQ(parallel.depth, sequential.depth);
+  for (std::size_t i = 0; i < parallel.nodes.size(); ++i) {
+    EXPECT_EQ(parallel.nodes[i].offset, sequential.nodes[i].offset);
+    EXPECT_EQ(parallel.nodes[i].count, sequential.nodes[i].count);
+    EXPECT_EQ(parallel.nodes[i].lower, sequential.nodes[i].lower);
+    EXPECT_EQ(parallel.nodes[i].upper, sequential.nodes[i].upper);
+  }
+  EXPECT_GT(parallel.primitives.size(), tris.size());
+  check_tree(parallel, tris, 0.5f);
+}
+
 TEST(Sbvh, ChosenForEvenMeshesUpToTheSizeCapAndNotWithPresplitting) {
   EXPECT_EQ(choose_spatial_split_budget(1000, 0.0f), kAutoSpatialSplitBudget);
   EXPECT_EQ(choose_spatial_split_budget(kAutoSpatialSplitMaxTriangles, 0.0f),
