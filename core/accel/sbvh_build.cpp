@@ -275,7 +275,8 @@ class SpatialBuilder {
     SpatialSplit best;
     const vec3 extent = bounds.extent();
     for (int axis = 0; axis < 3; ++axis) {
-      if (!(extent[axis] > 0.0f)) continue;
+      // An extent that overflowed (coordinates near the float limit) gets no planes.
+      if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) continue;
       // Planes at position[1..kSpatialBins-1]; bin j lies between planes j and j + 1.
       float position[kSpatialBins + 1];
       const float width = extent[axis] / static_cast<float>(kSpatialBins);

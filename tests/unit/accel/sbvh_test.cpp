@@ -121,6 +121,31 @@ TEST(Sbvh, EvenMeshAndGridStayValid) {
   }
 }
 
+// Inputs that defeat the heuristic: every triangle the same (no split separates them), and
+// coordinates so large that surface areas overflow to infinity. The tree must still hold
+// every triangle within the depth limit.
+TEST(Sbvh, IdenticalTrianglesAndHugeCoordinatesStillGiveValidTrees) {
+  const Triangle one{vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 0};
+  const std::vector<Triangle> same(300, one);
+  auto huge = slivers(300, 4);
+  for (Triangle& t : huge) {
+    t.p0 *= 1e19f;
+    t.p1 *= 1e19f;
+    t.p2 *= 1e19f;
+  }
+  const std::vector<Triangle>* inputs[] = {&same, &huge};
+  for (const std::vector<Triangle>* tris : inputs) {
+    SpatialSplitOptions options;
+    options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
+    const Bvh bvh = build_sbvh(*tris, all_ids(tris->size()), options);
+    ASSERT_LE(bvh.depth, kMaxBvhDepth);
+    Walk walk{bvh, *tris, std::vector<int>(tris->size(), 0), {}};
+    walk.leaves_of.resize(tris->size());
+    walk.node(0, 1);
+    for (int leaves : walk.leaves_per_triangle) EXPECT_GE(leaves, 1);
+  }
+}
+
 TEST(Sbvh, SpatialSplitsLowerTheTreeCostOfSlivers) {
   const auto tris = slivers(3000, 11);
   AccelBuildOptions options;
