@@ -270,13 +270,33 @@ class SpatialBuilder {
     return best;
   }
 
+  // The best spatial split of each axis, the three axes in parallel for large nodes (the
+  // nodes near the root, built before their children can spread over the threads); ties go
+  // to the lower axis either way.
   SpatialSplit find_spatial_split(const std::vector<Ref>& refs, const Aabb& bounds,
                                   std::size_t budget) const {
+    SpatialSplit per_axis[3];
+    const auto search = [&](int axis) {
+      per_axis[axis] = spatial_split_on_axis(refs, bounds, budget, axis);
+    };
+    if (options_.bvh.parallel && refs.size() >= kParallelTaskSize) {
+      tbb::parallel_invoke([&] { search(0); }, [&] { search(1); }, [&] { search(2); });
+    } else {
+      for (int axis = 0; axis < 3; ++axis) search(axis);
+    }
+    SpatialSplit best;
+    for (const SpatialSplit& candidate : per_axis)
+      if (candidate.cost < best.cost) best = candidate;
+    return best;
+  }
+
+  SpatialSplit spatial_split_on_axis(const std::vector<Ref>& refs, const Aabb& bounds,
+                                     std::size_t budget, int axis) const {
     SpatialSplit best;
     const vec3 extent = bounds.extent();
-    for (int axis = 0; axis < 3; ++axis) {
+    {
       // An extent that overflowed (coordinates near the float limit) gets no planes.
-      if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) continue;
+      if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) return best;
       // Planes at position[1..kSpatialBins-1]; bin j lies between planes j and j + 1.
       float position[kSpatialBins + 1];
       const float width = extent[axis] / static_cast<float>(kSpatialBins);
