@@ -26,11 +26,25 @@ struct Ref {
 
 constexpr std::uint32_t kSpatialBins = 16;
 
+// Maps a reference's doubled box centre to an object-split bin.
+struct CentroidBins {
+  Aabb centroids;
+  vec3 scale{0.0f};
+  std::uint32_t bin_count = 0;
+  std::uint32_t bin(const Ref& r, int axis) const {
+    const float c = r.box.lower[axis] + r.box.upper[axis];
+    const auto b = static_cast<std::int32_t>((c - centroids.lower[axis]) * scale[axis]);
+    return static_cast<std::uint32_t>(
+        std::clamp<std::int32_t>(b, 0, static_cast<std::int32_t>(bin_count) - 1));
+  }
+};
+
 struct ObjectSplit {
   int axis = -1;
   std::uint32_t bin = 0;  // references in bins below this go left
   float cost = kInfinity;
   Aabb left, right;
+  CentroidBins bins;  // the mapping the split was found with, for the partition
 };
 
 struct SpatialSplit {
@@ -205,18 +219,6 @@ class SpatialBuilder {
 
   static constexpr std::uint32_t kParallelTaskSize = 4096;
 
-  struct CentroidBins {
-    Aabb centroids;
-    vec3 scale{0.0f};
-    std::uint32_t bin_count = 0;
-    std::uint32_t bin(const Ref& r, int axis) const {
-      const float c = r.box.lower[axis] + r.box.upper[axis];
-      const auto b = static_cast<std::int32_t>((c - centroids.lower[axis]) * scale[axis]);
-      return static_cast<std::uint32_t>(
-          std::clamp<std::int32_t>(b, 0, static_cast<std::int32_t>(bin_count) - 1));
-    }
-  };
-
   CentroidBins centroid_bins(const std::vector<Ref>& refs) const {
     CentroidBins m;
     for (const Ref& r : refs) m.centroids.extend(r.box.lower + r.box.upper);
@@ -264,7 +266,7 @@ class SpatialBuilder {
         accumulated_count += counts[b - 1];
         if (accumulated_count == 0 || accumulated_count == refs.size()) continue;
         const float cost = side_cost(accumulated, accumulated_count) + right_costs[b];
-        if (cost < best.cost) best = ObjectSplit{axis, b, cost, accumulated, right_boxes[b]};
+        if (cost < best.cost) best = ObjectSplit{axis, b, cost, accumulated, right_boxes[b], m};
       }
     }
     return best;
@@ -363,10 +365,10 @@ class SpatialBuilder {
     return best;
   }
 
-  void partition_object(const std::vector<Ref>& refs, const ObjectSplit& split,
-                        std::vector<Ref>& left, std::vector<Ref>& right) const {
-    const CentroidBins m = centroid_bins(refs);
-    for (const Ref& r : refs) (m.bin(r, split.axis) < split.bin ? left : right).push_back(r);
+  static void partition_object(const std::vector<Ref>& refs, const ObjectSplit& split,
+                               std::vector<Ref>& left, std::vector<Ref>& right) {
+    for (const Ref& r : refs)
+      (split.bins.bin(r, split.axis) < split.bin ? left : right).push_back(r);
   }
 
   void partition_spatial(const std::vector<Ref>& refs, const SpatialSplit& split,

@@ -45,7 +45,6 @@ std::vector<std::uint32_t> all_ids(std::size_t count) {
 
 struct Walk {
   const Bvh& bvh;
-  const std::vector<Triangle>& tris;
   std::vector<int> leaves_per_triangle;
   // Which triangles have a point inside a leaf box: each triangle's sampled points must all
   // lie in the union of its leaves' boxes.
@@ -69,7 +68,7 @@ struct Walk {
 };
 
 void check_tree(const Bvh& bvh, const std::vector<Triangle>& tris, float budget) {
-  Walk walk{bvh, tris, std::vector<int>(tris.size(), 0), {}};
+  Walk walk{bvh, std::vector<int>(tris.size(), 0), {}};
   walk.leaves_of.resize(tris.size());
   walk.node(0, 1);
   std::size_t references = 0;
@@ -139,7 +138,7 @@ TEST(Sbvh, IdenticalTrianglesAndHugeCoordinatesStillGiveValidTrees) {
     options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
     const Bvh bvh = build_sbvh(*tris, all_ids(tris->size()), options);
     ASSERT_LE(bvh.depth, kMaxBvhDepth);
-    Walk walk{bvh, *tris, std::vector<int>(tris->size(), 0), {}};
+    Walk walk{bvh, std::vector<int>(tris->size(), 0), {}};
     walk.leaves_of.resize(tris->size());
     walk.node(0, 1);
     for (int leaves : walk.leaves_per_triangle) EXPECT_GE(leaves, 1);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_materials.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -114,14 +115,7 @@ SceneDescription mesh_scene(std::uint32_t copies) {
   SceneDescription scene;
   scene.camera.position = {0.0, 0.5, 4.0};
   scene.camera.look_at = {0.0, 0.0, 0.0};
-  MaterialDesc white;
-  white.name = "white";
-  scene.materials.push_back(white);
-  MaterialDesc light;
-  light.name = "light";
-  light.type = MaterialType::kLight;
-  light.emission = {8.0, 8.0, 8.0};
-  scene.materials.push_back(light);
+  scene.materials = {test::lambertian_material("white"), test::light_material("light", dvec3(8.0))};
   TriangleMeshDesc grid;
   constexpr int kCells = 24;  // 1,152 triangles: above the shape BVH's share
   for (int j = 0; j <= kCells; ++j)

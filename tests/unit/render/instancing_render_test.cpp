@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "scene_materials.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/render/render_image.hpp"
 
@@ -38,11 +39,7 @@ SceneDescription three_placements(IntegratorKind integrator, double transmission
   white.name = "white";
   white.transmission = transmission;
   scene.materials.push_back(white);
-  MaterialDesc light;
-  light.name = "light";
-  light.type = MaterialType::kLight;
-  light.emission = {4.0, 4.0, 4.0};
-  scene.materials.push_back(light);
+  scene.materials.push_back(test::light_material("light", dvec3(4.0)));
   MaterialDesc red;
   red.name = "red";
   red.albedo = {0.8, 0.2, 0.1};

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "path_statistics.hpp"
+#include "scene_materials.hpp"
 #include "tessera/render/camera.hpp"
 #include "tessera/render/render_image.hpp"
 
@@ -123,14 +124,8 @@ SceneDescription lit_plane_scene(Emitter emitter) {
   scene.camera.position = {0.0, 0.6, 2.5};
   scene.camera.look_at = {0.0, 0.0, 0.0};
   scene.camera.fov_degrees = 20.0;
-  MaterialDesc plane;
-  plane.name = "plane";
-  plane.albedo = dvec3(kAlbedo);
-  MaterialDesc light;
-  light.name = "light";
-  light.type = MaterialType::kLight;
-  light.emission = dvec3(kRadiance);
-  scene.materials = {plane, light};
+  scene.materials = {test::lambertian_material("plane", dvec3(kAlbedo)),
+                     test::light_material("light", dvec3(kRadiance))};
   scene.quads.push_back(
       QuadDesc{.corner = {-10, 0, -10}, .u = {20, 0, 0}, .v = {0, 0, 20}, .material = 0});
   switch (emitter) {
