@@ -1,6 +1,7 @@
 #pragma once
 #include <cmath>
 
+#include "tessera/math/fast_trig.hpp"
 #include "tessera/math/vec.hpp"
 
 namespace tessera {
@@ -8,17 +9,19 @@ namespace tessera {
 // Cosine-weighted direction about +z; pdf = cos(theta) / pi.
 TESSERA_HD TESSERA_INLINE vec3 sample_cosine_hemisphere(float u1, float u2) {
   const float r = std::sqrt(u1);
-  const float phi = 2.0f * kPi * u2;
+  float sin_phi, cos_phi;
+  fast_sincos_turns(u2, sin_phi, cos_phi);
   const float z = std::sqrt(glm::max(0.0f, 1.0f - u1));
-  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+  return vec3(r * cos_phi, r * sin_phi, z);
 }
 
 // Uniform direction on the unit sphere; pdf = 1 / (4 pi).
 TESSERA_HD TESSERA_INLINE vec3 sample_uniform_sphere(float u1, float u2) {
   const float z = 1.0f - 2.0f * u1;
   const float r = std::sqrt(glm::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPi * u2;
-  return vec3(r * std::cos(phi), r * std::sin(phi), z);
+  float sin_phi, cos_phi;
+  fast_sincos_turns(u2, sin_phi, cos_phi);
+  return vec3(r * cos_phi, r * sin_phi, z);
 }
 
 // Uniform barycentrics on a triangle (Heitz 2019 low-distortion map is overkill here).

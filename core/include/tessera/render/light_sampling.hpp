@@ -181,8 +181,9 @@ TESSERA_HD inline void sample_revolved(const vec3& base, const vec3& axis, const
   const float top = capped ? kPi * r1 * r1 : 0.0f;
   float pick = u1 * (side + bottom + top);
   const vec3 u(frame.u), v(frame.v);
-  const float phi = 2.0f * kPi * u2;
-  const vec3 radial = std::cos(phi) * u + std::sin(phi) * v;
+  float sin_phi, cos_phi;
+  fast_sincos_turns(u2, sin_phi, cos_phi);
+  const vec3 radial = cos_phi * u + sin_phi * v;
   if (pick < side || !capped) {
     // Area grows with the radius r(t) = r0 + (r1 - r0) t: t inverts that CDF, in the form
     // that stays exact when r0 = r1 (a cylinder) and when r0 = 0 (a pointed base).
@@ -224,9 +225,10 @@ TESSERA_HD inline bool sample_emitter(const Sphere& s, float area, const vec3& r
   const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
   const float cos_theta = 1.0f - one_minus_cos;
   const float sin_theta = std::sqrt(glm::max(0.0f, sin2));
-  const float phi = 2.0f * kPi * u2;
+  float sin_phi, cos_phi;
+  fast_sincos_turns(u2, sin_phi, cos_phi);
   const Frame frame = Frame::from_normal(to_center / dc);
-  out.wi = frame.to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+  out.wi = frame.to_world(vec3(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta));
   // Distance to the near intersection along wi, found by the sphere's own intersector
   // (double, without cancellation), so the shadow ray stops where a ray along wi meets
   // the sphere. dc cos - sqrt(r^2 - dc^2 sin^2) cancels near the silhouette: 1.001 radii
@@ -248,13 +250,9 @@ TESSERA_HD inline bool sample_emitter(const Quad& q, float area, const vec3& ref
   if (q.is_rectangle()) {
     const SphericalRectangle rect = spherical_rectangle(q, ref);
     if (spherical_usable(rect.solid_angle)) {
-      const vec3 d = rect.sample(u1, u2) - ref;
-      const float distance2 = glm::dot(d, d);
-      if (!(distance2 > 0.0f)) return false;
-      out.distance = std::sqrt(distance2);
-      out.wi = d / out.distance;
+      rect.sample_direction(u1, u2, out.wi, out.distance);
       out.pdf = 1.0f / rect.solid_angle;
-      return true;
+      return out.distance > 0.0f;
     }
   }
   return finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, area, out);
@@ -285,10 +283,10 @@ TESSERA_HD inline bool sample_emitter(const Disk& d, float area, const vec3& ref
   // Uniform in area over the annulus: radius by the inverse of its area CDF.
   const float inner2 = d.inner_radius * d.inner_radius;
   const float rho = std::sqrt(inner2 + u1 * (d.radius * d.radius - inner2));
-  const float phi = 2.0f * kPi * u2;
+  float sin_phi, cos_phi;
+  fast_sincos_turns(u2, sin_phi, cos_phi);
   const Frame frame = Frame::from_normal(d.normal);
-  const vec3 point =
-      d.center + frame.to_world(vec3(rho * std::cos(phi), rho * std::sin(phi), 0.0f));
+  const vec3 point = d.center + frame.to_world(vec3(rho * cos_phi, rho * sin_phi, 0.0f));
   return light_detail::finish_area_sample(ref, point, d.normal, area, out);
 }
 
@@ -409,9 +407,10 @@ TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const E
       const float one_minus_cos = u1 * light.one_minus_cos_radius;
       const float cos_theta = 1.0f - one_minus_cos;
       const float sin_theta = std::sqrt(glm::max(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
-      const float phi = 2.0f * kPi * u2;
+      float sin_phi, cos_phi;
+      fast_sincos_turns(u2, sin_phi, cos_phi);
       out.wi = Frame::from_normal(light.direction)
-                   .to_world(vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+                   .to_world(vec3(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta));
       out.pdf = 1.0f / (2.0f * kPi * light.one_minus_cos_radius);
       out.radiance = distant_radiance(light);
       return true;

@@ -6,6 +6,7 @@
 // Normals", JCGT 7(4)). Conductors and rough dielectrics (bsdf.hpp) build on it.
 #include <cmath>
 
+#include "tessera/math/fast_trig.hpp"
 #include "tessera/math/vec.hpp"
 
 namespace tessera {
@@ -64,9 +65,10 @@ struct GgxDistribution {
         len2 > 0.0f ? vec3(-wh.y, wh.x, 0.0f) / std::sqrt(len2) : vec3(1.0f, 0.0f, 0.0f);
     const vec3 t2 = glm::cross(wh, t1);
     const float r = std::sqrt(u1);
-    const float phi = 2.0f * kPi * u2;
-    const float p1 = r * std::cos(phi);
-    float p2 = r * std::sin(phi);
+    float sin_phi, cos_phi;
+    fast_sincos_turns(u2, sin_phi, cos_phi);
+    const float p1 = r * cos_phi;
+    float p2 = r * sin_phi;
     const float s = 0.5f * (1.0f + wh.z);
     p2 = (1.0f - s) * std::sqrt(glm::max(0.0f, 1.0f - p1 * p1)) + s * p2;
     const float pz = std::sqrt(glm::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
