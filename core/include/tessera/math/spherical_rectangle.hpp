@@ -133,7 +133,8 @@ struct SphericalRectangle {
     const double b1d = y1d / std::sqrt(z2 + y1d * y1d);
     const double one_minus_b0_sq = z2 / (z2 + y0d * y0d);
     const double au = static_cast<double>(u) * solid_angle + k;
-    const double sin_au = std::sin(au), cos_au = std::cos(au);
+    double sin_au, cos_au;
+    fast_sincos(au, sin_au, cos_au);
     const double num = cos_au * b0d - b1d;
     const double n = num * num - one_minus_b0_sq * (sin_au * sin_au);
     double xu = -zd * (num > 0.0 ? sin_au : -sin_au) / std::sqrt(n > 1e-300 ? n : 1e-300);
