@@ -34,8 +34,9 @@ struct TimeToError {
 };
 
 // The time at which the series reaches `target` relMSE: interpolated (log-log) between the
-// two renders that bracket it, or extrapolated from a least-squares power law through
-// every render. Empty when fewer than two points are usable or the fit does not fall.
+// two renders that bracket it, or extrapolated from a least-squares power law through the
+// later half of the renders (at least two; the series is in order of time), whose slope is
+// reported either way. Empty when fewer than two points are usable or the fit does not fall.
 std::optional<TimeToError> time_to_error(std::span<const ErrorPoint> series, double target);
 
 }  // namespace tessera
