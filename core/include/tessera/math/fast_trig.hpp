@@ -3,9 +3,10 @@
 // triangles), inline and branch-light: libm's atan2f and sincosf are out-of-line calls that
 // cost about 8% of a path-traced sample on a scene lit by one rectangle. Both stay within
 // a few float ulps of the exact value (tests/unit/math/fast_trig_test.cpp bounds them), the
-// precision the spherical maps already lose to their float angle sums. The polynomials are
-// weighted least-squares fits of atan on [0, 1] and of sin and cos on [0, pi/4], made for
-// this file.
+// precision the spherical maps already lose to their float angle sums. The float
+// polynomials are weighted least-squares fits of atan on [0, 1] and of sin and cos on
+// [0, pi/4], made for this file; the azimuth sincos (of 2 pi u) and the double sincos use
+// Taylor's coefficients, which are accurate enough at their degrees.
 #include <cmath>
 
 #include "tessera/math/host_device.hpp"

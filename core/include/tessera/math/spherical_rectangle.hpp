@@ -17,7 +17,8 @@ struct SphericalRectangle {
   float b0, b1, k;
   float solid_angle = 0.0f;
   // Whether the reference point lies close to the rectangle's plane for its extent (a
-  // corner more than 16 |z0| away along x or y): sample() then works in double (see there).
+  // corner more than 16 |z0| away along x or y): the sample is then taken in double
+  // (sample_near_plane).
   bool near_plane = false;
 
   // The rectangle seen from `origin`, given by a corner, its unit edge directions x and y
@@ -121,12 +122,13 @@ struct SphericalRectangle {
     return vec2(xu, glm::clamp(yv, y0, y1));
   }
 
-  // sample() in double, with 1 - b0^2 and the heights formed without cancellation, for
+  // sample_coordinates in double, with 1 - b0^2 and the heights formed without cancellation, for
   // points near the rectangle's plane. Its error is 1e-16 (x / z0)^2 of a coordinate, so the
   // map is exact to float precision up to ratios of about 10^4. What remains is the float
   // rounding of k and the solid angle (angle sums near pi), about 1e-3 of the solid angle at
   // the 3e-4 sr below which the lights sample by area (light_detail::spherical_usable).
-  // Points this close to a light's plane are few, so double's cost does not show.
+  // Points this close to a light's plane are few: on the box, whose ceiling is 1 cm above
+  // its light, the path costs 0.4% of the render's instructions.
   TESSERA_HD vec2 sample_near_plane(float u, float v) const {
     const double zd = z0, z2 = zd * zd, y0d = y0, y1d = y1;
     const double b0d = -y0d / std::sqrt(z2 + y0d * y0d);
