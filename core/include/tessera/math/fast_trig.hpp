@@ -45,6 +45,32 @@ TESSERA_HD TESSERA_INLINE float fast_atan2(float y, float x) {
   return std::copysign(angle, y);
 }
 
+namespace detail {
+// sin and cos of r + q pi / 2 from those of r (the reduced argument): a branch on the
+// quadrant, which the light samplers' narrow angle ranges keep predictable.
+template <typename Real>
+TESSERA_HD TESSERA_INLINE void place_in_quadrant(int q, Real s, Real c, Real& sin_x, Real& cos_x) {
+  switch (q & 3) {
+    case 0:
+      sin_x = s;
+      cos_x = c;
+      break;
+    case 1:
+      sin_x = c;
+      cos_x = -s;
+      break;
+    case 2:
+      sin_x = -s;
+      cos_x = -c;
+      break;
+    default:
+      sin_x = -c;
+      cos_x = s;
+      break;
+  }
+}
+}  // namespace detail
+
 // sin and cos of `x` (the samplers pass angles in [0, 4 pi]): x is reduced by multiples of pi/2
 // split in three parts whose leading ones have few enough significant bits that their products with
 // the multiple are exact (Cody and Waite), so the reduced argument keeps full precision; then one
@@ -71,24 +97,7 @@ TESSERA_HD TESSERA_INLINE void fast_sincos(float x, float& sin_x, float& cos_x) 
   const float s = r + (r * z) * ((-0.16666650f + 0.0083320120f * z) - 0.00019501357f * z2);
   const float c =
       (1.0f - 0.5f * z) + z2 * ((0.041666617f - 0.0013886614f * z) + 2.4379490e-05f * z2);
-  switch (quadrant_index & 3) {
-    case 0:
-      sin_x = s;
-      cos_x = c;
-      break;
-    case 1:
-      sin_x = c;
-      cos_x = -s;
-      break;
-    case 2:
-      sin_x = -s;
-      cos_x = -c;
-      break;
-    default:
-      sin_x = -c;
-      cos_x = s;
-      break;
-  }
+  detail::place_in_quadrant(quadrant_index, s, c, sin_x, cos_x);
 }
 
 // sin and cos in double for |x| < 1e3 (libm beyond): the rectangle sampler's near-plane
@@ -118,24 +127,7 @@ TESSERA_HD TESSERA_INLINE void fast_sincos(double x, double& sin_x, double& cos_
                    z4 * ((2.4801587301587302e-05 - 2.7557319223985888e-07 * z) +
                          z2 * (2.0876756987868100e-09 - 1.1470745597729725e-11 * z) +
                          z4 * 4.7794773323873853e-14);
-  switch (quadrant_index & 3) {
-    case 0:
-      sin_x = s;
-      cos_x = c;
-      break;
-    case 1:
-      sin_x = c;
-      cos_x = -s;
-      break;
-    case 2:
-      sin_x = -s;
-      cos_x = -c;
-      break;
-    default:
-      sin_x = -c;
-      cos_x = s;
-      break;
-  }
+  detail::place_in_quadrant(quadrant_index, s, c, sin_x, cos_x);
 }
 
 // sin and cos of 2 pi `turns` for turns in [0, 1] (the samplers' azimuths 2 pi u): no
