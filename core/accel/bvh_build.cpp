@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <memory>
 #include <stdexcept>
 
@@ -112,10 +111,6 @@ struct Split {
   float cost = kInfinity;  // SAH cost, not normalised by the parent's area
 };
 
-std::uint32_t ceil_log2(std::uint32_t x) {
-  return x <= 1 ? 0 : 32 - static_cast<std::uint32_t>(std::countl_zero(x - 1));
-}
-
 class Builder {
  public:
   Builder(std::span<PrimRef> prims, const BvhBuildOptions& options)
@@ -157,8 +152,7 @@ class Builder {
     if (count == 1 || depth >= kMaxBvhDepth) return make_leaf(index, range);
 
     // Near the depth cap, median splits guarantee the remaining levels suffice.
-    const bool force_median =
-        depth + 1 + ceil_log2((count + max_leaf - 1) / max_leaf) >= kMaxBvhDepth;
+    const bool force_median = bvh_near_depth_cap(depth, count, max_leaf);
     Range left, right;
     bool split_found = false;
     if (!force_median && !range.centroids.empty() && range.centroids.extent() != vec3(0.0f)) {

@@ -7,7 +7,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -56,10 +55,6 @@ struct SpatialSplit {
 
 Aabb intersection(const Aabb& a, const Aabb& b) {
   return Aabb{glm::max(a.lower, b.lower), glm::min(a.upper, b.upper)};
-}
-
-std::uint32_t ceil_log2(std::uint32_t x) {
-  return x <= 1 ? 0 : 32 - static_cast<std::uint32_t>(std::countl_zero(x - 1));
 }
 
 // Boxes of the parts of `triangle` within `box` on either side of the plane `axis` =
@@ -143,8 +138,7 @@ class SpatialBuilder {
     if (count == 1 || depth >= kMaxBvhDepth) return make_leaf();
 
     std::vector<Ref> left, right;
-    const bool near_depth_cap =
-        depth + 1 + ceil_log2((count + max_leaf - 1) / max_leaf) >= kMaxBvhDepth;
+    const bool near_depth_cap = bvh_near_depth_cap(depth, count, max_leaf);
     bool split = false;
     if (!near_depth_cap) {
       const ObjectSplit object = find_object_split(refs);
@@ -296,71 +290,69 @@ class SpatialBuilder {
                                      std::size_t budget, int axis) const {
     SpatialSplit best;
     const vec3 extent = bounds.extent();
-    {
-      // An extent that overflowed (coordinates near the float limit) gets no planes.
-      if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) return best;
-      // Planes at position[1..kSpatialBins-1]; bin j lies between planes j and j + 1.
-      float position[kSpatialBins + 1];
-      const float width = extent[axis] / static_cast<float>(kSpatialBins);
-      for (std::uint32_t j = 0; j <= kSpatialBins; ++j)
-        position[j] = bounds.lower[axis] + width * static_cast<float>(j);
-      position[0] = -kInfinity;
-      position[kSpatialBins] = kInfinity;
-      Aabb boxes[kSpatialBins];
-      std::uint32_t entries[kSpatialBins] = {}, exits[kSpatialBins] = {};
-      for (const Ref& r : refs) {
-        // first: the lowest bin with a part of the reference (lower < its upper plane);
-        // last: the highest (upper > its lower plane); a reference lying in a plane goes
-        // to the bin above it, as partition_spatial sends it right.
-        const float lower = r.box.lower[axis], upper = r.box.upper[axis];
-        auto guess = [&](float x) {
-          const auto j = static_cast<std::int32_t>((x - bounds.lower[axis]) / width);
-          return static_cast<std::uint32_t>(
-              std::clamp<std::int32_t>(j, 0, static_cast<std::int32_t>(kSpatialBins) - 1));
-        };
-        std::uint32_t first = guess(lower);
-        while (first > 0 && lower < position[first]) --first;
-        while (first + 1 < kSpatialBins && lower >= position[first + 1]) ++first;
-        std::uint32_t last = guess(upper);
-        while (last + 1 < kSpatialBins && upper > position[last + 1]) ++last;
-        while (last > 0 && upper <= position[last]) --last;
-        if (last < first) last = first;
-        ++entries[first];
-        ++exits[last];
-        Aabb rest = r.box;
-        for (std::uint32_t j = first; j < last; ++j) {
-          Aabb part, remainder;
-          split_reference(triangles_[r.id], rest, axis, position[j + 1], part, remainder);
-          boxes[j].extend(part);
-          rest = remainder;
-        }
-        boxes[last].extend(rest);
+    // An extent that overflowed (coordinates near the float limit) gets no planes.
+    if (!(extent[axis] > 0.0f) || !std::isfinite(extent[axis])) return best;
+    // Planes at position[1..kSpatialBins-1]; bin j lies between planes j and j + 1.
+    float position[kSpatialBins + 1];
+    const float width = extent[axis] / static_cast<float>(kSpatialBins);
+    for (std::uint32_t j = 0; j <= kSpatialBins; ++j)
+      position[j] = bounds.lower[axis] + width * static_cast<float>(j);
+    position[0] = -kInfinity;
+    position[kSpatialBins] = kInfinity;
+    Aabb boxes[kSpatialBins];
+    std::uint32_t entries[kSpatialBins] = {}, exits[kSpatialBins] = {};
+    for (const Ref& r : refs) {
+      // first: the lowest bin with a part of the reference (lower < its upper plane);
+      // last: the highest (upper > its lower plane); a reference lying in a plane goes
+      // to the bin above it, as partition_spatial sends it right.
+      const float lower = r.box.lower[axis], upper = r.box.upper[axis];
+      auto guess = [&](float x) {
+        const auto j = static_cast<std::int32_t>((x - bounds.lower[axis]) / width);
+        return static_cast<std::uint32_t>(
+            std::clamp<std::int32_t>(j, 0, static_cast<std::int32_t>(kSpatialBins) - 1));
+      };
+      std::uint32_t first = guess(lower);
+      while (first > 0 && lower < position[first]) --first;
+      while (first + 1 < kSpatialBins && lower >= position[first + 1]) ++first;
+      std::uint32_t last = guess(upper);
+      while (last + 1 < kSpatialBins && upper > position[last + 1]) ++last;
+      while (last > 0 && upper <= position[last]) --last;
+      if (last < first) last = first;
+      ++entries[first];
+      ++exits[last];
+      Aabb rest = r.box;
+      for (std::uint32_t j = first; j < last; ++j) {
+        Aabb part, remainder;
+        split_reference(triangles_[r.id], rest, axis, position[j + 1], part, remainder);
+        boxes[j].extend(part);
+        rest = remainder;
       }
-      Aabb right_boxes[kSpatialBins];
-      std::uint32_t right_counts[kSpatialBins];
-      Aabb accumulated;
-      std::uint32_t accumulated_count = 0;
-      for (std::uint32_t j = kSpatialBins - 1; j > 0; --j) {
-        accumulated.extend(boxes[j]);
-        accumulated_count += exits[j];
-        right_boxes[j] = accumulated;
-        right_counts[j] = accumulated_count;
-      }
-      accumulated = Aabb{};
-      accumulated_count = 0;
-      for (std::uint32_t j = 1; j < kSpatialBins; ++j) {
-        accumulated.extend(boxes[j - 1]);
-        accumulated_count += entries[j - 1];
-        const std::uint32_t right_count = right_counts[j];
-        if (accumulated_count == 0 || right_count == 0 || accumulated_count == refs.size() ||
-            right_count == refs.size())
-          continue;
-        if (accumulated_count + right_count - refs.size() > budget) continue;
-        const float cost =
-            side_cost(accumulated, accumulated_count) + side_cost(right_boxes[j], right_count);
-        if (cost < best.cost)
-          best = SpatialSplit{axis, position[j], cost, accumulated_count, right_count};
-      }
+      boxes[last].extend(rest);
+    }
+    Aabb right_boxes[kSpatialBins];
+    std::uint32_t right_counts[kSpatialBins];
+    Aabb accumulated;
+    std::uint32_t accumulated_count = 0;
+    for (std::uint32_t j = kSpatialBins - 1; j > 0; --j) {
+      accumulated.extend(boxes[j]);
+      accumulated_count += exits[j];
+      right_boxes[j] = accumulated;
+      right_counts[j] = accumulated_count;
+    }
+    accumulated = Aabb{};
+    accumulated_count = 0;
+    for (std::uint32_t j = 1; j < kSpatialBins; ++j) {
+      accumulated.extend(boxes[j - 1]);
+      accumulated_count += entries[j - 1];
+      const std::uint32_t right_count = right_counts[j];
+      if (accumulated_count == 0 || right_count == 0 || accumulated_count == refs.size() ||
+          right_count == refs.size())
+        continue;
+      if (accumulated_count + right_count - refs.size() > budget) continue;
+      const float cost =
+          side_cost(accumulated, accumulated_count) + side_cost(right_boxes[j], right_count);
+      if (cost < best.cost)
+        best = SpatialSplit{axis, position[j], cost, accumulated_count, right_count};
     }
     return best;
   }

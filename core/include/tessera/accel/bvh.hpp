@@ -1,4 +1,5 @@
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -23,6 +24,16 @@ static_assert(sizeof(BvhNode) == 32);
 // Traversal never needs more stack than the tree is deep; the builder caps the depth at
 // this so a fixed-size stack can never drop a node.
 inline constexpr std::uint32_t kMaxBvhDepth = 64;
+
+// Whether a node at `depth` holding `count` references must be halved by median splits for
+// its subtree to fit under kMaxBvhDepth with leaves of at most `max_leaf` (>= 1): it needs
+// ceil(log2(leaves)) more levels below its children. The binned and spatial-split builders
+// both ask it.
+inline bool bvh_near_depth_cap(std::uint32_t depth, std::uint32_t count, std::uint32_t max_leaf) {
+  const std::uint32_t leaves = (count + max_leaf - 1) / max_leaf;
+  const auto levels = static_cast<std::uint32_t>(leaves <= 1 ? 0 : std::bit_width(leaves - 1));
+  return depth + 1 + levels >= kMaxBvhDepth;
+}
 
 class TriangleAccel;
 class InstanceAccel;

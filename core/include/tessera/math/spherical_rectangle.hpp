@@ -140,7 +140,7 @@ struct SphericalRectangle {
     const double num = cos_au * b0d - b1d;
     const double n = num * num - one_minus_b0_sq * (sin_au * sin_au);
     double xu = -zd * (num > 0.0 ? sin_au : -sin_au) / std::sqrt(n > 1e-300 ? n : 1e-300);
-    xu = xu < x0 ? x0 : (xu > x1 ? x1 : xu);
+    xu = glm::clamp(xu, double{x0}, double{x1});
     const double d2 = xu * xu + z2;
     const double h0 = y0d / std::sqrt(d2 + y0d * y0d);
     const double h1 = y1d / std::sqrt(d2 + y1d * y1d);
@@ -148,7 +148,7 @@ struct SphericalRectangle {
     const double one_minus_hv_sq = 1.0 - hv * hv;
     double yv =
         one_minus_hv_sq > 0.0 ? hv * std::sqrt(d2 / one_minus_hv_sq) : (hv < 0.0 ? y0d : y1d);
-    yv = yv < y0d ? y0d : (yv > y1d ? y1d : yv);
+    yv = glm::clamp(yv, y0d, y1d);
     return vec2(static_cast<float>(xu), static_cast<float>(yv));
   }
 };
