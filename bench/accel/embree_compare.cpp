@@ -6,7 +6,7 @@
 // is judged against. Embree is a yardstick here only: nothing outside bench/ links it.
 //   embree_compare --mesh FILE --rays FILE.rays [--threads N] [--query closest|any] [--repeat R]
 //                  [--embree-quality both|medium|high] [--embree-config verbose=2]
-//                  [--accel wide|bvh|octree|brute|auto] [--isa auto|sse2]
+//                  [--accel wide|bvh|octree|brute|auto] [--isa auto|sse2|avx2|avx512]
 //                  [--leaf-size N] [--bins N] [--merge N] [--traversal-cost C] [--presplit F]
 #include <embree3/rtcore.h>
 #include <spdlog/spdlog.h>
@@ -157,7 +157,10 @@ int main(int argc, char** argv) {
                  "appended to Embree's device configuration (e.g. verbose=2: prints the builder)");
   app.add_option("--accel", accel_name, "our structure")
       ->check(CLI::IsMember({"bvh", "wide", "octree", "brute", "auto"}));
-  app.add_option("--isa", isa, "our kernels: auto or sse2")->check(CLI::IsMember({"auto", "sse2"}));
+  app.add_option(
+         "--isa", isa,
+         "our kernels: auto (the widest the processor runs) or at most sse2, avx2 or avx512")
+      ->check(CLI::IsMember({"auto", "sse2", "avx2", "avx512"}));
   // Tuning (as tessera-bench trace): measured as ratios, which move less on a busy machine.
   std::uint32_t leaf_size = 0, bins = 0;
   int merge_limit = -1;
@@ -215,7 +218,7 @@ int main(int argc, char** argv) {
 
     AccelBuildOptions options;
     options.kind = *parse_accel_kind(accel_name);
-    options.allow_avx2 = isa != "sse2";
+    if (isa != "auto") options.max_isa = *parse_kernel_isa(isa);
     if (leaf_size != 0) options.wide.max_leaf_size = leaf_size;
     if (bins != 0) options.wide.bin_count = bins;
     if (traversal_cost != 0.0f) options.wide.traversal_cost = traversal_cost;

@@ -2,7 +2,7 @@
 //   tessera-bench rays  --mesh FILE --kind primary|diffuse --width W --height H --out FILE.rays
 //   tessera-bench trace --mesh FILE --rays FILE.rays [--threads N]
 //                       [--accel bvh|wide|octree|brute|auto] [--query closest|any]
-//                       [--repeat R] [--isa auto|sse2]
+//                       [--repeat R] [--isa auto|sse2|avx2|avx512]
 //   tessera-bench mesh  --shape knot|scatter|tubes|uneven --triangles N --out FILE.ply
 //                       [--strips S --rings R]  (tubes: tessellation of each tube)
 //   tessera-bench load  --mesh FILE [--repeat R]
@@ -99,7 +99,7 @@ int run_trace_command(const std::string& mesh_path, const std::string& rays_path
   std::printf("rays: %zu from %s\n", rays.size(), rays_path.c_str());
   AccelBuildOptions options;
   options.kind = *parse_accel_kind(accel_name);
-  options.allow_avx2 = isa != "sse2";
+  if (isa != "auto") options.max_isa = *parse_kernel_isa(isa);
   for (BvhBuildOptions* bvh : {&options.bvh, &options.wide}) {
     if (tune.leaf_size != 0) bvh->max_leaf_size = tune.leaf_size;
     if (tune.bins != 0) bvh->bin_count = tune.bins;
@@ -224,8 +224,10 @@ int main(int argc, char** argv) {
       ->add_option("--traversal-cost", tune.traversal_cost,
                    "tuning: SAH node cost per triangle-block cost")
       ->check(CLI::Range(0.01f, 100.0f));
-  trace->add_option("--isa", isa, "auto (AVX2 where present) or sse2")
-      ->check(CLI::IsMember({"auto", "sse2"}));
+  trace
+      ->add_option("--isa", isa,
+                   "auto (the widest the processor runs) or at most sse2, avx2 or avx512")
+      ->check(CLI::IsMember({"auto", "sse2", "avx2", "avx512"}));
 
   auto* mesh_cmd =
       app.add_subcommand("mesh", "write a deterministic synthetic benchmark mesh as PLY");

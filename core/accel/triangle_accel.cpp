@@ -38,8 +38,34 @@ std::optional<AccelKind> parse_accel_kind(std::string_view name) {
   return std::nullopt;
 }
 
-bool cpu_supports_avx2_kernels() {
-  return accel_detail::cpu_has_avx2();
+std::string_view kernel_isa_name(KernelIsa isa) {
+  switch (isa) {
+    case KernelIsa::kSse2:
+      return "sse2";
+    case KernelIsa::kAvx2:
+      return "avx2";
+    case KernelIsa::kAvx512:
+      return "avx512";
+  }
+  return "unknown";
+}
+
+std::optional<KernelIsa> parse_kernel_isa(std::string_view name) {
+  for (KernelIsa isa : {KernelIsa::kSse2, KernelIsa::kAvx2, KernelIsa::kAvx512})
+    if (kernel_isa_name(isa) == name) return isa;
+  return std::nullopt;
+}
+
+bool cpu_supports_kernels(KernelIsa isa) {
+  switch (isa) {
+    case KernelIsa::kSse2:
+      return TESSERA_HAVE_SIMD_KERNELS != 0;
+    case KernelIsa::kAvx2:
+      return accel_detail::cpu_has_avx2();
+    case KernelIsa::kAvx512:
+      return accel_detail::cpu_has_avx512();
+  }
+  return false;
 }
 
 AccelKind choose_accel_kind(std::size_t triangle_count) {
@@ -81,15 +107,17 @@ struct ScalarTriangles {
   }
 };
 
-const accel_detail::TriangleKernels* select_kernels(AccelKind kind, bool allow_avx2) {
+const accel_detail::TriangleKernels* select_kernels(AccelKind kind, KernelIsa max_isa) {
 #if TESSERA_HAVE_SIMD_KERNELS
-  const bool avx2 = allow_avx2 && accel_detail::cpu_has_avx2();
-  if (kind == AccelKind::kBrute)
-    return avx2 ? &accel_detail::avx2::brute_kernels() : &accel_detail::sse2::brute_kernels();
-  return avx2 ? &accel_detail::avx2::wide_kernels() : &accel_detail::sse2::wide_kernels();
+  const bool brute = kind == AccelKind::kBrute;
+  if (max_isa >= KernelIsa::kAvx512 && cpu_supports_kernels(KernelIsa::kAvx512))
+    return brute ? &accel_detail::avx512::brute_kernels() : &accel_detail::avx512::wide_kernels();
+  if (max_isa >= KernelIsa::kAvx2 && cpu_supports_kernels(KernelIsa::kAvx2))
+    return brute ? &accel_detail::avx2::brute_kernels() : &accel_detail::avx2::wide_kernels();
+  return brute ? &accel_detail::sse2::brute_kernels() : &accel_detail::sse2::wide_kernels();
 #else
   (void)kind;
-  (void)allow_avx2;
+  (void)max_isa;
   return nullptr;
 #endif
 }
@@ -217,7 +245,7 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     // levels; the builders guarantee that depth, and this keeps it so.
     if (accel.wide_.depth > kMaxBvhDepth)
       throw std::logic_error("TriangleAccel: tree deeper than the traversal stack allows");
-    accel.kernels_ = select_kernels(kind, options.allow_avx2);
+    accel.kernels_ = select_kernels(kind, options.max_isa);
     accel.stats_.bytes = accel.wide_.bytes() + accel.blocks_.size() * sizeof(TriangleBlock4);
     accel.stats_.nodes = accel.wide_.nodes.size();
     accel.stats_.depth = accel.wide_.depth;

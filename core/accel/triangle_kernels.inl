@@ -3,8 +3,8 @@
 // Included once per instruction set by triangle_kernels_<isa>.cpp, which defines
 // TESSERA_KERNEL_NS (the namespace, so each set's instantiations have their own symbols)
 // and TESSERA_KERNEL_AVX2 (1: eight-wide box tests in one AVX2 instruction; 0: two SSE2
-// halves). The AVX2 file wraps this inclusion in `#pragma GCC target`, so only these
-// functions use AVX2 and the dispatcher can pick them at run time.
+// halves). The AVX2 and AVX-512 files wrap this inclusion in `#pragma GCC target`, so only
+// these functions use those sets and the dispatcher can pick them at run time.
 //
 // Everything here is free of fused multiply-adds on purpose (neither file enables FMA):
 // the watertight triangle test relies on edge functions of shared edges being computed

@@ -19,34 +19,36 @@ using accel_test::ReferenceHit;
 
 struct Variant {
   AccelKind kind;
-  bool avx2;
+  KernelIsa isa;
   float presplit = 0.0f;  // AccelBuildOptions::presplit_budget (wide BVH only)
   float sbvh = 0.0f;      // AccelBuildOptions::spatial_split_budget (wide BVH only)
 };
 
 std::string variant_name(const testing::TestParamInfo<Variant>& info) {
-  return std::string(accel_kind_name(info.param.kind)) + (info.param.avx2 ? "_avx2" : "_sse2") +
+  return std::string(accel_kind_name(info.param.kind)) + "_" +
+         std::string(kernel_isa_name(info.param.isa)) +
          (info.param.presplit > 0.0f ? "_presplit" : "") + (info.param.sbvh > 0.0f ? "_sbvh" : "");
 }
 
 class TriangleAccelTest : public testing::TestWithParam<Variant> {
  protected:
   void SetUp() override {
-    if (GetParam().avx2 && !cpu_supports_avx2_kernels())
-      GTEST_SKIP() << "no AVX2 on this processor";
+    if (!cpu_supports_kernels(GetParam().isa))
+      GTEST_SKIP() << "this processor does not run the " << kernel_isa_name(GetParam().isa)
+                   << " kernels";
   }
 
   TriangleAccel build(const std::vector<Triangle>& tris) const {
     AccelBuildOptions options;
     options.kind = GetParam().kind;
-    options.allow_avx2 = GetParam().avx2;
+    options.max_isa = GetParam().isa;
     options.presplit_budget = GetParam().presplit;
     options.spatial_split_budget = GetParam().sbvh;
     options.octree.leaf_size = 4;  // deep octrees: more duplicated references
     TriangleAccel accel = TriangleAccel::build(tris, options);
     EXPECT_EQ(accel.stats().kind, GetParam().kind);
     if (GetParam().kind != AccelKind::kBvh) {
-      EXPECT_EQ(accel.stats().isa, GetParam().avx2 ? "avx2" : "sse2");
+      EXPECT_EQ(accel.stats().isa, kernel_isa_name(GetParam().isa));
     }
     return accel;
   }
@@ -299,7 +301,7 @@ TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
   for (std::uint32_t i = 0; i < references.size(); ++i) references[i] = 0x80000000U | (7 * i + 3);
   AccelBuildOptions options;
   options.kind = GetParam().kind;
-  options.allow_avx2 = GetParam().avx2;
+  options.max_isa = GetParam().isa;
   options.presplit_budget = GetParam().presplit;
   options.spatial_split_budget = GetParam().sbvh;
   const TriangleAccel accel = TriangleAccel::build(tris, options, references);
@@ -322,16 +324,24 @@ TEST_P(TriangleAccelTest, HitsNameTrianglesByTheGivenReferences) {
   EXPECT_GT(hits, 30u);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllStructures, TriangleAccelTest,
-    testing::Values(Variant{AccelKind::kBvh, false}, Variant{AccelKind::kWide, false},
-                    Variant{AccelKind::kWide, true}, Variant{AccelKind::kOctree, false},
-                    Variant{AccelKind::kOctree, true}, Variant{AccelKind::kBrute, false},
-                    Variant{AccelKind::kBrute, true}, Variant{AccelKind::kWide, false, 1.0f},
-                    Variant{AccelKind::kWide, true, 1.0f},
-                    Variant{AccelKind::kWide, false, 0.0f, 1.0f},
-                    Variant{AccelKind::kWide, true, 0.0f, 1.0f}),
-    variant_name);
+INSTANTIATE_TEST_SUITE_P(AllStructures, TriangleAccelTest,
+                         testing::Values(Variant{AccelKind::kBvh, KernelIsa::kSse2},
+                                         Variant{AccelKind::kWide, KernelIsa::kSse2},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx2},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx512},
+                                         Variant{AccelKind::kOctree, KernelIsa::kSse2},
+                                         Variant{AccelKind::kOctree, KernelIsa::kAvx2},
+                                         Variant{AccelKind::kOctree, KernelIsa::kAvx512},
+                                         Variant{AccelKind::kBrute, KernelIsa::kSse2},
+                                         Variant{AccelKind::kBrute, KernelIsa::kAvx2},
+                                         Variant{AccelKind::kBrute, KernelIsa::kAvx512},
+                                         Variant{AccelKind::kWide, KernelIsa::kSse2, 1.0f},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx2, 1.0f},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx512, 1.0f},
+                                         Variant{AccelKind::kWide, KernelIsa::kSse2, 0.0f, 1.0f},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx2, 0.0f, 1.0f},
+                                         Variant{AccelKind::kWide, KernelIsa::kAvx512, 0.0f, 1.0f}),
+                         variant_name);
 
 TEST(AccelChooser, BruteForceForFewTrianglesWideBvhOtherwise) {
   EXPECT_EQ(choose_accel_kind(1), AccelKind::kBrute);

@@ -23,6 +23,19 @@ enum class AccelKind : std::uint8_t { kAuto, kBvh, kWide, kOctree, kBrute };
 std::string_view accel_kind_name(AccelKind kind);
 std::optional<AccelKind> parse_accel_kind(std::string_view name);
 
+// The instruction sets the SIMD kernels are compiled for, narrowest first. A structure is
+// walked by the widest one the processor runs, up to AccelBuildOptions::max_isa.
+//   sse2   - the x86-64 baseline: eight-wide boxes as two four-lane halves
+//   avx2   - eight-wide boxes in one instruction, two triangle blocks at a time
+//   avx512 - the AVX2 kernels with AVX-512 (F, VL, BW, DQ) allowed: 32 vector registers,
+//            so the ray's constants stay in registers, and compares straight into masks
+enum class KernelIsa : std::uint8_t { kSse2, kAvx2, kAvx512 };
+
+std::string_view kernel_isa_name(KernelIsa isa);
+std::optional<KernelIsa> parse_kernel_isa(std::string_view name);
+// True when this processor runs the kernels compiled for `isa`.
+bool cpu_supports_kernels(KernelIsa isa);
+
 // Up to this many triangles brute force is as fast as any tree (measured, see the note in
 // bench/accel/README.md); above it the wide BVH is fastest for every scene measured.
 inline constexpr std::size_t kBruteForceMaxTriangles = 48;
@@ -52,7 +65,9 @@ struct AccelBuildOptions {
   // choose_spatial_split_budget.
   std::optional<float> spatial_split_budget;
   OctreeLimits octree{};
-  bool allow_avx2 = true;  // false keeps the SSE2 kernels even where AVX2 is present
+  // The widest kernels used where the processor runs them (a narrower one for tests and
+  // comparisons).
+  KernelIsa max_isa = KernelIsa::kAvx512;
 };
 
 // The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
@@ -83,7 +98,7 @@ float choose_spatial_split_budget(std::size_t triangle_count, float presplit_bud
 
 struct AccelStats {
   AccelKind kind = AccelKind::kAuto;  // the structure actually built
-  std::string_view isa;               // "scalar", "sse2" or "avx2"
+  std::string_view isa;               // "scalar" or kernel_isa_name of the kernels
   double build_seconds = 0.0;
   std::size_t bytes = 0;  // nodes, leaf data and references, excluding the input triangles
   std::size_t nodes = 0;
@@ -98,9 +113,6 @@ struct AccelStats {
   bool spatial_split_chosen = false;  // that budget was chosen, not given
   WideSahCost sah{};                  // of the wide tree (kWide and kOctree): its quality
 };
-
-// True when this processor runs the AVX2 kernels (otherwise the SSE2 ones are used).
-bool cpu_supports_avx2_kernels();
 
 // The read-only data the SIMD kernels walk (wide BVH, octree and brute force).
 struct WideTriangleView {
