@@ -2,8 +2,10 @@
 // by a target pragma as the AVX2 file does. The kernels stay eight lanes wide (a node's
 // boxes, a pair of triangle blocks); what AVX-512 adds is 32 vector registers instead of 16,
 // so the ray's box and triangle constants are not reloaded from the stack at every node,
-// and compares that write mask registers. Measured against the AVX2 build on diffuse rays
-// (bench/accel/README.md): +2 to +4%.
+// and compares that write mask registers. Measured against the AVX2 build (alternating
+// runs, bench/accel/README.md): diffuse rays +0 to +1.7%, primary rays +0.4%. Allowing the
+// compiler to fuse multiplies and adds as well gave +1 to +3%, but broke bit-equality with
+// the scalar triangle test (core/CMakeLists.txt turns contraction off for these files).
 #include "triangle_kernels.hpp"
 
 #if TESSERA_HAVE_SIMD_KERNELS
