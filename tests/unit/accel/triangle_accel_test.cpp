@@ -360,5 +360,33 @@ TEST(AccelKindNames, RoundTrip) {
   EXPECT_FALSE(parse_accel_kind("kd-tree").has_value());
 }
 
+TEST(KernelIsaNames, RoundTrip) {
+  for (KernelIsa isa : {KernelIsa::kSse2, KernelIsa::kAvx2, KernelIsa::kAvx512})
+    EXPECT_EQ(parse_kernel_isa(kernel_isa_name(isa)), isa);
+  EXPECT_FALSE(parse_kernel_isa("neon").has_value());
+}
+
+// The widest set the processor runs, never above the cap: a cap the processor lacks falls
+// back to the next narrower set it has, and each wider set implies the narrower ones.
+TEST(KernelIsaChoice, WidestTheProcessorRunsUpToTheCap) {
+  if (!cpu_supports_kernels(KernelIsa::kSse2)) GTEST_SKIP() << "no SIMD kernels on this target";
+  const auto tris = accel_test::triangle_soup(64, 5);
+  const auto built_isa = [&](KernelIsa cap) {
+    AccelBuildOptions options;
+    options.kind = AccelKind::kWide;
+    options.max_isa = cap;
+    return std::string(TriangleAccel::build(tris, options).stats().isa);
+  };
+  EXPECT_EQ(built_isa(KernelIsa::kSse2), "sse2");
+  const bool avx2 = cpu_supports_kernels(KernelIsa::kAvx2);
+  const bool avx512 = cpu_supports_kernels(KernelIsa::kAvx512);
+  if (avx512) {
+    EXPECT_TRUE(avx2);
+  }
+  EXPECT_EQ(built_isa(KernelIsa::kAvx2), avx2 ? "avx2" : "sse2");
+  EXPECT_EQ(built_isa(KernelIsa::kAvx512), avx512 ? "avx512" : (avx2 ? "avx2" : "sse2"));
+  EXPECT_EQ(built_isa(AccelBuildOptions{}.max_isa), built_isa(KernelIsa::kAvx512));
+}
+
 }  // namespace
 }  // namespace tessera
