@@ -1,12 +1,14 @@
 // SIMD traversal kernels of the wide BVH, octree and brute-force triangle tracers.
 //
 // Included once per instruction set by triangle_kernels_<isa>.cpp, which defines
-// TESSERA_KERNEL_NS (the namespace, so each set's instantiations have their own symbols)
-// and TESSERA_KERNEL_AVX2 (1: eight-wide box tests in one AVX2 instruction; 0: two SSE2
-// halves). The AVX2 and AVX-512 files wrap this inclusion in `#pragma GCC target`, so only
-// these functions use those sets and the dispatcher can pick them at run time.
+// TESSERA_KERNEL_NS (the namespace, so each set's instantiations have their own symbols),
+// TESSERA_KERNEL_AVX2 (1: eight-wide box tests in one AVX2 instruction; 0: two SSE2
+// halves) and TESSERA_KERNEL_AVX512 (1: leaves test three or four triangle blocks at once).
+// The AVX2 and AVX-512 files wrap this inclusion in `#pragma GCC target`, so only these
+// functions use those sets and the dispatcher can pick them at run time.
 //
-// Everything here is free of fused multiply-adds on purpose (neither file enables FMA):
+// Everything here is free of fused multiply-adds on purpose (the kernel files compile with
+// -ffp-contract=off, core/CMakeLists.txt, as the AVX-512 target would allow them):
 // the watertight triangle test relies on edge functions of shared edges being computed
 // with the same roundings, and the results must equal tessera::intersect bit for bit.
 
@@ -336,6 +338,123 @@ inline float lane_of(__m256 v, std::uint32_t lane) {
 }
 #endif
 
+#if TESSERA_KERNEL_AVX512
+// Three or four blocks at once on sixteen AVX-512 lanes (block k in lanes 4k..4k+3): the same
+// operations as intersect_block, so each lane's result is the same bit for bit. With three
+// blocks the third is loaded twice and its second copy's lanes are masked off.
+struct QuadRay {
+  __m512 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
+  std::uint32_t row_x, row_y, row_z;
+  explicit QuadRay(const TriangleRay& r)
+      : origin_x(_mm512_broadcastss_ps(r.origin_x)),
+        origin_y(_mm512_broadcastss_ps(r.origin_y)),
+        origin_z(_mm512_broadcastss_ps(r.origin_z)),
+        sx(_mm512_broadcastss_ps(r.sx)),
+        sy(_mm512_broadcastss_ps(r.sy)),
+        sz(_mm512_broadcastss_ps(r.sz)),
+        t_min(_mm512_broadcastss_ps(r.t_min)),
+        row_x(r.row_x),
+        row_y(r.row_y),
+        row_z(r.row_z) {}
+};
+
+struct QuadHits {
+  std::uint32_t mask;
+  __m512 t, b1, b2;
+};
+
+TESSERA_KERNEL_INLINE std::uint32_t intersect_quad(const TriangleBlock4* blocks, bool four,
+                                                   const QuadRay& r, float t_max, QuadHits& out) {
+  const float* v0 = &blocks[0].vertices[0][0][0];
+  const float* v1 = &blocks[1].vertices[0][0][0];
+  const float* v2 = &blocks[2].vertices[0][0][0];
+  const float* v3 = four ? &blocks[3].vertices[0][0][0] : v2;
+  const auto row = [&](std::uint32_t offset) {
+    __m512 v = _mm512_castps128_ps512(_mm_load_ps(v0 + offset));
+    v = _mm512_insertf32x4(v, _mm_load_ps(v1 + offset), 1);
+    v = _mm512_insertf32x4(v, _mm_load_ps(v2 + offset), 2);
+    return _mm512_insertf32x4(v, _mm_load_ps(v3 + offset), 3);
+  };
+  const __m512 a_x = _mm512_sub_ps(row(r.row_x), r.origin_x);
+  const __m512 a_y = _mm512_sub_ps(row(r.row_y), r.origin_y);
+  const __m512 a_z = _mm512_sub_ps(row(r.row_z), r.origin_z);
+  const __m512 b_x = _mm512_sub_ps(row(12 + r.row_x), r.origin_x);
+  const __m512 b_y = _mm512_sub_ps(row(12 + r.row_y), r.origin_y);
+  const __m512 b_z = _mm512_sub_ps(row(12 + r.row_z), r.origin_z);
+  const __m512 c_x = _mm512_sub_ps(row(24 + r.row_x), r.origin_x);
+  const __m512 c_y = _mm512_sub_ps(row(24 + r.row_y), r.origin_y);
+  const __m512 c_z = _mm512_sub_ps(row(24 + r.row_z), r.origin_z);
+  const __m512 ax = _mm512_sub_ps(a_x, _mm512_mul_ps(r.sx, a_z));
+  const __m512 ay = _mm512_sub_ps(a_y, _mm512_mul_ps(r.sy, a_z));
+  const __m512 bx = _mm512_sub_ps(b_x, _mm512_mul_ps(r.sx, b_z));
+  const __m512 by = _mm512_sub_ps(b_y, _mm512_mul_ps(r.sy, b_z));
+  const __m512 cx = _mm512_sub_ps(c_x, _mm512_mul_ps(r.sx, c_z));
+  const __m512 cy = _mm512_sub_ps(c_y, _mm512_mul_ps(r.sy, c_z));
+  __m512 u = _mm512_sub_ps(_mm512_mul_ps(cx, by), _mm512_mul_ps(cy, bx));
+  __m512 w1 = _mm512_sub_ps(_mm512_mul_ps(ax, cy), _mm512_mul_ps(ay, cx));
+  __m512 w2 = _mm512_sub_ps(_mm512_mul_ps(bx, ay), _mm512_mul_ps(by, ax));
+  const __m512 zero = _mm512_setzero_ps();
+  const __mmask16 zero_lanes = _mm512_cmp_ps_mask(u, zero, _CMP_EQ_OQ) |
+                               _mm512_cmp_ps_mask(w1, zero, _CMP_EQ_OQ) |
+                               _mm512_cmp_ps_mask(w2, zero, _CMP_EQ_OQ);
+  if (zero_lanes != 0) [[unlikely]] {
+    alignas(64) float u_[16], w1_[16], w2_[16], ax_[16], ay_[16], bx_[16], by_[16], cx_[16],
+        cy_[16];
+    _mm512_store_ps(u_, u);
+    _mm512_store_ps(w1_, w1);
+    _mm512_store_ps(w2_, w2);
+    _mm512_store_ps(ax_, ax);
+    _mm512_store_ps(ay_, ay);
+    _mm512_store_ps(bx_, bx);
+    _mm512_store_ps(by_, by);
+    _mm512_store_ps(cx_, cx);
+    _mm512_store_ps(cy_, cy);
+    for (int lane = 0; lane < 16; ++lane) {
+      if (!(zero_lanes & (1 << lane))) continue;
+      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
+                                    static_cast<double>(cy_[lane]) * bx_[lane]);
+      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
+                                     static_cast<double>(ay_[lane]) * cx_[lane]);
+      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
+                                     static_cast<double>(by_[lane]) * ax_[lane]);
+    }
+    u = _mm512_load_ps(u_);
+    w1 = _mm512_load_ps(w1_);
+    w2 = _mm512_load_ps(w2_);
+  }
+  const __mmask16 negative = _mm512_cmp_ps_mask(u, zero, _CMP_LT_OQ) |
+                             _mm512_cmp_ps_mask(w1, zero, _CMP_LT_OQ) |
+                             _mm512_cmp_ps_mask(w2, zero, _CMP_LT_OQ);
+  const __mmask16 positive = _mm512_cmp_ps_mask(u, zero, _CMP_GT_OQ) |
+                             _mm512_cmp_ps_mask(w1, zero, _CMP_GT_OQ) |
+                             _mm512_cmp_ps_mask(w2, zero, _CMP_GT_OQ);
+  const __m512 det = _mm512_add_ps(_mm512_add_ps(u, w1), w2);
+  // Mixed signs: the ray passes outside. NaN lanes (padding) fail the t test below.
+  __mmask16 valid = static_cast<__mmask16>(~(negative & positive)) &
+                    _mm512_cmp_ps_mask(det, zero, _CMP_NEQ_UQ) &
+                    static_cast<__mmask16>(four ? 0xFFFF : 0x0FFF);
+  if (valid == 0) return 0;
+  const __m512 t_scaled = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(u, _mm512_mul_ps(r.sz, a_z)),
+                                                      _mm512_mul_ps(w1, _mm512_mul_ps(r.sz, b_z))),
+                                        _mm512_mul_ps(w2, _mm512_mul_ps(r.sz, c_z)));
+  const __m512 inv_det = _mm512_div_ps(_mm512_set1_ps(1.0f), det);
+  const __m512 t = _mm512_mul_ps(t_scaled, inv_det);
+  valid &= _mm512_cmp_ps_mask(t, r.t_min, _CMP_GT_OQ) &
+           _mm512_cmp_ps_mask(t, _mm512_set1_ps(t_max), _CMP_LT_OQ);
+  out.mask = valid;
+  out.t = t;
+  out.b1 = _mm512_mul_ps(w1, inv_det);
+  out.b2 = _mm512_mul_ps(w2, inv_det);
+  return out.mask;
+}
+
+inline float lane_of(__m512 v, std::uint32_t lane) {
+  alignas(64) float values[16];
+  _mm512_store_ps(values, v);
+  return values[lane];
+}
+#endif
+
 inline float lane_of(__m128 v, std::uint32_t lane) {
   alignas(16) float values[4];
   _mm_store_ps(values, v);
@@ -354,8 +473,31 @@ struct ClosestQuery {
   TESSERA_KERNEL_INLINE bool leaf(const TriangleBlock4* blocks, std::uint32_t first,
                                   std::uint32_t count, const TriangleRay& r) {
     std::uint32_t b = first;
+#if TESSERA_KERNEL_AVX512
+    if (count >= 3) {
+      const QuadRay quad_ray(r);
+      for (; b + 2 < first + count; b += 4) {
+        const bool four = b + 3 < first + count;
+        QuadHits hits;
+        if (intersect_quad(blocks + b, four, quad_ray, t_max, hits) == 0) continue;
+        // Nearest lane; on equal t the lowest, the block tested first, as in sequence.
+        const __m512 masked = _mm512_mask_blend_ps(static_cast<__mmask16>(hits.mask),
+                                                   _mm512_set1_ps(kInfinity), hits.t);
+        const float nearest_t = _mm512_reduce_min_ps(masked);
+        const auto nearest = static_cast<std::uint32_t>(_mm512_cmp_ps_mask(
+                                 masked, _mm512_set1_ps(nearest_t), _CMP_EQ_OQ)) &
+                             hits.mask;
+        const auto lane = static_cast<std::uint32_t>(__builtin_ctz(nearest));
+        t_max = lane_of(hits.t, lane);
+        best = HitRecord{t_max, lane_of(hits.b1, lane), lane_of(hits.b2, lane),
+                         blocks[b + lane / 4].ids[lane % 4]};
+        found = true;
+      }
+      if (b > first + count) b = first + count;  // three were left: all tested
+    }
+#endif
 #if TESSERA_KERNEL_AVX2
-    if (count >= 2) {
+    if (b + 1 < first + count) {
       const PairRay pair_ray(r);
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;
@@ -402,8 +544,21 @@ struct AnyQuery {
   TESSERA_KERNEL_INLINE bool leaf(const TriangleBlock4* blocks, std::uint32_t first,
                                   std::uint32_t count, const TriangleRay& r) {
     std::uint32_t b = first;
+#if TESSERA_KERNEL_AVX512
+    if (count >= 3) {
+      const QuadRay quad_ray(r);
+      for (; b + 2 < first + count; b += 4) {
+        QuadHits hits;
+        if (intersect_quad(blocks + b, b + 3 < first + count, quad_ray, t_max, hits) != 0) {
+          found = true;
+          return true;
+        }
+      }
+      if (b > first + count) b = first + count;
+    }
+#endif
 #if TESSERA_KERNEL_AVX2
-    if (count >= 2) {
+    if (b + 1 < first + count) {
       const PairRay pair_ray(r);
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;

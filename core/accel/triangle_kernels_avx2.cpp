@@ -32,6 +32,7 @@ bool cpu_has_avx2() {
 #define TESSERA_KERNEL_NS avx2
 #define TESSERA_KERNEL_ISA_NAME "avx2"
 #define TESSERA_KERNEL_AVX2 1
+#define TESSERA_KERNEL_AVX512 0
 #include "triangle_kernels.inl"
 #if defined(__clang__)
 #pragma clang attribute pop

@@ -34,14 +34,21 @@ bool cpu_has_avx512() {
 #else
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,popcnt,avx512f,avx512vl,avx512bw,avx512dq")
+// GCC 12's AVX-512 intrinsics (_mm512_broadcastss_ps, _mm512_reduce_min_ps) pass
+// _mm512_undefined_ps() as the unused merge source, which -Wmaybe-uninitialized reports
+// (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 #define TESSERA_KERNEL_NS avx512
 #define TESSERA_KERNEL_ISA_NAME "avx512"
 #define TESSERA_KERNEL_AVX2 1
+#define TESSERA_KERNEL_AVX512 1
 #include "triangle_kernels.inl"
 #if defined(__clang__)
 #pragma clang attribute pop
 #else
+#pragma GCC diagnostic pop
 #pragma GCC pop_options
 #endif
 #else

@@ -14,5 +14,6 @@
 #define TESSERA_KERNEL_NS sse2
 #define TESSERA_KERNEL_ISA_NAME "sse2"
 #define TESSERA_KERNEL_AVX2 0
+#define TESSERA_KERNEL_AVX512 0
 #include "triangle_kernels.inl"
 #endif

@@ -113,6 +113,38 @@ TEST_P(TriangleAccelTest, TriangleSoupMatchesBruteForce) {
   expect_same_hits(tris, accel, accel_test::test_rays(1500, 11, 1.5f));
 }
 
+// Eight clusters of 9 to 16 triangles at the corners of a cube: the wide BVH's root takes
+// the clusters as its eight children, and each cluster's subtree becomes one leaf of three
+// to five blocks, which the AVX-512 kernels test up to four at a time in one sixteen-lane
+// pass (three-block passes with the third block's copy masked off).
+TEST_P(TriangleAccelTest, LeavesOfSeveralBlocksMatchBruteForce) {
+  for (std::uint32_t per_cluster = 9; per_cluster <= 16; ++per_cluster) {
+    SCOPED_TRACE(per_cluster);
+    std::mt19937 rng(40 + per_cluster);
+    std::vector<Triangle> tris;
+    for (int corner = 0; corner < 8; ++corner) {
+      const vec3 centre(corner & 1 ? 1.0f : -1.0f, corner & 2 ? 1.0f : -1.0f,
+                        corner & 4 ? 1.0f : -1.0f);
+      for (const Triangle& t : accel_test::triangle_soup(per_cluster, rng()))
+        tris.push_back(
+            Triangle{centre + 0.3f * t.p0, centre + 0.3f * t.p1, centre + 0.3f * t.p2, 0});
+    }
+    const TriangleAccel accel = build(tris);
+    // Rays from around the scene towards points near its triangles (some just outside), so
+    // most of them hit, often several triangles of one cluster.
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<Ray> rays = accel_test::test_rays(200, 80 + per_cluster, 1.5f);
+    for (std::size_t i = 0; i < 4 * tris.size(); ++i) {
+      const Triangle& t = tris[i % tris.size()];
+      const float a = 1.2f * unit(rng), b = (1.2f - a) * unit(rng);
+      const vec3 target = t.p0 + a * (t.p1 - t.p0) + b * (t.p2 - t.p0);
+      const vec3 origin = 4.0f * accel_test::random_direction(rng);
+      rays.push_back(Ray{origin, glm::normalize(target - origin), 0.0f, kInfinity});
+    }
+    expect_same_hits(tris, accel, rays);
+  }
+}
+
 TEST_P(TriangleAccelTest, LongThinTrianglesMatchBruteForce) {
   // Slivers spanning the cube diagonally (what pre-splitting cuts into several references,
   // several of which can meet in one leaf): closest, any and all hits as brute force.
