@@ -1,11 +1,13 @@
-// AVX-512 kernels: the AVX2 kernels' source compiled with AVX-512 F, VL, BW and DQ allowed,
-// by a target pragma as the AVX2 file does. The kernels stay eight lanes wide (a node's
-// boxes, a pair of triangle blocks); what AVX-512 adds is 32 vector registers instead of 16,
-// so the ray's box and triangle constants are not reloaded from the stack at every node,
-// and compares that write mask registers. Measured against the AVX2 build (alternating
-// runs, bench/accel/README.md): diffuse rays +0 to +1.7%, primary rays +0.4%. Allowing the
-// compiler to fuse multiplies and adds as well gave +1 to +3%, but broke bit-equality with
-// the scalar triangle test (core/CMakeLists.txt turns contraction off for these files).
+// AVX-512 kernels: the kernels' source compiled with AVX-512 F, VL, BW and DQ allowed, by a
+// target pragma as the AVX2 file does. Node tests stay eight lanes wide; what AVX-512 adds
+// is 32 vector registers instead of 16 (the ray's constants are not reloaded from the stack
+// at every node), compares that write mask registers, and leaves of three or four triangle
+// blocks tested in one sixteen-lane pass (TESSERA_KERNEL_AVX512 in the .inl). Measured
+// against the AVX2 build (alternating runs, bench/accel/README.md): the recompilation alone
+// gave diffuse rays +0 to +1.7% and primary rays +0.4%, the sixteen-lane leaves another
+// +2 to +6% on diffuse rays. Allowing the compiler to fuse multiplies and adds would have
+// given +1 to +3% more, but broke bit-equality with the scalar triangle test
+// (core/CMakeLists.txt turns contraction off for these files).
 #include "triangle_kernels.hpp"
 
 #if TESSERA_HAVE_SIMD_KERNELS

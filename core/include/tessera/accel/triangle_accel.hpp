@@ -28,7 +28,8 @@ std::optional<AccelKind> parse_accel_kind(std::string_view name);
 //   sse2   - the x86-64 baseline: eight-wide boxes as two four-lane halves
 //   avx2   - eight-wide boxes in one instruction, two triangle blocks at a time
 //   avx512 - the AVX2 kernels with AVX-512 (F, VL, BW, DQ) allowed: 32 vector registers,
-//            so the ray's constants stay in registers, and compares straight into masks
+//            compares straight into masks, and leaves of three or four triangle blocks
+//            tested in one sixteen-lane pass
 enum class KernelIsa : std::uint8_t { kSse2, kAvx2, kAvx512 };
 
 std::string_view kernel_isa_name(KernelIsa isa);
