@@ -124,6 +124,62 @@ TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const Pre
 
 // ---- Triangle blocks -------------------------------------------------------------------
 
+// Lane arrays of each vector width, for the rare scalar pass below.
+inline void store_lanes(float* to, __m128 v) {
+  _mm_store_ps(to, v);
+}
+inline __m128 load_lanes(const float* from, __m128) {
+  return _mm_load_ps(from);
+}
+#if TESSERA_KERNEL_AVX2
+inline void store_lanes(float* to, __m256 v) {
+  _mm256_store_ps(to, v);
+}
+inline __m256 load_lanes(const float* from, __m256) {
+  return _mm256_load_ps(from);
+}
+#endif
+#if TESSERA_KERNEL_AVX512
+inline void store_lanes(float* to, __m512 v) {
+  _mm512_store_ps(to, v);
+}
+inline __m512 load_lanes(const float* from, __m512) {
+  return _mm512_load_ps(from);
+}
+#endif
+
+// An edge function of exactly zero is recomputed in double, so the sign decision on a
+// shared edge or vertex is exact (rare: a scalar pass over the lanes in `zero_lanes`). The
+// same for the four-, eight- and sixteen-lane tests.
+template <typename V>
+TESSERA_KERNEL_INLINE void exact_zero_edges(std::uint32_t zero_lanes, V& u, V& w1, V& w2, V ax,
+                                            V ay, V bx, V by, V cx, V cy) {
+  constexpr int kLanes = static_cast<int>(sizeof(V) / sizeof(float));
+  alignas(64) float u_[kLanes], w1_[kLanes], w2_[kLanes], ax_[kLanes], ay_[kLanes], bx_[kLanes],
+      by_[kLanes], cx_[kLanes], cy_[kLanes];
+  store_lanes(u_, u);
+  store_lanes(w1_, w1);
+  store_lanes(w2_, w2);
+  store_lanes(ax_, ax);
+  store_lanes(ay_, ay);
+  store_lanes(bx_, bx);
+  store_lanes(by_, by);
+  store_lanes(cx_, cx);
+  store_lanes(cy_, cy);
+  for (int lane = 0; lane < kLanes; ++lane) {
+    if (!(zero_lanes & (1U << lane))) continue;
+    u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
+                                  static_cast<double>(cy_[lane]) * bx_[lane]);
+    w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
+                                   static_cast<double>(ay_[lane]) * cx_[lane]);
+    w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
+                                   static_cast<double>(by_[lane]) * ax_[lane]);
+  }
+  u = load_lanes(u_, u);
+  w1 = load_lanes(w1_, w1);
+  w2 = load_lanes(w2_, w2);
+}
+
 struct TriangleRay {
   __m128 origin_x, origin_y, origin_z;  // origin in the permuted frame
   __m128 sx, sy, sz, t_min;
@@ -174,34 +230,11 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_block(const TriangleBlock4& block,
   __m128 w2 = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
   const __m128 zero = _mm_setzero_ps();
 
-  // An edge function of exactly zero is recomputed in double, so the sign decision on a
-  // shared edge or vertex is exact (rare: a scalar pass over the affected lanes).
+  // Lanes with an edge function of exactly zero: recomputed in double (exact_zero_edges).
   const int zero_lanes = _mm_movemask_ps(
       _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(u, zero), _mm_cmpeq_ps(w1, zero)), _mm_cmpeq_ps(w2, zero)));
-  if (zero_lanes != 0) [[unlikely]] {
-    alignas(16) float u_[4], w1_[4], w2_[4], ax_[4], ay_[4], bx_[4], by_[4], cx_[4], cy_[4];
-    _mm_store_ps(u_, u);
-    _mm_store_ps(w1_, w1);
-    _mm_store_ps(w2_, w2);
-    _mm_store_ps(ax_, ax);
-    _mm_store_ps(ay_, ay);
-    _mm_store_ps(bx_, bx);
-    _mm_store_ps(by_, by);
-    _mm_store_ps(cx_, cx);
-    _mm_store_ps(cy_, cy);
-    for (int lane = 0; lane < 4; ++lane) {
-      if (!(zero_lanes & (1 << lane))) continue;
-      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
-                                    static_cast<double>(cy_[lane]) * bx_[lane]);
-      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
-                                     static_cast<double>(ay_[lane]) * cx_[lane]);
-      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
-                                     static_cast<double>(by_[lane]) * ax_[lane]);
-    }
-    u = _mm_load_ps(u_);
-    w1 = _mm_load_ps(w1_);
-    w2 = _mm_load_ps(w2_);
-  }
+  if (zero_lanes != 0) [[unlikely]]
+    exact_zero_edges(static_cast<std::uint32_t>(zero_lanes), u, w1, w2, ax, ay, bx, by, cx, cy);
 
   const __m128 negative =
       _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(w1, zero)), _mm_cmplt_ps(w2, zero));
@@ -282,30 +315,8 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_pair(const TriangleBlock4& first,
   const int zero_lanes = _mm256_movemask_ps(_mm256_or_ps(
       _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_EQ_OQ), _mm256_cmp_ps(w1, zero, _CMP_EQ_OQ)),
       _mm256_cmp_ps(w2, zero, _CMP_EQ_OQ)));
-  if (zero_lanes != 0) [[unlikely]] {
-    alignas(32) float u_[8], w1_[8], w2_[8], ax_[8], ay_[8], bx_[8], by_[8], cx_[8], cy_[8];
-    _mm256_store_ps(u_, u);
-    _mm256_store_ps(w1_, w1);
-    _mm256_store_ps(w2_, w2);
-    _mm256_store_ps(ax_, ax);
-    _mm256_store_ps(ay_, ay);
-    _mm256_store_ps(bx_, bx);
-    _mm256_store_ps(by_, by);
-    _mm256_store_ps(cx_, cx);
-    _mm256_store_ps(cy_, cy);
-    for (int lane = 0; lane < 8; ++lane) {
-      if (!(zero_lanes & (1 << lane))) continue;
-      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
-                                    static_cast<double>(cy_[lane]) * bx_[lane]);
-      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
-                                     static_cast<double>(ay_[lane]) * cx_[lane]);
-      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
-                                     static_cast<double>(by_[lane]) * ax_[lane]);
-    }
-    u = _mm256_load_ps(u_);
-    w1 = _mm256_load_ps(w1_);
-    w2 = _mm256_load_ps(w2_);
-  }
+  if (zero_lanes != 0) [[unlikely]]
+    exact_zero_edges(static_cast<std::uint32_t>(zero_lanes), u, w1, w2, ax, ay, bx, by, cx, cy);
   const __m256 negative = _mm256_or_ps(
       _mm256_or_ps(_mm256_cmp_ps(u, zero, _CMP_LT_OQ), _mm256_cmp_ps(w1, zero, _CMP_LT_OQ)),
       _mm256_cmp_ps(w2, zero, _CMP_LT_OQ));
@@ -397,31 +408,8 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_quad(const TriangleBlock4* blocks,
   const __mmask16 zero_lanes = _mm512_cmp_ps_mask(u, zero, _CMP_EQ_OQ) |
                                _mm512_cmp_ps_mask(w1, zero, _CMP_EQ_OQ) |
                                _mm512_cmp_ps_mask(w2, zero, _CMP_EQ_OQ);
-  if (zero_lanes != 0) [[unlikely]] {
-    alignas(64) float u_[16], w1_[16], w2_[16], ax_[16], ay_[16], bx_[16], by_[16], cx_[16],
-        cy_[16];
-    _mm512_store_ps(u_, u);
-    _mm512_store_ps(w1_, w1);
-    _mm512_store_ps(w2_, w2);
-    _mm512_store_ps(ax_, ax);
-    _mm512_store_ps(ay_, ay);
-    _mm512_store_ps(bx_, bx);
-    _mm512_store_ps(by_, by);
-    _mm512_store_ps(cx_, cx);
-    _mm512_store_ps(cy_, cy);
-    for (int lane = 0; lane < 16; ++lane) {
-      if (!(zero_lanes & (1 << lane))) continue;
-      u_[lane] = static_cast<float>(static_cast<double>(cx_[lane]) * by_[lane] -
-                                    static_cast<double>(cy_[lane]) * bx_[lane]);
-      w1_[lane] = static_cast<float>(static_cast<double>(ax_[lane]) * cy_[lane] -
-                                     static_cast<double>(ay_[lane]) * cx_[lane]);
-      w2_[lane] = static_cast<float>(static_cast<double>(bx_[lane]) * ay_[lane] -
-                                     static_cast<double>(by_[lane]) * ax_[lane]);
-    }
-    u = _mm512_load_ps(u_);
-    w1 = _mm512_load_ps(w1_);
-    w2 = _mm512_load_ps(w2_);
-  }
+  if (zero_lanes != 0) [[unlikely]]
+    exact_zero_edges(static_cast<std::uint32_t>(zero_lanes), u, w1, w2, ax, ay, bx, by, cx, cy);
   const __mmask16 negative = _mm512_cmp_ps_mask(u, zero, _CMP_LT_OQ) |
                              _mm512_cmp_ps_mask(w1, zero, _CMP_LT_OQ) |
                              _mm512_cmp_ps_mask(w2, zero, _CMP_LT_OQ);
