@@ -426,10 +426,11 @@ VirtualPathTracer::VirtualPathTracer(const SceneDescription& d, bool light_tree)
   std::uint32_t count_of_type[3] = {0, 0, 0};
   const auto add = [&](std::unique_ptr<Shape> shape, bool visible, PrimitiveType type) {
     const auto id = static_cast<std::uint32_t>(s.shapes.size());
-    if (visible) {
-      boxes.push_back(shape->bounds());
-      refs.push_back(id);
-    }
+    // The pipeline hides such shapes from camera rays alone; this baseline has one tree.
+    if (!visible)
+      throw std::invalid_argument("virtual path tracer: a shape hidden from the camera");
+    boxes.push_back(shape->bounds());
+    refs.push_back(id);
     shape_of_reference[make_primitive_ref(type, count_of_type[static_cast<int>(type)]++)] = id;
     s.shapes.push_back(std::move(shape));
   };
@@ -467,8 +468,8 @@ VirtualPathTracer::VirtualPathTracer(const SceneDescription& d, bool light_tree)
       throw std::invalid_argument(
           "virtual path tracer: an emitter it does not model (only untransformed spheres, quads "
           "and meshes)");
-    s.lights.push_back(
-        Light{s.shapes[found->second].get(), l.area, l.pmf, l.visible, l.tree_depth, l.tree_path});
+    s.lights.push_back(Light{s.shapes[found->second].get(), l.area, l.pmf, l.hit_by_rays,
+                             l.tree_depth, l.tree_path});
     s.light_of_shape[found->second] = static_cast<std::int32_t>(i);
   }
   s.light_alias.assign(view.light_alias, view.light_alias + view.light_count);

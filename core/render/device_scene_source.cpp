@@ -82,7 +82,10 @@ const DeviceSceneSource& PreparedScene::device_source() const {
 
     SceneView& v = source->view;
     v = host;
-    v.bvh = source->bvh.view();  // no SIMD triangles, instance level or wide nodes
+    v.bvh = source->bvh.view();                  // no SIMD triangles, instance level or wide nodes
+    v.bvh.hidden_nodes = host.bvh.hidden_nodes;  // the hidden shapes' tree, as on the CPU
+    v.bvh.hidden_primitives = host.bvh.hidden_primitives;
+    v.bvh.hidden_node_count = host.bvh.hidden_node_count;
     v.instanced_triangles = nullptr;
     v.instanced_attributes = nullptr;
     v.mesh_placements = nullptr;
@@ -116,6 +119,14 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     add(sized(source->bvh.primitives.data(), source->bvh.primitives.size() * sizeof(std::uint32_t),
               [](SceneView& view, const void* copy) {
                 view.bvh.primitives = static_cast<const std::uint32_t*>(copy);
+              }));
+    add(sized(hidden_bvh_.nodes.data(), hidden_bvh_.nodes.size() * sizeof(BvhNode),
+              [](SceneView& view, const void* copy) {
+                view.bvh.hidden_nodes = static_cast<const BvhNode*>(copy);
+              }));
+    add(sized(hidden_bvh_.primitives.data(), hidden_bvh_.primitives.size() * sizeof(std::uint32_t),
+              [](SceneView& view, const void* copy) {
+                view.bvh.hidden_primitives = static_cast<const std::uint32_t*>(copy);
               }));
     add(sized(environment_pixels_.data(), environment_pixels_.size() * sizeof(float),
               [](SceneView& view, const void* copy) {

@@ -8,14 +8,10 @@
 namespace tessera {
 
 void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
-                            std::uint32_t primitive, float sampled_area, bool visible) {
-  // Cylinders and cones are sampled by area over both sides of their wall: hidden, no ray
-  // stops at the near side, so the far side would light through it. A hidden one stays
-  // out of the list (and unseen), as before they had samplers.
-  const PrimitiveType type = primitive_type(primitive);
-  if (!visible && (type == PrimitiveType::kCylinder || type == PrimitiveType::kCone)) return;
+                            std::uint32_t primitive, float sampled_area) {
+  // Hidden or not, an emitting shape is hit by every ray but the camera's.
   if (material.emissive() && sampled_area > 0.0f)
-    lights.push_back(LightSource{primitive, sampled_area, 0.0f, visible});
+    lights.push_back(LightSource{primitive, sampled_area, 0.0f, true});
 }
 
 namespace {

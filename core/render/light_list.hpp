@@ -23,7 +23,7 @@ float sampled_light_area(PrimitiveType type, const Shape& shape) {
 // Appends `primitive` (a tagged reference) to `lights` when its material emits and it has a
 // sampled area; hidden emitters count too, since they light the scene unseen.
 void add_if_sampled_emitter(std::vector<LightSource>& lights, const Material& material,
-                            std::uint32_t primitive, float sampled_area, bool visible);
+                            std::uint32_t primitive, float sampled_area);
 
 // Appends every analytic light (SceneView::analytic_lights, `count` of them), after the
 // emitting shapes. The environment and suns with an extent are visible (escaping rays find

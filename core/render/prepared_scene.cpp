@@ -88,11 +88,15 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   scene->mesh_placements_ = std::move(shared_meshes.placements);
   scene->instance_accel_ = std::move(shared_meshes.top_level);
 
-  for (const auto& p : description.planes) {
-    if (!p.visible) continue;  // planes never emit, so a hidden one does nothing
-    arrays.of<PrimitiveType::kPlane>().push_back(
-        placed_surface(p, Placement(p.transform), p.material));
-  }
+  // Visible planes first: camera rays test all but the last hidden_plane_count.
+  for (const bool visible : {true, false})
+    for (const auto& p : description.planes)
+      if (p.visible == visible)
+        arrays.of<PrimitiveType::kPlane>().push_back(
+            placed_surface(p, Placement(p.transform), p.material));
+  scene->hidden_plane_count_ =
+      static_cast<std::uint32_t>(std::count_if(description.planes.begin(), description.planes.end(),
+                                               [](const auto& p) { return !p.visible; }));
   for (const auto& d : description.disks)
     place_curved(d, arrays.of<PrimitiveType::kDisk>(), PrimitiveType::kDisk,
                  arrays.of<PrimitiveType::kDiskInstance>(), PrimitiveType::kDiskInstance,
@@ -138,8 +142,9 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   bind_pools(pooled);
 
   const Aabb scene_bounds = primitives.bounds();
-  scene->simd_triangle_references_ = primitives.build_accelerators(
-      arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_, scene->bvh_);
+  scene->simd_triangle_references_ =
+      primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
+                                    scene->bvh_, scene->hidden_bvh_);
 #if TESSERA_SHAPE_WIDE_WALK
   scene->shape_wide_bvh_ = collapse_shape_bvh(scene->bvh_);
 #endif
@@ -208,6 +213,10 @@ SceneView PreparedScene::view() const {
   v.mesh_placements = mesh_placements_.data();
   v.mesh_placement_count = static_cast<std::uint32_t>(mesh_placements_.size());
   if (!mesh_placements_.empty()) v.bvh.instances = &instance_accel_;
+  v.bvh.hidden_nodes = hidden_bvh_.nodes.data();
+  v.bvh.hidden_primitives = hidden_bvh_.primitives.data();
+  v.bvh.hidden_node_count = static_cast<std::uint32_t>(hidden_bvh_.nodes.size());
+  v.hidden_plane_count = hidden_plane_count_;
   v.camera = camera_;
   v.background = background_;
   v.analytic_lights = analytic_lights_.data();

@@ -7,16 +7,14 @@ namespace tessera {
 void PrimitiveList::add(PrimitiveType type, std::uint32_t index, const Aabb& box, bool visible,
                         std::uint32_t material, float light_area) {
   const std::uint32_t reference = make_primitive_ref(type, index);
-  if (visible) {
-    boxes_.push_back(box);
-    references_.push_back(reference);
-  }
-  add_if_sampled_emitter(lights_, materials_[material], reference, light_area, visible);
+  (visible ? boxes_ : hidden_boxes_).push_back(box);
+  (visible ? references_ : hidden_references_).push_back(reference);
+  add_if_sampled_emitter(lights_, materials_[material], reference, light_area);
 }
 
 std::vector<std::uint32_t> PrimitiveList::build_accelerators(std::span<const Triangle> triangles,
                                                              TriangleAccel& triangle_accel,
-                                                             Bvh& bvh) {
+                                                             Bvh& bvh, Bvh& hidden_bvh) {
   const auto is_triangle = [](std::uint32_t reference) {
     return primitive_type(reference) == PrimitiveType::kTriangle;
   };
@@ -55,6 +53,9 @@ std::vector<std::uint32_t> PrimitiveList::build_accelerators(std::span<const Tri
   BvhBuildOptions options;
   options.max_leaf_size = 1;
   bvh = build_bvh(boxes_, references_, options);
+  // Hidden shapes are few (mostly lights), triangles among them tested by the scalar test.
+  if (!hidden_references_.empty())
+    hidden_bvh = build_bvh(hidden_boxes_, hidden_references_, options);
   return triangle_references;
 }
 

@@ -19,8 +19,9 @@ class PrimitiveList {
   PrimitiveList(std::span<const Material> materials, std::vector<LightSource>& lights)
       : materials_(materials), lights_(lights) {}
 
-  // Records element `index` of `type`'s array: for the acceleration structures when it is
-  // visible, for the light list when it emits with a sampled area (`light_area` > 0).
+  // Records element `index` of `type`'s array: for the acceleration structures (the tree
+  // of hidden shapes when it is not visible to camera rays), for the light list when it
+  // emits with a sampled area (`light_area` > 0).
   void add(PrimitiveType type, std::uint32_t index, const Aabb& box, bool visible,
            std::uint32_t material, float light_area);
 
@@ -37,16 +38,19 @@ class PrimitiveList {
   // `triangles`) go to the SIMD structure the CPU traces them with (accel/triangle_accel.hpp),
   // every other shape to the BVH; BvhView::triangles joins the two for BvhTracer. Up to
   // kShapeBvhMaxTriangles triangles beside other shapes stay in the BVH instead (no SIMD
-  // structure). Once, after the last shape is stored: it reorders the list.
+  // structure). Shapes hidden from camera rays go, triangles too, into `hidden_bvh`, left
+  // empty when there are none. Once, after the last shape is stored: it reorders the list.
   // Returns the references of the triangles put into the SIMD structure (a GPU upload puts
   // them into its own BVH: render/device_scene_source.hpp).
   std::vector<std::uint32_t> build_accelerators(std::span<const Triangle> triangles,
-                                                TriangleAccel& triangle_accel, Bvh& bvh);
+                                                TriangleAccel& triangle_accel, Bvh& bvh,
+                                                Bvh& hidden_bvh);
 
-  // The bounds of every visible bounded primitive (planes are not among them).
+  // The bounds of every bounded primitive, hidden or not (planes are not among them).
   Aabb bounds() const {
     Aabb box;
     for (const Aabb& b : boxes_) box.extend(b);
+    for (const Aabb& b : hidden_boxes_) box.extend(b);
     return box;
   }
 
@@ -55,6 +59,8 @@ class PrimitiveList {
   std::vector<LightSource>& lights_;
   std::vector<Aabb> boxes_;                // of the visible primitives
   std::vector<std::uint32_t> references_;  // tagged, parallel to boxes_
+  std::vector<Aabb> hidden_boxes_;         // of the primitives hidden from camera rays
+  std::vector<std::uint32_t> hidden_references_;
 };
 
 }  // namespace tessera

@@ -168,13 +168,6 @@ class SceneValidator {
                    "an infinite plane cannot emit light (its power would be infinite); use the "
                    "background or a large rectangle or disk");
     }
-    const bool sampled = Kind::light == schema::LightSampling::kAlways ||
-                         (Kind::light == schema::LightSampling::kUnderSimilarity &&
-                          (!shape.transform || shape.transform->uniform_scale()));
-    if (!shape.visible && !sampled && emits(shape.material))
-      check.fail("visible",
-                 "an emitter of this shape type (or under a non-uniform scale) is only seen by "
-                 "rays that hit it, so it must be visible");
   }
 
   template <typename Kind>

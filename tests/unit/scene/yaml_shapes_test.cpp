@@ -141,9 +141,6 @@ TEST(YamlShapes, BadValuesNameFileLineAndField) {
        "geometry[0].radius", "finite"},
       {"{ type: plane, material: white, normal: [0, 0, 0] }", "geometry[0].normal", "zero vector"},
       {"{ type: plane, material: lamp, normal: [0, 1, 0] }", "geometry[0].material", "cannot emit"},
-      {"{ type: torus, material: lamp, center: [0, 0, 0], major_radius: 1, minor_radius: 0.5, "
-       "visible: false }",
-       "geometry[0].visible", "must be visible"},
       {"{ type: sphere, material: white, center: [0, 0, 0], radius: 1, transform: { scale: [1, 0, "
        "1] } }",
        "geometry[0].transform.scale", "singular"},

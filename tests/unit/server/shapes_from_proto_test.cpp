@@ -172,20 +172,28 @@ TEST(ShapesFromProto, RangeErrorsUseTheShapesProtobufPath) {
                       "geometry[2].plane.normal", "zero vector");
 }
 
-TEST(ShapesFromProto, EmittingPlanesAndHiddenUnsampledEmittersAreRejected) {
+TEST(ShapesFromProto, EmittingPlanesAreRejected) {
   expect_single_issue(with_shape([](v1::Geometry* g) {
                         g->set_material("lamp");
                         set_vec3(g->mutable_plane()->mutable_normal(), 0, 1, 0);
                       }),
                       "geometry[2].material", "cannot emit");
-  expect_single_issue(with_shape([](v1::Geometry* g) {
-                        g->set_material("lamp");
-                        g->set_visible(false);
-                        set_vec3(g->mutable_cylinder()->mutable_axis(), 0, 1, 0);
-                        g->mutable_cylinder()->set_radius(1);
-                        g->mutable_cylinder()->set_height(1);
-                      }),
-                      "geometry[2].visible", "must be visible");
+}
+
+// Hidden shapes are hidden from camera rays only: every other ray hits them, so an emitter
+// without a light sampler (a torus) may be hidden too.
+TEST(ShapesFromProto, HiddenEmittersOfEveryTypeAreAccepted) {
+  const v1::Scene scene = with_shape([](v1::Geometry* g) {
+    g->set_material("lamp");
+    g->set_visible(false);
+    g->mutable_torus()->set_major_radius(1);
+    g->mutable_torus()->set_minor_radius(0.25);
+    set_vec3(g->mutable_torus()->mutable_axis(), 0, 1, 0);
+  });
+  const SceneConversion conversion = scene_from_proto(scene, tiny_settings());
+  ASSERT_TRUE(conversion.ok()) << describe_issues(conversion.issues);
+  ASSERT_EQ(conversion.scene->tori.size(), 1u);
+  EXPECT_FALSE(conversion.scene->tori[0].visible);
 }
 
 TEST(ShapesFromProto, TransformErrorsNameTheTransformField) {

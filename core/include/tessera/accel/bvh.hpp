@@ -54,6 +54,21 @@ struct BvhView {
   // (accel/shape_wide_bvh.hpp), its leaves naming ranges of `primitives`; CPU tracers walk
   // it instead of `nodes` when it is set.
   const WideBvhNode* wide_nodes = nullptr;
+  // Shapes hidden from camera rays (`visible: false`): a binary tree of its own, walked by
+  // every other ray (reflections, bounces, shadow rays), so a hidden light still shows in a
+  // mirror, casts and receives light and is weighed by MIS like any emitter. Device code
+  // walks it too (DeviceSceneSource uploads it).
+  const BvhNode* hidden_nodes = nullptr;
+  const std::uint32_t* hidden_primitives = nullptr;
+  std::uint32_t hidden_node_count = 0;
+
+  TESSERA_HD BvhView hidden() const {
+    BvhView v;
+    v.nodes = hidden_nodes;
+    v.primitives = hidden_primitives;
+    v.node_count = hidden_node_count;
+    return v;
+  }
 };
 
 struct Bvh {

@@ -23,6 +23,10 @@ namespace tessera {
 // (closest and any hit; all-hits queries walk the binary tree). Shapes no
 // box can hold (infinite planes) stay outside the BVH: an intersection program with
 // kHasUnbounded tests them per ray through its *_unbounded functions.
+// Which rays see shapes marked `visible: false`: every ray but the camera's (RayON's
+// meaning, and Cycles' camera ray visibility).
+enum class RayKind : std::uint8_t { kCamera, kSecondary };
+
 template <typename I>
 concept HasUnboundedShapes = requires {
   requires I::kHasUnbounded;
@@ -34,7 +38,8 @@ class BvhTracer {
   TESSERA_HD BvhTracer(BvhView bvh, Intersection intersection)
       : bvh_(bvh), intersection_(intersection) {}
 
-  TESSERA_HD bool trace_closest(const Ray& ray, HitRecord& hit) const {
+  TESSERA_HD bool trace_closest(const Ray& ray, HitRecord& hit,
+                                RayKind kind = RayKind::kSecondary) const {
     hit.t = ray.t_max;
     bool found = false;
 #if !defined(__CUDACC__)
@@ -47,20 +52,24 @@ class BvhTracer {
 #endif
     if (bvh_.node_count != 0) found = walk<false>(ray, hit) || found;
     if constexpr (HasUnboundedShapes<Intersection>)
-      found = intersection_.intersect_unbounded(ray, hit) || found;
+      found = intersection_.intersect_unbounded(ray, hit, kind == RayKind::kCamera) || found;
+    if (kind != RayKind::kCamera && bvh_.hidden_node_count != 0)
+      found = walk_hidden<false>(ray, hit) || found;
     return found;
   }
 
   // Any hit, with its record: the first one traversal finds, not necessarily the nearest.
-  TESSERA_HD bool trace_any(const Ray& ray, HitRecord& hit) const {
+  TESSERA_HD bool trace_any(const Ray& ray, HitRecord& hit,
+                            RayKind kind = RayKind::kSecondary) const {
     hit.t = ray.t_max;
 #if !defined(__CUDACC__)
     if (bvh_.triangles != nullptr && bvh_.triangles->closest(ray, hit)) return true;
     if (bvh_.instances != nullptr && bvh_.instances->closest(ray, hit)) return true;
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
-      if (intersection_.intersect_unbounded(ray, hit)) return true;
-    return bvh_.node_count != 0 && walk<true>(ray, hit);
+      if (intersection_.intersect_unbounded(ray, hit, kind == RayKind::kCamera)) return true;
+    if (bvh_.node_count != 0 && walk<true>(ray, hit)) return true;
+    return kind != RayKind::kCamera && bvh_.hidden_node_count != 0 && walk_hidden<true>(ray, hit);
   }
 
   TESSERA_HD bool occluded(const Ray& ray) const {
@@ -70,16 +79,18 @@ class BvhTracer {
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
       if (intersection_.occluded_unbounded(ray)) return true;
-    if (bvh_.node_count == 0) return false;  // triangles alone: no call into the walk
     HitRecord hit;
     hit.t = ray.t_max;
-    return walk<true>(ray, hit);
+    // Triangles alone: no call into the walks.
+    if (bvh_.node_count != 0 && walk<true>(ray, hit)) return true;
+    return bvh_.hidden_node_count != 0 && walk_hidden<true>(ray, hit);
   }
 
   // Up to kMaxHits nearest hits, sorted by t. Once the list is full, subtrees beyond its
   // farthest entry are culled, so the cost stays close to a closest-hit query for small N.
   template <int kMaxHits>
-  TESSERA_HD int trace_all(const Ray& ray, HitRecord (&hits)[kMaxHits]) const {
+  TESSERA_HD int trace_all(const Ray& ray, HitRecord (&hits)[kMaxHits],
+                           RayKind kind = RayKind::kSecondary) const {
     std::uint32_t count = 0;
     HitRecord bound;
     bound.t = ray.t_max;
@@ -102,21 +113,23 @@ class BvhTracer {
     }
 #endif
     if constexpr (HasUnboundedShapes<Intersection>)
-      intersection_.intersect_all_unbounded(ray, bound.t, keep);
-    traverse_bvh<false>(bvh_, ray, bound,
-                        [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord&) {
-                          HitRecord found[4];  // a torus is crossed up to four times
-                          int n;
-                          if constexpr (HasIntersectAll<Intersection>) {
-                            n = intersection_.intersect_all(primitive, r, t_max, found, 4);
-                          } else {
-                            n = intersection_.intersect(primitive, r, t_max, found[0]) ? 1 : 0;
-                          }
-                          for (int i = 0; i < n; ++i) keep(found[i]);
-                          // `keep` tightened the walk's bound (it is `bound`); the walk must not
-                          // stop.
-                          return false;
-                        });
+      intersection_.intersect_all_unbounded(ray, bound.t, keep, kind == RayKind::kCamera);
+    const auto keep_all = [&](std::uint32_t primitive, const Ray& r, float t_max, HitRecord&) {
+      HitRecord found[4];  // a torus is crossed up to four times
+      int n;
+      if constexpr (HasIntersectAll<Intersection>) {
+        n = intersection_.intersect_all(primitive, r, t_max, found, 4);
+      } else {
+        n = intersection_.intersect(primitive, r, t_max, found[0]) ? 1 : 0;
+      }
+      for (int i = 0; i < n; ++i) keep(found[i]);
+      // `keep` tightened the walk's bound (it is `bound`); the walk must not
+      // stop.
+      return false;
+    };
+    traverse_bvh<false>(bvh_, ray, bound, keep_all);
+    if (kind != RayKind::kCamera && bvh_.hidden_node_count != 0)
+      traverse_bvh<false>(bvh_.hidden(), ray, bound, keep_all);
     return static_cast<int>(count);
   }
 
@@ -133,6 +146,16 @@ class BvhTracer {
     if (bvh_.wide_nodes != nullptr) return traverse_shape_wide<kAnyHit>(bvh_, ray, hit, intersect);
 #endif
     return traverse_bvh<kAnyHit>(bvh_, ray, hit, intersect);
+  }
+
+  // The tree of shapes hidden from camera rays: few (lights, mostly), so the binary walk.
+  template <bool kAnyHit>
+  TESSERA_HD bool walk_hidden(const Ray& ray, HitRecord& hit) const {
+    return traverse_bvh<kAnyHit>(
+        bvh_.hidden(), ray, hit,
+        [this](std::uint32_t primitive, const Ray& r, float t_max, HitRecord& h) {
+          return intersection_.intersect(primitive, r, t_max, h);
+        });
   }
 
   BvhView bvh_;

@@ -90,9 +90,9 @@ class Pipeline {
     if constexpr (HasInitPayload<RayGeneration>)
       ray_generation_.init_payload(x, y, sample, payload);
     Ray ray = ray_generation_.generate(x, y, sample, payload);
-    for (;;) {
+    for (RayKind kind = RayKind::kCamera;; kind = RayKind::kSecondary) {
       payload.has_next_ray = false;
-      trace_and_shade(ray, payload);
+      trace_and_shade(ray, kind, payload);
       if (!payload.has_next_ray) break;
       ray = payload.next_ray;
     }
@@ -102,10 +102,10 @@ class Pipeline {
   TESSERA_HD const TracerType& tracer() const { return tracer_; }
 
  private:
-  TESSERA_HD void trace_and_shade(const Ray& ray, Payload& payload) const {
+  TESSERA_HD void trace_and_shade(const Ray& ray, RayKind kind, Payload& payload) const {
     if constexpr (kMaxHits > 0) {
       HitRecord hits[kMaxHits];
-      const int count = tracer_.template trace_all<kMaxHits>(ray, hits);
+      const int count = tracer_.template trace_all<kMaxHits>(ray, hits, kind);
       if (count > 0) {
         hit_.on_hits(ray, hits, count, payload, tracer_);
       } else {
@@ -115,9 +115,9 @@ class Pipeline {
       HitRecord hit;
       bool found;
       if constexpr (kFirstHitOnly) {
-        found = tracer_.trace_any(ray, hit);
+        found = tracer_.trace_any(ray, hit, kind);
       } else {
-        found = tracer_.trace_closest(ray, hit);
+        found = tracer_.trace_closest(ray, hit, kind);
       }
       if (found) {
         hit_.on_hit(ray, hit, payload, tracer_);

@@ -172,8 +172,8 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
   if (!(pick.pmf > 0.0f)) return vec3(0.0f);
   const LightSource& light = scene.lights[pick.index];
-  // BSDF sampling finds every emitter a ray can hit; hidden ones only light sampling finds.
-  if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
+  // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
+  if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
   LightSample ls;
   if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls)) return vec3(0.0f);
   // Shading normals must not let light through the geometric surface: the light must be on
@@ -199,7 +199,7 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   const float length = glm::length(to_light);
   if (tracer.occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)}))
     return vec3(0.0f);
-  const float weight = strategy == LightStrategy::kMis && light.visible
+  const float weight = strategy == LightStrategy::kMis && light.hit_by_rays
                            ? power_heuristic(pdf, bsdf.pdf(wo, wi))
                            : 1.0f;
   return f * ls.radiance * (weight / pdf);

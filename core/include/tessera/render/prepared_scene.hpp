@@ -121,6 +121,8 @@ class PreparedScene {
   Bvh bvh_;                                // every visible bounded shape but triangles
   TriangleAccel triangle_accel_;           // visible triangles, named by their tagged references
   std::vector<std::uint32_t> simd_triangle_references_;  // those triangles' references
+  Bvh hidden_bvh_;  // shapes hidden from camera rays, triangles too (BvhView::hidden_nodes)
+  std::uint32_t hidden_plane_count_ = 0;  // SceneShapes::hidden_plane_count
   // bvh_ in eight-wide nodes: what the CPU walks (accel/shape_wide_bvh.hpp).
   WideBvh shape_wide_bvh_;
   // Shared mesh geometry: object-space triangles (and attributes when stored) of every

@@ -120,8 +120,11 @@ struct MeshPlacement {
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
   float area;
-  float pmf = 0.0f;              // the probability pick_light chooses it: its share of the power
-  bool visible = true;           // false: no ray can hit it, so only light sampling finds it
+  float pmf = 0.0f;  // the probability pick_light chooses it: its share of the power
+  // False for lights no ray can hit (points, spots, delta suns): only light sampling finds
+  // them, so their samples take no MIS weight. Emitting shapes are hit even when hidden
+  // from the camera.
+  bool hit_by_rays = true;
   std::uint32_t tree_depth = 0;  // its leaf's depth in the light tree (when there is one)
   std::uint64_t tree_path = 0;   // the child slot taken at each depth (light_tree.hpp)
 };
@@ -137,6 +140,8 @@ struct SceneShapes {
   const TriangleAttributes* triangle_attributes = nullptr;
   const Plane* planes = nullptr;
   std::uint32_t plane_count = 0;
+  // The last this many planes are hidden from camera rays (`visible: false`).
+  std::uint32_t hidden_plane_count = 0;
   const Disk* disks = nullptr;
   const Cylinder* cylinders = nullptr;
   const Cone* cones = nullptr;
@@ -220,8 +225,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
 // valid on the host or, once uploaded, on a device.
 struct SceneView : SceneShapes {
   const Material* materials = nullptr;
-  const Texture* textures = nullptr;  // Material::albedo_texture, roughness_texture
-  const vec3* texels = nullptr;       // the textures' mip pyramids
+  const Texture* textures = nullptr;          // Material::albedo_texture, roughness_texture
+  const vec3* texels = nullptr;               // the textures' mip pyramids
   const LightSource* lights = nullptr;        // sorted by primitive reference (find_light)
   const AliasSlot* light_alias = nullptr;     // light_count slots, by power (pick_light)
   const LightTreeNode* light_tree = nullptr;  // null: pick by power alone
@@ -363,11 +368,14 @@ struct SceneIntersection {
     });
   }
 
-  // Nearest plane hit closer than hit.t (which it then replaces).
-  TESSERA_HD bool intersect_unbounded(const Ray& ray, HitRecord& hit) const {
+  // Nearest plane hit closer than hit.t (which it then replaces); a camera ray skips the
+  // hidden planes.
+  TESSERA_HD bool intersect_unbounded(const Ray& ray, HitRecord& hit, bool camera = false) const {
     bool found = false;
     if constexpr (kHasUnbounded) {
-      for (std::uint32_t i = 0; i < shapes.plane_count; ++i)
+      const std::uint32_t count =
+          camera ? shapes.plane_count - shapes.hidden_plane_count : shapes.plane_count;
+      for (std::uint32_t i = 0; i < count; ++i)
         found |= tessera::intersect(shapes.planes[i], ray, hit.t, hit,
                                     make_primitive_ref(PrimitiveType::kPlane, i));
     }
@@ -387,9 +395,12 @@ struct SceneIntersection {
 
   // Calls add(hit) for every plane crossing before t_max.
   template <typename Add>
-  TESSERA_HD void intersect_all_unbounded(const Ray& ray, float t_max, Add&& add) const {
+  TESSERA_HD void intersect_all_unbounded(const Ray& ray, float t_max, Add&& add,
+                                          bool camera = false) const {
     if constexpr (kHasUnbounded) {
-      for (std::uint32_t i = 0; i < shapes.plane_count; ++i) {
+      const std::uint32_t count =
+          camera ? shapes.plane_count - shapes.hidden_plane_count : shapes.plane_count;
+      for (std::uint32_t i = 0; i < count; ++i) {
         HitRecord hit;
         if (tessera::intersect(shapes.planes[i], ray, t_max, hit,
                                make_primitive_ref(PrimitiveType::kPlane, i)))

@@ -25,10 +25,6 @@ namespace tessera::schema {
 using enum Presence;
 using enum Rule;
 
-// Which emitters of a shape type have a light sampler, so they may be hidden
-// (`visible: false`): a hidden emitter without one would be seen by no ray at all.
-enum class LightSampling { kAlways, kUnderSimilarity, kNever };
-
 // ---------------------------------------------------------------- camera, background, render
 
 struct CameraKind {
@@ -608,7 +604,6 @@ struct SphereKind {
   static constexpr std::string_view proto_name = "sphere";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::spheres;
-  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
   static constexpr Field<Desc> fields[] = {
       {.name = "center", .member = &Desc::center, .presence = kRequired},
       {.name = "radius", .member = &Desc::radius, .presence = kRequired, .rule = kPositive},
@@ -624,7 +619,6 @@ struct DisplacedSphereKind {
       "RayON's golf ball: a sphere shaded with 150 dimples (the silhouette stays round)";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::displaced_spheres;
-  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
   static constexpr Field<Desc> fields[] = {
       {.name = "center", .member = &Desc::center, .presence = kRequired},
       {.name = "radius", .member = &Desc::radius, .rule = kPositive},
@@ -652,7 +646,6 @@ struct QuadKind {
   static constexpr std::string_view note = "the parallelogram corner + s·u + t·v";
   static constexpr std::array<Alias, 1> aliases{{{"quad"}}};
   static constexpr auto list = &SceneDescription::quads;
-  static constexpr LightSampling light = LightSampling::kAlways;
   static constexpr Field<Desc> fields[] = {
       {.name = "corner", .member = &Desc::corner, .presence = kRequired},
       {.name = "u", .member = &Desc::u, .presence = kRequired},
@@ -671,7 +664,6 @@ struct PlaneKind {
   static constexpr std::string_view note = "infinite; may not emit light";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::planes;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr bool may_emit = false;  // its power would be infinite
   static constexpr Field<Desc> fields[] = {
       {
@@ -689,7 +681,6 @@ struct DiskKind {
   static constexpr std::string_view proto_name = "disk";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::disks;
-  static constexpr LightSampling light = LightSampling::kUnderSimilarity;
   static constexpr Field<Desc> fields[] = {
       {.name = "center", .member = &Desc::center, .presence = kRequired},
       {.name = "normal", .member = &Desc::normal, .presence = kRequired, .rule = kNonZeroVector},
@@ -709,7 +700,6 @@ struct CylinderKind {
   static constexpr std::string_view proto_name = "cylinder";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::cylinders;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "base", .member = &Desc::base, .presence = kRequired},
       {
@@ -733,7 +723,6 @@ struct ConeKind {
   static constexpr std::string_view proto_name = "cone";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::cones;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "base", .member = &Desc::base, .presence = kRequired},
       {
@@ -767,7 +756,6 @@ struct TorusKind {
   static constexpr std::string_view proto_name = "torus";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::tori;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "center", .member = &Desc::center, .presence = kRequired},
       {
@@ -795,7 +783,6 @@ struct SdfBoxKind {
   static constexpr std::string_view note = "sphere traced";
   static constexpr std::array<Alias, 1> aliases{{{"sdf_rounded_box", "rounding"}}};
   static constexpr auto list = &SceneDescription::sdf_boxes;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {
           .name = "center",
@@ -825,7 +812,6 @@ struct SdfTorusKind {
   static constexpr std::string_view note = "sphere traced";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::sdf_tori;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "center", .member = &Desc::center, .presence = kRequired},
       {
@@ -858,7 +844,6 @@ struct SdfCapsuleKind {
   static constexpr std::string_view note = "sphere traced";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::sdf_capsules;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "a", .member = &Desc::a, .presence = kRequired, .doc = "segment end"},
       {.name = "b", .member = &Desc::b, .presence = kRequired, .doc = "segment end"},
@@ -878,7 +863,6 @@ struct SplinePatchKind {
   static constexpr std::string_view proto_surface_name = "patch";  // in TrimmedFace
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::patches;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "control_points",
        .presence = kRequired,
@@ -903,7 +887,6 @@ struct TrimmedFaceKind {
       "the part of the surface inside the loops, in its own uv";
   static constexpr std::array<Alias, 0> aliases{};
   static constexpr auto list = &SceneDescription::trimmed_faces;
-  static constexpr LightSampling light = LightSampling::kNever;
   static constexpr Field<Desc> fields[] = {
       {.name = "surface",
        .presence = kRequired,
@@ -920,7 +903,6 @@ struct TriangleKind {
   static constexpr std::string_view name = "triangle";
   static constexpr std::string_view proto_name = "triangle";
   static constexpr std::array<Alias, 0> aliases{};
-  static constexpr LightSampling light = LightSampling::kAlways;
   static constexpr Field<Desc> fields[] = {
       {.name = "v0", .presence = kRequired},
       {.name = "v1", .presence = kRequired},
@@ -934,7 +916,6 @@ struct MeshKind {
   static constexpr std::string_view proto_name = "mesh";
   static constexpr std::array<Alias, 1> aliases{{{"obj"}}};
   static constexpr auto list = &SceneDescription::meshes;
-  static constexpr LightSampling light = LightSampling::kAlways;
   static constexpr Field<Desc> fields[] = {
       {.name = "file",
        .presence = kRequired,
