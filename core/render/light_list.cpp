@@ -263,16 +263,42 @@ float infinite_light_share(const std::vector<LightSource>& lights,
   return static_cast<float>(std::clamp(infinite / total, 0.1, 0.9));
 }
 
+float lit_region_radius(const std::vector<LightSource>& lights, const SceneView& shapes,
+                        const vec3& camera_position, float scene_radius) {
+  Aabb region;
+  for (const LightSource& light : lights) {
+    if (analytic(light)) {
+      const AnalyticLight& a = shapes.analytic_lights[primitive_index(light.primitive)];
+      if (a.kind == AnalyticLightKind::kPoint || a.kind == AnalyticLightKind::kSpot)
+        region.extend(a.position);
+    } else {
+      region.extend(light_bounds(shapes, light));
+    }
+  }
+  if (region.empty()) return scene_radius;
+  region.extend(camera_position);
+  return glm::max(1e-3f, 0.5f * glm::length(region.upper - region.lower));
+}
+
 std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
                                          const SceneView& shapes, float scene_radius) {
   std::sort(lights.begin(), lights.end(),
             [](const LightSource& a, const LightSource& b) { return a.primitive < b.primitive; });
   std::vector<double> power(lights.size());
-  double total = 0.0;
+  double total = 0.0, infinite = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
     power[i] = light_power(shapes, materials, lights[i], scene_radius);
     total += power[i];
+    if (i >= shapes.first_infinite_light) infinite += power[i];
+  }
+  // Lights at infinity beside bounded ones: their share kept within [0.1, 0.9].
+  const double bounded = total - infinite;
+  if (infinite > 0.0 && bounded > 0.0) {
+    const double share = std::clamp(infinite / total, 0.1, 0.9);
+    const double scale = share / (1.0 - share) * bounded / infinite;
+    for (std::size_t i = shapes.first_infinite_light; i < lights.size(); ++i) power[i] *= scale;
+    total = bounded / (1.0 - share);
   }
   for (std::size_t i = 0; i < lights.size(); ++i)
     lights[i].pmf = total > 0.0 ? static_cast<float>(power[i] / total)

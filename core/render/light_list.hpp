@@ -34,11 +34,22 @@ void add_analytic_lights(std::vector<LightSource>& lights, std::span<const Analy
 // and gives each light its pick probability, in proportion to its power, with the alias
 // table that draws by it. Power is emitted flux (luminance): a two-sided emitting shape
 // 2 pi L A; a point light 4 pi I; a spot 2 pi I (1 - (cos_inner + cos_outer) / 2); a distant
-// light E pi R^2 and the environment pi 4 pi R^2 L_average, where R is `scene_radius`, the
-// radius of the sphere around the scene's bounds (what reaches the scene from infinity).
+// light E pi R^2 and the environment pi 4 pi R^2 L_average, where R is `scene_radius`
+// (lit_region_radius: what reaches the lit region from infinity). When the list has lights
+// at infinity and bounded ones, those at infinity keep a share of the picks within
+// [0.1, 0.9], as infinite_light_share, so neither side starves.
 std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
                                          const SceneView& shapes, float scene_radius);
+
+// The radius R of the region the lights at infinity are weighed over: the sphere around
+// the bounded lights and the camera, where the light that matters is gathered. The bounds
+// of all the geometry would let one huge shape decide: RayON's ground, a sphere of radius
+// 1000, made a dim sky 13,000 times the power of a 64 m^2 panel, which was then sampled
+// once in 13,000 picks. With no bounded light, `scene_radius` (R cancels between lights
+// at infinity).
+float lit_region_radius(const std::vector<LightSource>& lights, const SceneView& shapes,
+                        const vec3& camera_position, float scene_radius);
 
 // The share of the lights' power at infinity (distant lights, the environment: the list's
 // tail from shapes.first_infinite_light), which pick_light gives them when it picks the

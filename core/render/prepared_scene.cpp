@@ -164,10 +164,11 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   const bool has_environment = !scene->environment_.black();
   scene->environment_light_ =
       static_cast<std::uint32_t>(scene->lights_.size()) - (has_environment ? 1u : 0u);
-  const float scene_radius =
+  const float scene_radius = lit_region_radius(
+      scene->lights_, scene->view(), vec3(description.camera.position),
       scene_bounds.empty()
           ? 1.0f
-          : glm::max(1e-3f, 0.5f * glm::length(scene_bounds.upper - scene_bounds.lower));
+          : glm::max(1e-3f, 0.5f * glm::length(scene_bounds.upper - scene_bounds.lower)));
   scene->light_alias_ =
       finish_light_list(scene->lights_, scene->materials_, scene->view(), scene_radius);
   if (options.light_tree && scene->first_infinite_light_ >= 2) {
