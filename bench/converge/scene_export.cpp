@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tessera/image/exr.hpp"
 #include "tessera/render/material_mapping.hpp"
 
 namespace tessera::bench {
@@ -135,9 +136,33 @@ std::string scene_to_json(const SceneDescription& scene) {
     shapes.push_back(std::move(j));
   }
   for (const auto& m : scene.meshes) shapes.push_back(mesh_json(m));
-  for (const auto& s : scene.cylinders) shapes.push_back(unsupported("cylinder", s));
-  for (const auto& s : scene.cones) shapes.push_back(unsupported("cone", s));
-  for (const auto& s : scene.tori) shapes.push_back(unsupported("torus", s));
+  for (const auto& c : scene.cylinders) {
+    json j = common("cylinder", c);
+    j["base"] = vec(c.base);
+    j["axis"] = vec(c.axis);
+    j["radius"] = c.radius;
+    j["height"] = c.height;
+    j["caps"] = c.caps;
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& c : scene.cones) {
+    json j = common("cone", c);
+    j["base"] = vec(c.base);
+    j["axis"] = vec(c.axis);
+    j["base_radius"] = c.base_radius;
+    j["top_radius"] = c.top_radius;
+    j["height"] = c.height;
+    j["caps"] = c.caps;
+    shapes.push_back(std::move(j));
+  }
+  for (const auto& t : scene.tori) {
+    json j = common("torus", t);
+    j["center"] = vec(t.center);
+    j["axis"] = vec(t.axis);
+    j["major_radius"] = t.major_radius;
+    j["minor_radius"] = t.minor_radius;
+    shapes.push_back(std::move(j));
+  }
   for (const auto& s : scene.sdf_boxes) shapes.push_back(unsupported("sdf_box", s));
   for (const auto& s : scene.sdf_tori) shapes.push_back(unsupported("sdf_torus", s));
   for (const auto& s : scene.sdf_capsules) shapes.push_back(unsupported("sdf_capsule", s));
@@ -146,6 +171,34 @@ std::string scene_to_json(const SceneDescription& scene) {
 
   json materials = json::array();
   for (const auto& m : scene.materials) materials.push_back(material_json(m));
+
+  json lights = json::array();
+  for (const LightDesc& l : scene.lights)
+    lights.push_back({{"type", l.type == "sun" ? "directional" : l.type},
+                      {"position", vec(l.position)},
+                      {"direction", vec(l.direction)},
+                      {"color", vec(l.color)},
+                      {"intensity", l.intensity},
+                      {"irradiance", l.irradiance},
+                      {"cone_angle_degrees", l.cone_angle_degrees},
+                      {"cone_falloff_degrees", l.cone_falloff_degrees},
+                      {"angular_radius_degrees", l.angular_radius_degrees}});
+  // What an escaping ray sees: the environment when the scene has one, else the background
+  // colour (a constant environment). An image's pixels go into a file beside the JSON
+  // (write_scene_json), named here.
+  json environment = {{"type", "constant"},
+                      {"color", vec(scene.background.color)},
+                      {"intensity", scene.background.intensity},
+                      {"rotation_degrees", 0.0},
+                      {"image", nullptr}};
+  if (scene.environment) {
+    const EnvironmentDesc& e = *scene.environment;
+    environment = {{"type", e.type},
+                   {"color", vec(e.color)},
+                   {"intensity", e.intensity},
+                   {"rotation_degrees", e.rotation_degrees},
+                   {"image", e.type == "image" ? json(kEnvironmentImageName) : json(nullptr)}};
+  }
 
   const json out = {
       {"format", "tessera-scene-export"},
@@ -163,6 +216,8 @@ std::string scene_to_json(const SceneDescription& scene) {
         {"max_depth", scene.render.max_depth},
         {"seed", scene.render.seed},
         {"integrator", to_string(scene.render.integrator)}}},
+      {"environment", std::move(environment)},
+      {"lights", std::move(lights)},
       {"materials", std::move(materials)},
       {"shapes", std::move(shapes)}};
   return out.dump();
@@ -172,6 +227,16 @@ void write_scene_json(const SceneDescription& scene, const std::filesystem::path
   std::ofstream out(path, std::ios::binary);
   out << scene_to_json(scene);
   if (!out) throw std::runtime_error("cannot write " + path.string());
+  if (scene.environment && scene.environment->type == "image") {
+    // The pixels the renderer read (linear RGB, rows from the zenith down), so the peer
+    // neither reads the original file nor converts its colour space again.
+    const EnvironmentDesc& e = *scene.environment;
+    RgbaImage image{e.image_width, e.image_height,
+                    std::vector<float>(std::size_t{e.image_width} * e.image_height * 4, 1.0f)};
+    for (std::size_t p = 0; p < std::size_t{e.image_width} * e.image_height; ++p)
+      for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = e.image_pixels[p * 3 + c];
+    write_image(path.parent_path() / kEnvironmentImageName, image);
+  }
 }
 
 }  // namespace tessera::bench

@@ -63,10 +63,12 @@ TEST(SceneExport, MeshesTransformsHiddenAndUnsupportedShapes) {
   mesh.visible = false;
   mesh.transform = TransformDesc{.translate = {1, 2, 3}, .scale = {2, 2, 2}};
   scene.meshes.push_back(mesh);
-  scene.cylinders.push_back(CylinderDesc{.source_index = 7});
+  scene.cylinders.push_back(CylinderDesc{.radius = 0.5, .height = 2.0, .caps = true});
+  scene.tori.push_back(TorusDesc{.major_radius = 1.5, .minor_radius = 0.2});
+  scene.sdf_boxes.push_back(SdfBoxDesc{.source_index = 7});
   const json j = exported(scene);
 
-  ASSERT_EQ(j["shapes"].size(), 2u);
+  ASSERT_EQ(j["shapes"].size(), 4u);
   const json& m = j["shapes"][0];
   EXPECT_EQ(m["type"], "mesh");
   EXPECT_FALSE(m["visible"].get<bool>());
@@ -78,10 +80,46 @@ TEST(SceneExport, MeshesTransformsHiddenAndUnsupportedShapes) {
   const std::vector<double> expected{2, 0, 0, 1, 0, 2, 0, 2, 0, 0, 2, 3, 0, 0, 0, 1};
   EXPECT_EQ(matrix, expected);
 
-  const json& c = j["shapes"][1];
-  EXPECT_EQ(c["type"], "unsupported");
-  EXPECT_EQ(c["kind"], "cylinder");
-  EXPECT_EQ(c["source_index"], 7);
+  const json& cylinder = j["shapes"][1];
+  EXPECT_EQ(cylinder["type"], "cylinder");
+  EXPECT_DOUBLE_EQ(cylinder["radius"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(cylinder["height"].get<double>(), 2.0);
+  EXPECT_TRUE(cylinder["caps"].get<bool>());
+  const json& torus = j["shapes"][2];
+  EXPECT_EQ(torus["type"], "torus");
+  EXPECT_DOUBLE_EQ(torus["minor_radius"].get<double>(), 0.2);
+  const json& box = j["shapes"][3];
+  EXPECT_EQ(box["type"], "unsupported");
+  EXPECT_EQ(box["kind"], "sdf_box");
+  EXPECT_EQ(box["source_index"], 7);
+}
+
+// Lights that are not shapes and the environment travel with their fields; without an
+// environment the background colour is the constant one.
+TEST(SceneExport, LightsAndEnvironment) {
+  SceneDescription scene;
+  scene.background.color = {0.1, 0.2, 0.3};
+  scene.background.intensity = 2.0;
+  scene.lights.push_back(LightDesc{.type = "point", .position = {1, 2, 3}, .intensity = 5.0});
+  scene.lights.push_back(LightDesc{.type = "sun", .direction = {0, -1, 0}, .irradiance = 3.0});
+  scene.lights.push_back(LightDesc{.type = "spot", .cone_angle_degrees = 20.0});
+  json j = exported(scene);
+  EXPECT_EQ(j["environment"]["type"], "constant");
+  EXPECT_DOUBLE_EQ(j["environment"]["color"][2].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(j["environment"]["intensity"].get<double>(), 2.0);
+  ASSERT_EQ(j["lights"].size(), 3u);
+  EXPECT_EQ(j["lights"][0]["type"], "point");
+  EXPECT_DOUBLE_EQ(j["lights"][0]["position"][1].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(j["lights"][0]["intensity"].get<double>(), 5.0);
+  EXPECT_EQ(j["lights"][1]["type"], "directional");
+  EXPECT_DOUBLE_EQ(j["lights"][1]["irradiance"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["lights"][2]["cone_angle_degrees"].get<double>(), 20.0);
+
+  scene.environment = EnvironmentDesc{.type = "image", .intensity = 0.5, .rotation_degrees = 90.0};
+  j = exported(scene);
+  EXPECT_EQ(j["environment"]["type"], "image");
+  EXPECT_EQ(j["environment"]["image"], kEnvironmentImageName);
+  EXPECT_DOUBLE_EQ(j["environment"]["rotation_degrees"].get<double>(), 90.0);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 import argparse
 import json
 import math
+import os
 import re
 import sys
 import time
@@ -143,13 +144,117 @@ def add_camera(scene, cam):
     scene.camera = obj
 
 
-def add_world(scene, background):
+def add_world(scene, data, scene_path):
+    # What escaping rays see. Tessera's y is up (Blender's z), so the world shader reads
+    # the direction itself (Texture Coordinate "Generated" in a world shader) rather than
+    # letting Blender orient the sky.
+    env = data.get("environment") or dict(type="constant", **data["background"])
     world = bpy.data.worlds.new("world")
     world.use_nodes = True
-    node = world.node_tree.nodes["Background"]
-    node.inputs["Color"].default_value = (*background["color"], 1.0)
-    node.inputs["Strength"].default_value = background["intensity"]
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = nodes["Background"]
+    background.inputs["Strength"].default_value = env["intensity"]
+    kind = env["type"]
+    if kind == "constant":
+        background.inputs["Color"].default_value = (*env["color"], 1.0)
+    elif kind in ("gradient", "image"):
+        direction = nodes.new("ShaderNodeSeparateXYZ")
+        links.new(nodes.new("ShaderNodeTexCoord").outputs["Generated"], direction.inputs[0])
+        if kind == "gradient":
+            # RayON's sky: t = (y + 1) / 2 of the unit direction, white below to
+            # (0.5, 0.7, 1.0) above, times the intensity (the colour is not used).
+            t = nodes.new("ShaderNodeMath")
+            t.operation = "MULTIPLY_ADD"
+            t.inputs[1].default_value = 0.5
+            t.inputs[2].default_value = 0.5
+            links.new(direction.outputs["Y"], t.inputs[0])
+            mix = nodes.new("ShaderNodeMixRGB")
+            mix.inputs["Color1"].default_value = (1.0, 1.0, 1.0, 1.0)
+            mix.inputs["Color2"].default_value = (0.5, 0.7, 1.0, 1.0)
+            links.new(t.outputs[0], mix.inputs["Fac"])
+            links.new(mix.outputs[0], background.inputs["Color"])
+        else:
+            # Tessera's image: rows from +y down, column u = (atan2(-z, x) + pi) / 2 pi of
+            # the direction turned by the rotation about +y. Blender's equirectangular map
+            # of (a, b, c) has u = (pi - atan2(b, a)) / 2 pi and the top row at c = 1, so
+            # (a, b, c) = (x', z', y') of the turned direction (x', y', z').
+            r = math.radians(env["rotation_degrees"])
+            c, sn = math.cos(r), math.sin(r)
+
+            def mixed(a, b, wa, wb):  # wa * a + wb * b
+                scaled = nodes.new("ShaderNodeMath")
+                scaled.operation = "MULTIPLY"
+                scaled.inputs[1].default_value = wb
+                links.new(b, scaled.inputs[0])
+                out = nodes.new("ShaderNodeMath")
+                out.operation = "MULTIPLY_ADD"
+                out.inputs[1].default_value = wa
+                links.new(a, out.inputs[0])
+                links.new(scaled.outputs[0], out.inputs[2])
+                return out.outputs[0]
+
+            vector = nodes.new("ShaderNodeCombineXYZ")
+            x, z = direction.outputs["X"], direction.outputs["Z"]
+            links.new(mixed(x, z, c, -sn), vector.inputs["X"])
+            links.new(mixed(x, z, sn, c), vector.inputs["Y"])
+            links.new(direction.outputs["Y"], vector.inputs["Z"])
+            texture = nodes.new("ShaderNodeTexEnvironment")
+            texture.image = bpy.data.images.load(os.path.join(os.path.dirname(scene_path),
+                                                              env["image"]))
+            texture.image.colorspace_settings.name = "Non-Color"  # linear, as exported
+            texture.interpolation = "Closest"  # Tessera reads the pixel a direction falls in
+            texture.projection = "EQUIRECTANGULAR"
+            links.new(vector.outputs[0], texture.inputs["Vector"])
+            tint = nodes.new("ShaderNodeMixRGB")
+            tint.blend_type = "MULTIPLY"
+            tint.inputs["Fac"].default_value = 1.0
+            tint.inputs["Color2"].default_value = (*env["color"], 1.0)
+            links.new(texture.outputs["Color"], tint.inputs["Color1"])
+            links.new(tint.outputs[0], background.inputs["Color"])
+    else:
+        warn(f"environment {kind!r} not drawn: black")
+        background.inputs["Strength"].default_value = 0.0
     scene.world = world
+
+
+def add_lights(scene, data):
+    # Blender's lights take a power P in watts and a colour in [0, 1]: a point or spot light
+    # of radiant intensity I is P = 4 pi I (measured: radiance I / pi on a white Lambertian
+    # square 1 m below it), a sun's strength is its irradiance. Radius 0: Tessera's are
+    # deltas, or a sun's cone of the given angular radius (Blender takes the diameter).
+    for i, light in enumerate(data.get("lights", [])):
+        kind = light["type"]
+        colour = light["color"]
+        peak = max(colour)
+        if peak <= 0.0:
+            continue
+        if kind == "directional":
+            lamp = bpy.data.lights.new(f"light{i}", "SUN")
+            lamp.energy = light["irradiance"] * peak
+            lamp.angle = math.radians(2.0 * light["angular_radius_degrees"])
+            forward = Vector(light["direction"]).normalized()  # where the light travels
+            position = Vector((0.0, 0.0, 0.0))
+        else:
+            lamp = bpy.data.lights.new(f"light{i}", "SPOT" if kind == "spot" else "POINT")
+            lamp.energy = 4.0 * math.pi * light["intensity"] * peak
+            lamp.shadow_soft_size = 0.0
+            forward = Vector(light["direction"]).normalized()
+            position = Vector(light["position"])
+            if kind == "spot":
+                outer = math.radians(light["cone_angle_degrees"])
+                inner = math.radians(max(0.0, light["cone_angle_degrees"] -
+                                         light["cone_falloff_degrees"]))
+                lamp.spot_size = 2.0 * outer
+                # Cycles' smoothstep runs over (1 - cos outer) * blend of the cosine.
+                lamp.spot_blend = (math.cos(inner) - math.cos(outer)) / (1.0 - math.cos(outer))
+                warn(f"light {i}: Cycles 3.4's spot light also falls off as the cosine to its "
+                     "axis; Tessera's does not")
+        lamp.color = [c / peak for c in colour]
+        obj = bpy.data.objects.new(f"light{i}", lamp)
+        # Blender lights shine down their local -Z.
+        obj.matrix_world = Matrix.Translation(position) @ \
+            forward.to_track_quat("-Z", "Y").to_matrix().to_4x4()
+        scene.collection.objects.link(obj)
 
 
 def emission_node(nodes, emission):
@@ -298,6 +403,119 @@ def build_sphere(s, args):
     return mesh
 
 
+def similarity_scale(rows):
+    # The uniform scale of a row-major 4 x 4 similarity (rotation, uniform scale,
+    # translation), or None when the matrix is not one.
+    if rows is None:
+        return 1.0
+    m = Matrix([rows[0:4], rows[4:8], rows[8:12], rows[12:16]])
+    columns = [m.col[i].to_3d() for i in range(3)]
+    scale = columns[0].length
+    for i in range(3):
+        if abs(columns[i].length - scale) > 1e-9 * max(scale, 1.0):
+            return None
+        for j in range(i + 1, 3):
+            if abs(columns[i].dot(columns[j])) > 1e-9 * max(scale * scale, 1.0):
+                return None
+    return scale
+
+
+def sphere_points(s, material):
+    # An exact sphere: Cycles draws a point-cloud point as one (Geometry Nodes' Mesh to
+    # Points), where a UV sphere's facets sink a large sphere's top by R (1 - cos(pi / 64)):
+    # RayON's ground, a 1000 m sphere, came out 1.2 m low. Centre and radius are placed in
+    # world space here, so the object carries no transform.
+    rows = s["matrix"]
+    scale = similarity_scale(rows)
+    centre = Vector(s["center"])
+    if rows is not None:
+        centre = Matrix([rows[0:4], rows[4:8], rows[8:12], rows[12:16]]) @ centre
+    mesh = mesh_from_lists("sphere", [centre], [])
+    obj = bpy.data.objects.new("sphere", mesh)
+    group = bpy.data.node_groups.new("sphere", "GeometryNodeTree")
+    group.inputs.new("NodeSocketGeometry", "Geometry")
+    group.outputs.new("NodeSocketGeometry", "Geometry")
+    points = group.nodes.new("GeometryNodeMeshToPoints")
+    points.inputs["Radius"].default_value = s["radius"] * scale
+    assign = group.nodes.new("GeometryNodeSetMaterial")
+    assign.inputs["Material"].default_value = material
+    group.links.new(group.nodes.new("NodeGroupInput").outputs[0], points.inputs["Mesh"])
+    group.links.new(points.outputs[0], assign.inputs["Geometry"])
+    group.links.new(assign.outputs[0], group.nodes.new("NodeGroupOutput").inputs[0])
+    obj.modifiers.new("points", "NODES").node_group = group
+    return obj
+
+
+def build_revolved(base, axis, profile, segments, caps):
+    # A surface of revolution about `axis` through `base`: `profile` lists (radius, height)
+    # along it; caps close its first and last ring with flat discs of their own vertices
+    # (so the side's smooth normals do not bend towards them).
+    t, b, n = frame_of(axis)
+    base = Vector(base)
+
+    def ring(radius, height):
+        return [base + height * n + radius * (math.cos(2 * math.pi * i / segments) * t +
+                                              math.sin(2 * math.pi * i / segments) * b)
+                for i in range(segments)]
+
+    vertices, faces, smooth = [], [], []
+    for k in range(len(profile) - 1):
+        (r0, h0), (r1, h1) = profile[k], profile[k + 1]
+        start = len(vertices)
+        vertices += ring(r0, h0) + ring(r1, h1)
+        for i in range(segments):
+            j = (i + 1) % segments
+            faces.append((start + i, start + j, start + segments + j, start + segments + i))
+            smooth.append(True)
+    if caps:
+        for radius, height in (profile[0], profile[-1]):
+            if radius <= 0.0:
+                continue
+            start = len(vertices)
+            vertices += ring(radius, height) + [base + height * n]
+            for i in range(segments):
+                faces.append((start + segments, start + i, start + (i + 1) % segments))
+                smooth.append(False)
+    mesh = mesh_from_lists("revolved", vertices, faces)
+    mesh.polygons.foreach_set("use_smooth", smooth)
+    return mesh
+
+
+def build_cylinder(c, args):
+    return build_revolved(c["base"], c["axis"], [(c["radius"], 0.0), (c["radius"], c["height"])],
+                          args.sphere_segments, c["caps"])
+
+
+def build_cone(c, args):
+    # Rings along the side so a pointed cone's normals stay those of its side up to the tip.
+    rings = 32
+    profile = [(c["base_radius"] + (c["top_radius"] - c["base_radius"]) * k / rings,
+                c["height"] * k / rings) for k in range(rings + 1)]
+    return build_revolved(c["base"], c["axis"], profile, args.sphere_segments, c["caps"])
+
+
+def build_torus(t, args):
+    if t["minor_radius"] >= t["major_radius"]:
+        warn("a horn or spindle torus is drawn as its whole tube; Tessera shows its outer surface")
+    u_segments, v_segments = args.sphere_segments, args.sphere_segments // 2
+    tangent, bitangent, n = frame_of(t["axis"])
+    centre, major, minor = Vector(t["center"]), t["major_radius"], t["minor_radius"]
+    vertices = []
+    for i in range(u_segments):
+        u = 2 * math.pi * i / u_segments
+        radial = math.cos(u) * tangent + math.sin(u) * bitangent
+        for j in range(v_segments):
+            v = 2 * math.pi * j / v_segments
+            vertices.append(centre + (major + minor * math.cos(v)) * radial + minor * math.sin(v) * n)
+    faces = [(i * v_segments + j, ((i + 1) % u_segments) * v_segments + j,
+              ((i + 1) % u_segments) * v_segments + (j + 1) % v_segments,
+              i * v_segments + (j + 1) % v_segments)
+             for i in range(u_segments) for j in range(v_segments)]
+    mesh = mesh_from_lists("torus", vertices, faces)
+    mesh.polygons.foreach_set("use_smooth", [True] * len(faces))
+    return mesh
+
+
 def build_quad(q):
     c, u, v = Vector(q["corner"]), Vector(q["u"]), Vector(q["v"])
     return mesh_from_lists("quad", [c, c + u, c + u + v, c + v], [(0, 1, 2, 3)])
@@ -352,8 +570,28 @@ def add_shapes(scene, data, materials, args):
     counts = {}
     for s in data["shapes"]:
         kind = s["type"]
+        material = data["materials"][s["material"]]
+        # Opaque, non-emitting spheres become exact point spheres. Emitters stay meshes:
+        # Cycles 3.4 samples emitting triangles as lights, not points. Glass stays a mesh
+        # too (the point primitive's rays from inside were not checked).
+        exact = (kind == "sphere" and max(material["emission"]) <= 0.0 and
+                 material["bsdf"] in ("diffuse", "conductor", "coated") and
+                 similarity_scale(s["matrix"]) is not None)
+        if exact:
+            obj = sphere_points(s, materials[s["material"]])
+            counts["point sphere"] = counts.get("point sphere", 0) + 1
+            if not s["visible"]:
+                obj.visible_camera = False
+            scene.collection.objects.link(obj)
+            continue
         if kind == "sphere":
             mesh = build_sphere(s, args)
+        elif kind == "cylinder":
+            mesh = build_cylinder(s, args)
+        elif kind == "cone":
+            mesh = build_cone(s, args)
+        elif kind == "torus":
+            mesh = build_torus(s, args)
         elif kind == "quad":
             mesh = build_quad(s)
         elif kind == "disk":
@@ -372,11 +610,9 @@ def add_shapes(scene, data, materials, args):
             rows = s["matrix"]
             obj.matrix_world = Matrix([rows[0:4], rows[4:8], rows[8:12], rows[12:16]])
         if not s["visible"]:
-            # Tessera leaves hidden shapes out of the ray structure: camera rays and shadow
-            # rays pass through them and only light sampling finds them. Cycles drops an
-            # emitter from light sampling when BSDF rays cannot see it, so those stay on.
+            # Hidden from camera rays only, as in Tessera (and RayON): reflections, bounces
+            # and shadow rays still meet the shape.
             obj.visible_camera = False
-            obj.visible_shadow = False
         scene.collection.objects.link(obj)
     return counts
 
@@ -409,7 +645,8 @@ def main():
     scene = bpy.context.scene
     bounces = configure(scene, data, args)
     add_camera(scene, data["camera"])
-    add_world(scene, data["background"])
+    add_world(scene, data, args.scene)
+    add_lights(scene, data)
     materials = [make_material(m) for m in data["materials"]]
     counts = add_shapes(scene, data, materials, args)
     print(f"cycles_render.py: Blender {bpy.app.version_string}, {scene.render.resolution_x}x"
