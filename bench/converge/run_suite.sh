@@ -9,7 +9,7 @@
 # --adaptive and --denoise add Tessera's adaptive-sampling and denoised series (see
 # `tessera-bench converge --help`) and their times to the summary.
 # Defaults: reference 4096 spp, spp 1,2,...,256, 2 threads, build/. Scenes that need
-# ../shared (the colour-bleed box, the 250k-triangle mesh) are skipped when it is absent.
+# ../shared (RayON's scenes, the 250k-triangle mesh) are skipped when it is absent.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -54,6 +54,10 @@ scenes=(
   "glossy_glass=$here/scenes/glossy_glass.yaml"
   "emissive_triangles=$out/scenes/emissive_triangles.yaml"
   "mesh_250k=$here/scenes/mesh_250k.yaml"
+  "lights_and_sky=$here/scenes/lights_and_sky.yaml"
+  # RayON's own scenes, beside the box: none of the suite's tuning looked at them.
+  "rayon_01=$shared/rayon-scenes/01_bvh_test_scene.yaml"
+  "rayon_06=$shared/rayon-scenes/06_caustics_chapel.yaml"
 )
 
 summary="$out/summary.md"
