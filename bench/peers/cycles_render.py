@@ -323,6 +323,15 @@ def make_material(m):
             # across, aspect = sqrt(1 - 0.9 anisotropy); a wider lobe across the tangent is
             # the same lobe turned a quarter.
             ratio = min(alpha_x, alpha_y) / max(alpha_x, alpha_y)
+            if "Anisotropy" not in surface.inputs:
+                # Before Blender 4.0 the Glossy BSDF is isotropic; anisotropy is a node of
+                # its own, with the same colour and roughness.
+                glossy = surface
+                surface = nodes.new("ShaderNodeBsdfAnisotropic")
+                surface.distribution = "GGX"
+                for name in ("Color", "Roughness"):
+                    surface.inputs[name].default_value = glossy.inputs[name].default_value
+                nodes.remove(glossy)
             surface.inputs["Anisotropy"].default_value = (1.0 - ratio) / 0.9
             if alpha_y > alpha_x:
                 surface.inputs["Rotation"].default_value = 0.25
@@ -573,9 +582,11 @@ def add_shapes(scene, data, materials, args):
         material = data["materials"][s["material"]]
         # Opaque, non-emitting spheres become exact point spheres. Emitters stay meshes:
         # Cycles 3.4 samples emitting triangles as lights, not points. Glass stays a mesh
-        # too (the point primitive's rays from inside were not checked).
+        # too (the point primitive's rays from inside were not checked), and so do
+        # anisotropic metals (a point has no tangent: Cycles drew them black).
         exact = (kind == "sphere" and max(material["emission"]) <= 0.0 and
                  material["bsdf"] in ("diffuse", "conductor", "coated") and
+                 abs(material["alpha_x"] - material["alpha_y"]) <= 1e-6 and
                  similarity_scale(s["matrix"]) is not None)
         if exact:
             obj = sphere_points(s, materials[s["material"]])
