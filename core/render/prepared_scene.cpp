@@ -200,6 +200,8 @@ SceneView PreparedScene::view() const {
   arrays_.bind(v);
   v.triangle_attributes = triangle_attributes_.empty() ? nullptr : triangle_attributes_.data();
   v.materials = materials_.data();
+  v.thin_films = std::any_of(materials_.begin(), materials_.end(),
+                             [](const Material& m) { return m.kind == BsdfKind::kThinDielectric; });
   v.textures = textures_.data();
   v.texels = texels_.data();
   v.lights = lights_.data();

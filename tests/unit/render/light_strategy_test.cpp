@@ -161,6 +161,28 @@ TEST(LightStrategies, AgreeWithCylinderAndConeLights) {
   expect_strategies_agree(scene, 2);
 }
 
+// Soap bubbles and a film sheet between the lights and the box: light sampling's shadow
+// rays cross the films (times 1 - R of each), BSDF sampling's paths pass straight through
+// them; both must find the same light. Three sheets cover the ceiling light, a bubble
+// encloses the sphere light, another floats in the middle.
+TEST(LightStrategies, AgreeThroughThinFilms) {
+  SceneDescription scene = lit_box();
+  const auto film = static_cast<std::uint32_t>(scene.materials.size());
+  MaterialDesc bubble;
+  bubble.name = "bubble";
+  bubble.type = MaterialType::kThinFilm;
+  bubble.film_thickness = 380.0;
+  bubble.film_ior = 2.4;  // reflects 20-50%: a transmittance off by R shows
+  bubble.refractive_index = 1.0;
+  scene.materials.push_back(bubble);
+  for (const double y : {0.9, 0.8, 0.7})
+    scene.quads.push_back(QuadDesc{
+        .corner = {-0.3, y, -0.5}, .u = {0.6, 0, 0}, .v = {0, 0, 0.6}, .material = film});
+  scene.spheres.push_back(SphereDesc{.center = {0.6, -0.75, 0.3}, .radius = 0.2, .material = film});
+  scene.spheres.push_back(SphereDesc{.center = {0.2, 0.1, -0.2}, .radius = 0.3, .material = film});
+  expect_strategies_agree(scene, 3);
+}
+
 // Determinism with every light type and the glossy materials: tile sizes 8 and 13 give the
 // same image bit for bit (the Cornell test in render_determinism_test.cpp has quad lights
 // and Lambertian walls only).

@@ -29,10 +29,13 @@ struct PathPayload {
   vec3 radiance{0.0f};
   vec3 throughput{1.0f};
   SampleStream samples{0, 0, 0, 0};
+  // Vertices so far, each with its own block of sample dimensions; `depth - film_crossings`
+  // of them scattered (what max_depth, roulette and clamping count).
   std::uint32_t depth = 0;
-  std::uint32_t rays = 0;      // every ray traced for this sample, for rays/s
-  bool count_emission = true;  // camera rays and specular bounces see emitters directly
-  float previous_pdf = 0.0f;   // of the BSDF sample that led here, for MIS at emitters
+  std::uint32_t film_crossings = 0;  // straight passes through thin films (see PathHit)
+  std::uint32_t rays = 0;            // every ray traced for this sample, for rays/s
+  bool count_emission = true;        // camera rays and specular bounces see emitters directly
+  float previous_pdf = 0.0f;         // of the BSDF sample that led here, for MIS at emitters
   vec3 previous_position{0.0f};
   vec3 previous_normal{0.0f};  // geometric, on the side the path arrived from
   bool has_next_ray = false;
@@ -159,12 +162,47 @@ TESSERA_HD TESSERA_INLINE float roulette_survival(const vec3& throughput) {
   return glm::clamp(1.5f * std::sqrt(max_component(throughput)), 0.05f, 1.0f);
 }
 
+// A path crosses at most this many thin films in a row (a shadow ray, or a path between two
+// scattering vertices); past it the light is taken as blocked.
+inline constexpr std::uint32_t kMaxFilmCrossings = 32;
+
+// The fraction of light that reaches the end of `ray` (unit direction, t_max its end):
+// 1 - R of each thin film it crosses (a film transmits straight on, so a shadow ray may pass
+// it), 0 when anything else is in the way. Thin films are found by the closest hits along
+// the ray, with kShapes' surfaces.
+template <unsigned kShapes, typename T>
+TESSERA_HD vec3 film_transmittance(const SceneView& scene, const T& tracer, Ray ray) {
+  const vec3 end = ray.origin + ray.t_max * ray.direction;
+  vec3 transmittance(1.0f);
+  for (std::uint32_t crossing = 0;; ++crossing) {
+    HitRecord hit;
+    if (!tracer.trace_closest(ray, hit)) return transmittance;
+    if (crossing == kMaxFilmCrossings) return vec3(0.0f);
+    const SurfaceInteraction si = surface_at<kShapes>(scene, ray, hit);
+    const Material& material = scene.materials[si.material];
+    if (material.kind != BsdfKind::kThinDielectric) return vec3(0.0f);
+    // The reflectance the film's BSDF uses: at the angle to its shading normal.
+    const float cos_theta = glm::min(1.0f, std::fabs(glm::dot(ray.direction, si.shading_normal)));
+    transmittance *= vec3(1.0f) - thin_film_reflectance(cos_theta, material.exterior_ior,
+                                                        material.ior, material.film_thickness_nm);
+    const float facing = glm::dot(ray.direction, si.geometric_normal);
+    ray.origin =
+        offset_ray_origin(si.position, facing < 0.0f ? -si.geometric_normal : si.geometric_normal);
+    ray.t_min = 0.0f;
+    ray.t_max = glm::dot(end - ray.origin, ray.direction);
+    if (!(ray.t_max > 0.0f)) return transmittance;
+  }
+}
+
 // Next-event estimation at a surface point: one light picked by power, one direction towards
 // it by that light's sampler, one any-hit shadow ray. Returns f cos Li / pdf, weighted
 // against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
 // `front_origin` is si.position moved off the surface to the side of si.geometric_normal
 // (offset_ray_origin), which the caller shares with a reflected continuation ray.
-template <typename T>
+// kFilmShapes: the shapes a shadow ray looks for thin films with when the scene has any
+// (the path tracer, whose paths pass straight through films: PathHit); 0 makes every
+// surface block it (the shadow preview).
+template <unsigned kFilmShapes, typename T>
 TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction& si,
                                 const Frame& frame, const vec3& wo, const Bsdf& bsdf,
                                 const BounceSamples& u, LightStrategy strategy, const T& tracer,
@@ -197,12 +235,22 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   // sphere light: tests/unit/render/render_accuracy_test.cpp).
   const vec3 to_light = si.position + ls.distance * ls.wi - origin;
   const float length = glm::length(to_light);
-  if (tracer.occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)}))
-    return vec3(0.0f);
+  const Ray shadow{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)};
+  vec3 transmittance(1.0f);
+  if constexpr (kFilmShapes != 0) {
+    if (scene.thin_films) {
+      transmittance = film_transmittance<kFilmShapes>(scene, tracer, shadow);
+      if (!(max_component(transmittance) > 0.0f)) return vec3(0.0f);
+    } else if (tracer.occluded(shadow)) {
+      return vec3(0.0f);
+    }
+  } else {
+    if (tracer.occluded(shadow)) return vec3(0.0f);
+  }
   const float weight = strategy == LightStrategy::kMis && light.hit_by_rays
                            ? power_heuristic(pdf, bsdf.pdf(wo, wi))
                            : 1.0f;
-  return f * ls.radiance * (weight / pdf);
+  return f * ls.radiance * transmittance * (weight / pdf);
 }
 
 // The Lambertian response (unit albedo) to one light sample at `si`, for the shadow
@@ -217,9 +265,9 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
   const Frame frame = Frame::from_normal(si.geometric_normal);
   Bsdf lambert;
   lambert.albedo = vec3(1.0f);
-  return estimate_direct(scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u,
-                         LightStrategy::kLight, tracer,
-                         offset_ray_origin(si.position, si.geometric_normal), rays);
+  return estimate_direct<0>(scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u,
+                            LightStrategy::kLight, tracer,
+                            offset_ray_origin(si.position, si.geometric_normal), rays);
 }
 
 // The share of light `index`'s radiance, reached by a BSDF-sampled ray in `direction`, that
@@ -275,17 +323,23 @@ struct PathHit {
         payload.aov.primitive = hit.primitive;
       }
     }
+    const std::uint32_t bounces = payload.depth - payload.film_crossings;
     if (material.emissive())
       payload.radiance += clamp_indirect(
           payload.throughput * material.emission * emission_weight(ray, hit, si, payload), clamp,
-          payload.depth >= 2);
+          bounces >= 2);
     if (material.kind == BsdfKind::kEmitter) return;
     // Unlit materials end the path with their colour, at any depth, as RayON's do.
     if (material.unlit()) {
       payload.radiance += payload.throughput * material.unlit_color(albedo, si.shading_normal);
       return;
     }
-    if (payload.depth + 1 >= max_depth) return;
+    if constexpr (kFeatures.specular) {
+      if (material.kind == BsdfKind::kThinDielectric &&
+          cross_film(ray, si, material, footprint, payload))
+        return;
+    }
+    if (bounces + 1 >= max_depth) return;
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
     // The spawn point on ng's side, for the shadow ray and a reflected continuation alike.
@@ -310,10 +364,11 @@ struct PathHit {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
     if (sample_lights) {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
-      payload.radiance += clamp_indirect(
-          payload.throughput * estimate_direct(scene, si, frame, wo, bsdf, u, strategy, tracer,
-                                               front_origin, payload.rays),
-          clamp, payload.depth >= 1);
+      payload.radiance +=
+          clamp_indirect(payload.throughput * estimate_direct<kFeatures.shapes>(
+                                                  scene, si, frame, wo, bsdf, u, strategy, tracer,
+                                                  front_origin, payload.rays),
+                         clamp, bounces >= 1);
     }
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
 
@@ -345,7 +400,7 @@ struct PathHit {
     // and second on the colour-bleed box; no roulette at all cost 39% more per unit of
     // error there.
     ++payload.depth;
-    if (payload.depth >= 3) {
+    if (bounces + 1 >= 3) {
       const float survive = roulette_survival(payload.throughput);
       if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
@@ -372,6 +427,34 @@ struct PathHit {
       return emitter_hit_weight(scene, strategy, payload, index, ray.direction, distance,
                                 si.geometric_normal);
     }
+  }
+
+  // A thin film reflects R or transmits 1 - R straight on (Bsdf's thin-film lobes, picked by
+  // the same sample). Crossing it is no scattering vertex: the path keeps its previous
+  // vertex, so an emitter seen through films is weighed against the light sample taken
+  // there, whose shadow ray crossed the same films (film_transmittance), and the crossing
+  // does not count towards max_depth (Cycles counts such transparent bounces apart too).
+  // Without this a floor under soap bubbles was lit only by BSDF samples that happened to
+  // pass through a bubble to the light. Returns whether it crossed (the next ray is set).
+  TESSERA_HD bool cross_film(const Ray& ray, const SurfaceInteraction& si, const Material& material,
+                             float footprint, PathPayload<kFeatures.aovs>& payload) const {
+    const vec3 wo = Frame::from_normal(si.shading_normal).to_local(-ray.direction);
+    const vec3 r = thin_film_reflectance(wo.z, material.exterior_ior, material.ior,
+                                         material.film_thickness_nm);
+    const float reflect = (r.x + r.y + r.z) * (1.0f / 3.0f);
+    float u_lobe, u_unused;
+    BounceSamples::draw(payload.samples, payload.depth, BouncePair::kLobeAndPick, u_lobe, u_unused);
+    if (u_lobe < reflect || !(wo.z > 0.0f)) return false;  // reflected: an ordinary vertex
+    if (payload.film_crossings + 1 >= kMaxFilmCrossings) return true;  // ends the path
+    payload.throughput *= (vec3(1.0f) - r) / (1.0f - reflect);
+    ++payload.depth;
+    ++payload.film_crossings;
+    payload.cone_width = footprint;
+    payload.next_ray =
+        Ray{offset_ray_origin(si.position, -si.geometric_normal), ray.direction, 0.0f, kInfinity};
+    payload.has_next_ray = true;
+    ++payload.rays;
+    return true;
   }
 };
 
@@ -404,7 +487,8 @@ struct PathMiss {
             distant_radiance(light) * weight(payload, scene.first_analytic_light + i, direction);
       }
     }
-    payload.radiance += clamp_indirect(payload.throughput * seen, clamp, payload.depth >= 2);
+    payload.radiance += clamp_indirect(payload.throughput * seen, clamp,
+                                       payload.depth - payload.film_crossings >= 2);
   }
 
  private:

@@ -225,6 +225,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
 // valid on the host or, once uploaded, on a device.
 struct SceneView : SceneShapes {
   const Material* materials = nullptr;
+  // Some material is a thin film: shadow rays then look through films (film_transmittance).
+  bool thin_films = false;
   const Texture* textures = nullptr;          // Material::albedo_texture, roughness_texture
   const vec3* texels = nullptr;               // the textures' mip pyramids
   const LightSource* lights = nullptr;        // sorted by primitive reference (find_light)
