@@ -18,7 +18,7 @@ namespace {
 
 using glm::dvec3;
 
-constexpr int kChi2Tests = 3;
+constexpr int kChi2Tests = 4;
 
 AnalyticLight sun(const vec3& towards_light, double radius_degrees, const vec3& irradiance) {
   AnalyticLight light;
@@ -33,7 +33,8 @@ AnalyticLight sun(const vec3& towards_light, double radius_degrees, const vec3& 
 // Draws `count` directions from `light` and tests them against analytic_light_pdf over a
 // cap about `cap`; every sample's own pdf must be the pdf of its direction.
 void check_directions(const AnalyticLight& light, const Environment& env,
-                      const test::DirectionCap& cap, const char* name) {
+                      const test::DirectionCap& cap, const char* name,
+                      const vec3& ref_normal = vec3(0.0f)) {
   constexpr int kSamples = 200000;
   const test::CapHistogram bins(cap, 16, 24);
   std::vector<double> observed(bins.cells(), 0.0);
@@ -41,18 +42,18 @@ void check_directions(const AnalyticLight& light, const Environment& env,
   int pdf_mismatch = 0, failed = 0;
   for (int i = 0; i < kSamples; ++i) {
     LightSample s;
-    if (!sample_analytic_light(light, env, vec3(0.3f, -0.2f, 1.0f), u(), u(), s)) {
+    if (!sample_analytic_light(light, env, vec3(0.3f, -0.2f, 1.0f), u(), u(), s, ref_normal)) {
       ++failed;
       continue;
     }
     observed[bins.cell_of(dvec3(s.wi))] += 1.0;
-    const float pdf = analytic_light_pdf(light, env, s.wi);
+    const float pdf = analytic_light_pdf(light, env, s.wi, ref_normal);
     if (!(std::fabs(pdf - s.pdf) <= 1e-4f * s.pdf)) ++pdf_mismatch;
   }
   EXPECT_EQ(failed, 0);
   EXPECT_EQ(pdf_mismatch, 0);
   std::vector<double> expected = bins.integrate([&](const dvec3& w) {
-    return static_cast<double>(analytic_light_pdf(light, env, glm::normalize(vec3(w))));
+    return static_cast<double>(analytic_light_pdf(light, env, glm::normalize(vec3(w)), ref_normal));
   });
   double integral = 0.0;
   for (double& e : expected) {
@@ -88,6 +89,25 @@ TEST(AnalyticLightSampling, EnvironmentDirectionsFollowItsPdf) {
   check_directions(light, env, test::DirectionCap{dvec3(0.0, 1.0, 0.0), -1.0}, "environment");
   LightSample s;
   ASSERT_TRUE(sample_analytic_light(light, env, vec3(0.0f), 0.2f, 0.4f, s));
+  EXPECT_EQ(s.radiance, env.radiance(s.wi));
+}
+
+// Seen from a surface, a constant or gradient environment is sampled by the cosine about
+// the surface's normal: no direction below it, pdf cos / pi.
+TEST(AnalyticLightSampling, EnvironmentFromASurfaceFollowsTheCosine) {
+  AnalyticLight light;
+  light.kind = AnalyticLightKind::kEnvironment;
+  Environment env;
+  env.kind = EnvironmentKind::kGradient;
+  env.scale = vec3(0.8f);
+  const vec3 normal = glm::normalize(vec3(0.4f, 0.8f, -0.3f));
+  check_directions(light, env, test::DirectionCap{dvec3(normal), 0.0}, "environment, cosine",
+                   normal);
+  LightSample s;
+  ASSERT_TRUE(sample_analytic_light(light, env, vec3(0.0f), 0.2f, 0.4f, s, normal));
+  EXPECT_GT(glm::dot(s.wi, normal), 0.0f);
+  EXPECT_NEAR(s.pdf, glm::dot(s.wi, normal) / 3.14159265f, 1e-6f);
+  EXPECT_EQ(analytic_light_pdf(light, env, -normal, normal), 0.0f);
   EXPECT_EQ(s.radiance, env.radiance(s.wi));
 }
 

@@ -12,6 +12,10 @@
 
 namespace tessera {
 
+// Which rays see shapes marked `visible: false`: every ray but the camera's (RayON's
+// meaning, and Cycles' camera ray visibility).
+enum class RayKind : std::uint8_t { kCamera, kSecondary };
+
 // The traversal stage: a BVH walked with the configuration's intersection program.
 // Closest-hit, any-hit and all-hits are separate instantiations of the traversal, so a
 // shadow ray's early exit is compiled in, not tested per node. On the CPU, triangles may
@@ -22,11 +26,9 @@ namespace tessera {
 // the other shapes through BvhView::wide_nodes, the BVH's eight-wide form, when it is set
 // (closest and any hit; all-hits queries walk the binary tree). Shapes no
 // box can hold (infinite planes) stay outside the BVH: an intersection program with
-// kHasUnbounded tests them per ray through its *_unbounded functions.
-// Which rays see shapes marked `visible: false`: every ray but the camera's (RayON's
-// meaning, and Cycles' camera ray visibility).
-enum class RayKind : std::uint8_t { kCamera, kSecondary };
-
+// kHasUnbounded tests them per ray through its *_unbounded functions. Shapes hidden from
+// the camera are in a small tree of their own (BvhView::hidden_nodes) that every query but
+// a camera ray's walks as well.
 template <typename I>
 concept HasUnboundedShapes = requires {
   requires I::kHasUnbounded;

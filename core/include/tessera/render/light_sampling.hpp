@@ -373,12 +373,26 @@ TESSERA_HD inline bool with_emitter(const SceneView& scene, const LightSource& l
 // place, yet its square (glm::length) stays finite.
 inline constexpr float kInfiniteLightDistance = 1e16f;
 
+// Whether the environment is sampled by the cosine about the surface normal at the
+// reference point: a constant or gradient sky (no image to follow) seen from a surface. A
+// uniform direction over the sphere wasted half its samples below the surface and weighed
+// the rest without the cosine the surface applies; the cosine matches what a Lambertian
+// surface integrates (RayON's sky alone over a floor and four shapes: relMSE at 64 spp
+// 2.54e-4 -> 2.15e-4, time to relMSE 1e-3 -8%).
+TESSERA_HD TESSERA_INLINE bool environment_by_cosine(const Environment& env,
+                                                     const vec3& ref_normal) {
+  return env.kind != EnvironmentKind::kImage &&
+         (ref_normal.x != 0.0f || ref_normal.y != 0.0f || ref_normal.z != 0.0f);
+}
+
 // A direction from `ref` towards an analytic light (render/analytic_light.hpp), with the
 // radiance arriving along it. Delta lights (point, spot, zero-radius distant) return pdf 1
 // and their radiance already divided by it: the estimator f L cos / pdf is then theirs.
+// `ref_normal`: the unit geometric normal at `ref` on the side lights are sampled for (0:
+// no surface), which a constant or gradient environment samples the cosine about.
 TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const Environment& env,
-                                             const vec3& ref, float u1, float u2,
-                                             LightSample& out) {
+                                             const vec3& ref, float u1, float u2, LightSample& out,
+                                             const vec3& ref_normal = vec3(0.0f)) {
   switch (light.kind) {
     case AnalyticLightKind::kPoint:
     case AnalyticLightKind::kSpot: {
@@ -416,8 +430,15 @@ TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const E
       return true;
     }
     case AnalyticLightKind::kEnvironment:
-      out.wi = env.sample(u1, u2, out.pdf, out.radiance);
       out.distance = kInfiniteLightDistance;
+      if (environment_by_cosine(env, ref_normal)) {
+        const vec3 local = sample_cosine_hemisphere(u1, u2);
+        out.wi = Frame::from_normal(ref_normal).to_world(local);
+        out.pdf = local.z * kInvPi;
+        out.radiance = env.radiance(out.wi);
+        return out.pdf > 0.0f;
+      }
+      out.wi = env.sample(u1, u2, out.pdf, out.radiance);
       return out.pdf > 0.0f;
   }
   return false;
@@ -426,20 +447,24 @@ TESSERA_HD inline bool sample_analytic_light(const AnalyticLight& light, const E
 // The solid-angle pdf with which sample_analytic_light produces unit direction `wi` (0 for
 // delta lights, which no direction found another way can hit).
 TESSERA_HD inline float analytic_light_pdf(const AnalyticLight& light, const Environment& env,
-                                           const vec3& wi) {
-  if (light.kind == AnalyticLightKind::kEnvironment) return env.pdf(wi);
+                                           const vec3& wi, const vec3& ref_normal = vec3(0.0f)) {
+  if (light.kind == AnalyticLightKind::kEnvironment)
+    return environment_by_cosine(env, ref_normal)
+               ? glm::max(0.0f, glm::dot(wi, ref_normal)) * kInvPi
+               : env.pdf(wi);
   if (!distant_with_extent(light)) return 0.0f;
   if (!in_distant_cone(light, wi)) return 0.0f;
   return 1.0f / (2.0f * kPi * light.one_minus_cos_radius);
 }
 
 // A direction from `ref` towards `light`. Returns false (and no sample) when the light
-// subtends nothing from there.
+// subtends nothing from there. `ref_normal` as sample_analytic_light's.
 TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& light,
-                                    const vec3& ref, float u1, float u2, LightSample& out) {
+                                    const vec3& ref, float u1, float u2, LightSample& out,
+                                    const vec3& ref_normal = vec3(0.0f)) {
   if (primitive_type(light.primitive) == PrimitiveType::kAnalyticLight)
     return sample_analytic_light(scene.analytic_lights[primitive_index(light.primitive)],
-                                 scene.environment, ref, u1, u2, out);
+                                 scene.environment, ref, u1, u2, out, ref_normal);
   return light_detail::with_emitter(scene, light, [&](const auto& shape) {
     if (!sample_emitter(shape, light.area, ref, u1, u2, out)) return false;
     out.radiance = scene.materials[shape.material].emission;
@@ -449,12 +474,13 @@ TESSERA_HD inline bool sample_light(const SceneView& scene, const LightSource& l
 
 // The solid-angle pdf with which sample_light(light, ref) would produce unit direction `wi`,
 // given that the ray along it first meets the light at `distance` with geometric normal
-// `light_normal` (for lights at infinity, both are ignored).
+// `light_normal` (for lights at infinity, both are ignored); `ref_normal` as sample_light's.
 TESSERA_HD inline float light_pdf(const SceneView& scene, const LightSource& light, const vec3& ref,
-                                  const vec3& wi, float distance, const vec3& light_normal) {
+                                  const vec3& wi, float distance, const vec3& light_normal,
+                                  const vec3& ref_normal = vec3(0.0f)) {
   if (primitive_type(light.primitive) == PrimitiveType::kAnalyticLight)
     return analytic_light_pdf(scene.analytic_lights[primitive_index(light.primitive)],
-                              scene.environment, wi);
+                              scene.environment, wi, ref_normal);
   float pdf = 0.0f;
   light_detail::with_emitter(scene, light, [&](const auto& shape) {
     pdf = emitter_pdf(shape, light.area, ref, wi, distance, light_normal);

@@ -162,8 +162,9 @@ TESSERA_HD TESSERA_INLINE float roulette_survival(const vec3& throughput) {
   return glm::clamp(1.5f * std::sqrt(max_component(throughput)), 0.05f, 1.0f);
 }
 
-// A path crosses at most this many thin films in a row (a shadow ray, or a path between two
-// scattering vertices); past it the light is taken as blocked.
+// A shadow ray crosses at most this many thin films, and a path this many in all; past
+// that the light is taken as blocked and the path ends (a guard against endless crossings,
+// far beyond any scene's bubbles).
 inline constexpr std::uint32_t kMaxFilmCrossings = 32;
 
 // The fraction of light that reaches the end of `ray` (unit direction, t_max its end):
@@ -213,7 +214,8 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
   if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
   LightSample ls;
-  if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls)) return vec3(0.0f);
+  if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls, si.geometric_normal))
+    return vec3(0.0f);
   // Shading normals must not let light through the geometric surface: the light must be on
   // the side the shading frame puts it, and behind the surface only for a BSDF that
   // transmits (rough glass).
@@ -290,7 +292,8 @@ TESSERA_HD float emitter_hit_weight(const SceneView& scene, LightStrategy strate
   }
   const float pdf_light =
       light_pick_pmf(scene, payload.previous_position, payload.previous_normal, index) *
-      light_pdf(scene, scene.lights[index], payload.previous_position, direction, distance, normal);
+      light_pdf(scene, scene.lights[index], payload.previous_position, direction, distance, normal,
+                payload.previous_normal);
   return power_heuristic(payload.previous_pdf, pdf_light);
 }
 
