@@ -70,6 +70,12 @@ double light_power(const SceneView& shapes, std::span<const Material> materials,
   return 0.0;
 }
 
+// The power pick_light weighs `light` by: 0 for lights sampled at every vertex.
+double pick_power(const SceneView& shapes, std::span<const Material> materials,
+                  const LightSource& light, float scene_radius) {
+  return light.every_vertex ? 0.0 : light_power(shapes, materials, light, scene_radius);
+}
+
 // The binary tree the split search builds; collapse() turns it into the four-wide tree
 // the renderer walks.
 struct BinaryNode {
@@ -229,7 +235,7 @@ std::vector<LightTreeNode> build_light_tree(std::vector<LightSource>& lights,
   TreeBuild b{lights, {}, {}, {}, {}, {}};
   for (std::size_t i = 0; i < bounded; ++i) {
     b.boxes.push_back(light_bounds(shapes, lights[i]));
-    b.power.push_back(light_power(shapes, materials, lights[i], 1.0f));
+    b.power.push_back(pick_power(shapes, materials, lights[i], 1.0f));
     b.order.push_back(static_cast<std::uint32_t>(i));
   }
   b.binary.reserve(2 * bounded);
@@ -255,11 +261,13 @@ float infinite_light_share(const std::vector<LightSource>& lights,
                            float scene_radius) {
   double infinite = 0.0, total = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    const double power = light_power(shapes, materials, lights[i], scene_radius);
+    const double power = pick_power(shapes, materials, lights[i], scene_radius);
     total += power;
     if (i >= shapes.first_infinite_light) infinite += power;
   }
   if (!(total > 0.0)) return 0.5f;
+  if (infinite == total) return 1.0f;  // the tree holds nothing left to pick
+  if (infinite == 0.0) return 0.0f;
   return static_cast<float>(std::clamp(infinite / total, 0.1, 0.9));
 }
 
@@ -285,10 +293,22 @@ std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          const SceneView& shapes, float scene_radius) {
   std::sort(lights.begin(), lights.end(),
             [](const LightSource& a, const LightSource& b) { return a.primitive < b.primitive; });
+  // A few delta lights are sampled at every vertex: a shadow ray each, and no pick noise
+  // between them and the other lights (a floor under a point light, a sun and a sky had 3x
+  // Cycles' noise per sample from the pick alone).
+  const auto delta = [&](const LightSource& light) {
+    if (!analytic(light)) return false;
+    const AnalyticLight& a = shapes.analytic_lights[primitive_index(light.primitive)];
+    return a.kind == AnalyticLightKind::kPoint || a.kind == AnalyticLightKind::kSpot ||
+           (a.kind == AnalyticLightKind::kDistant && !distant_with_extent(a));
+  };
+  if (static_cast<std::size_t>(std::count_if(lights.begin(), lights.end(), delta)) <=
+      kMaxEveryVertexLights)
+    for (LightSource& light : lights) light.every_vertex = delta(light);
   std::vector<double> power(lights.size());
   double total = 0.0, infinite = 0.0;
   for (std::size_t i = 0; i < lights.size(); ++i) {
-    power[i] = light_power(shapes, materials, lights[i], scene_radius);
+    power[i] = pick_power(shapes, materials, lights[i], scene_radius);
     total += power[i];
     if (i >= shapes.first_infinite_light) infinite += power[i];
   }
@@ -301,8 +321,9 @@ std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
     total = bounded / (1.0 - share);
   }
   for (std::size_t i = 0; i < lights.size(); ++i)
-    lights[i].pmf = total > 0.0 ? static_cast<float>(power[i] / total)
-                                : 1.0f / static_cast<float>(lights.size());
+    lights[i].pmf = lights[i].every_vertex ? 0.0f
+                    : total > 0.0          ? static_cast<float>(power[i] / total)
+                                           : 1.0f / static_cast<float>(lights.size());
   return build_alias_table(power);
 }
 

@@ -171,6 +171,9 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
           : glm::max(1e-3f, 0.5f * glm::length(scene_bounds.upper - scene_bounds.lower)));
   scene->light_alias_ =
       finish_light_list(scene->lights_, scene->materials_, scene->view(), scene_radius);
+  for (std::uint32_t i = 0; i < scene->lights_.size(); ++i)
+    if (scene->lights_[i].every_vertex)
+      scene->every_vertex_lights_[scene->every_vertex_count_++] = i;
   if (options.light_tree && scene->first_infinite_light_ >= 2) {
     scene->light_tree_ = build_light_tree(scene->lights_, scene->materials_, scene->view());
     if (scene->first_infinite_light_ < scene->lights_.size())
@@ -227,6 +230,10 @@ SceneView PreparedScene::view() const {
   v.first_analytic_light = first_analytic_light_;
   v.first_infinite_light = first_infinite_light_;
   v.infinite_pick = infinite_pick_;
+  for (std::uint32_t i = 0; i < every_vertex_count_; ++i)
+    v.every_vertex_lights[i] = every_vertex_lights_[i];
+  v.every_vertex_count = every_vertex_count_;
+  v.pick_lights = every_vertex_count_ < lights_.size();
   v.environment = environment_;
   v.environment_light = environment_light_;
   return v;

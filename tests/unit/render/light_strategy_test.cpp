@@ -176,11 +176,27 @@ TEST(LightStrategies, AgreeThroughThinFilms) {
   bubble.refractive_index = 1.0;
   scene.materials.push_back(bubble);
   for (const double y : {0.9, 0.8, 0.7})
-    scene.quads.push_back(QuadDesc{
-        .corner = {-0.3, y, -0.5}, .u = {0.6, 0, 0}, .v = {0, 0, 0.6}, .material = film});
+    scene.quads.push_back(
+        QuadDesc{.corner = {-0.3, y, -0.5}, .u = {0.6, 0, 0}, .v = {0, 0, 0.6}, .material = film});
   scene.spheres.push_back(SphereDesc{.center = {0.6, -0.75, 0.3}, .radius = 0.2, .material = film});
   scene.spheres.push_back(SphereDesc{.center = {0.2, 0.1, -0.2}, .radius = 0.3, .material = film});
   expect_strategies_agree(scene, 3);
+}
+
+// A point light and a spot beside the box's lights: they are sampled at every vertex, the
+// others picked, and light sampling alone, BSDF sampling alone (which still takes the delta
+// lights by light sampling) and MIS agree.
+TEST(LightStrategies, AgreeWithDeltaLightsSampledAtEveryVertex) {
+  SceneDescription scene = lit_box();
+  scene.lights.push_back(LightDesc{
+      .type = "point", .position = {0.5, 0.6, 0.2}, .color = {1.0, 0.8, 0.6}, .intensity = 0.3});
+  scene.lights.push_back(LightDesc{.type = "spot",
+                                   .position = {-0.6, 0.8, 0.5},
+                                   .direction = {0.3, -1.0, -0.4},
+                                   .intensity = 0.8,
+                                   .cone_angle_degrees = 35.0,
+                                   .cone_falloff_degrees = 10.0});
+  expect_strategies_agree(scene, 5);
 }
 
 // Determinism with every light type and the glossy materials: tile sizes 8 and 13 give the

@@ -195,22 +195,14 @@ TESSERA_HD vec3 film_transmittance(const SceneView& scene, const T& tracer, Ray 
   }
 }
 
-// Next-event estimation at a surface point: one light picked by power, one direction towards
-// it by that light's sampler, one any-hit shadow ray. Returns f cos Li / pdf, weighted
-// against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
-// `front_origin` is si.position moved off the surface to the side of si.geometric_normal
-// (offset_ray_origin), which the caller shares with a reflected continuation ray.
-// kFilmShapes: the shapes a shadow ray looks for thin films with when the scene has any
-// (the path tracer, whose paths pass straight through films: PathHit); 0 makes every
-// surface block it (the shadow preview).
+// One light's sample at the point for estimate_direct, `pmf` the probability it was chosen
+// (1 for a light sampled at every vertex).
 template <unsigned kFilmShapes, typename T>
-TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction& si,
-                                const Frame& frame, const vec3& wo, const Bsdf& bsdf,
-                                const BounceSamples& u, LightStrategy strategy, const T& tracer,
-                                const vec3& front_origin, std::uint32_t& rays) {
-  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
-  if (!(pick.pmf > 0.0f)) return vec3(0.0f);
-  const LightSource& light = scene.lights[pick.index];
+TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteraction& si,
+                                  const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                                  const LightSource& light, float pmf, const BounceSamples& u,
+                                  LightStrategy strategy, const T& tracer, const vec3& front_origin,
+                                  std::uint32_t& rays) {
   // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
   if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
   LightSample ls;
@@ -225,7 +217,7 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   if ((wi.z > 0.0f) != (side > 0.0f)) return vec3(0.0f);
   const vec3 f = bsdf.eval(wo, wi) * std::fabs(wi.z);
   if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
-  const float pdf = pick.pmf * ls.pdf;
+  const float pdf = pmf * ls.pdf;
   if (!(pdf > 0.0f)) return vec3(0.0f);
   ++rays;
   const vec3 origin =
@@ -253,6 +245,33 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
                            ? power_heuristic(pdf, bsdf.pdf(wo, wi))
                            : 1.0f;
   return f * ls.radiance * transmittance * (weight / pdf);
+}
+
+// Next-event estimation at a surface point: each light sampled at every vertex (a few delta
+// lights), then one light picked (light tree or power), one direction towards it by that
+// light's sampler, one shadow ray each. Returns f cos Li / pdf, weighted
+// against BSDF sampling as `strategy` says. `frame` is the shading frame, `wo` local.
+// `front_origin` is si.position moved off the surface to the side of si.geometric_normal
+// (offset_ray_origin), which the caller shares with a reflected continuation ray.
+// kFilmShapes: the shapes a shadow ray looks for thin films with when the scene has any
+// (the path tracer, whose paths pass straight through films: PathHit); 0 makes every
+// surface block it (the shadow preview).
+template <unsigned kFilmShapes, typename T>
+TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction& si,
+                                const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                                const BounceSamples& u, LightStrategy strategy, const T& tracer,
+                                const vec3& front_origin, std::uint32_t& rays) {
+  vec3 direct(0.0f);
+  for (std::uint32_t i = 0; i < scene.every_vertex_count; ++i)
+    direct += direct_from_light<kFilmShapes>(scene, si, frame, wo, bsdf,
+                                             scene.lights[scene.every_vertex_lights[i]], 1.0f, u,
+                                             strategy, tracer, front_origin, rays);
+  if (!scene.pick_lights) return direct;
+  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
+  if (!(pick.pmf > 0.0f)) return direct;
+  return direct + direct_from_light<kFilmShapes>(scene, si, frame, wo, bsdf,
+                                                 scene.lights[pick.index], pick.pmf, u, strategy,
+                                                 tracer, front_origin, rays);
 }
 
 // The Lambertian response (unit albedo) to one light sample at `si`, for the shadow

@@ -125,6 +125,9 @@ struct LightSource {
   // them, so their samples take no MIS weight. Emitting shapes are hit even when hidden
   // from the camera.
   bool hit_by_rays = true;
+  // Sampled at every vertex instead of picked (a few delta lights: kMaxEveryVertexLights):
+  // its pick probability is 0.
+  bool every_vertex = false;
   std::uint32_t tree_depth = 0;  // its leaf's depth in the light tree (when there is one)
   std::uint64_t tree_path = 0;   // the child slot taken at each depth (light_tree.hpp)
 };
@@ -247,6 +250,11 @@ struct SceneView : SceneShapes {
   // among these with probability infinite_pick (uniformly) when there is a tree.
   std::uint32_t first_infinite_light = 0;
   float infinite_pick = 0.0f;
+  // The delta lights next-event estimation samples at every vertex (LightSource::
+  // every_vertex), by light-list index, and whether any light is left to pick.
+  std::uint32_t every_vertex_lights[4] = {0, 0, 0, 0};
+  std::uint32_t every_vertex_count = 0;
+  bool pick_lights = true;
   Environment environment;
   std::uint32_t environment_light = 0;  // its light-list index; light_count when it has none
 };
