@@ -86,6 +86,22 @@ TESSERA_HD TESSERA_INLINE bool spherical_usable(float solid_angle) {
   return solid_angle >= kMinSphericalSolidAngle && solid_angle <= kMaxSphericalSolidAngle;
 }
 
+// Whether rectangle `q` is sampled by its spherical rectangle from `ref` (then `rect` holds
+// it): only when the distance to its plane is under twice its longer edge; farther away
+// area sampling is nearly as good and costs no angles. Measured (128x128, 2048-spp
+// references, two alternations): at one edge length, triangle_spherical's test, the
+// colour-bleed box reached relMSE 1e-3 12% sooner but mesh_250k 10% later (relMSE +17%);
+// at two, mesh_250k is unchanged, the box 4% and glossy_glass 5-12% sooner.
+TESSERA_HD TESSERA_INLINE bool rectangle_spherical(const Quad& q, const vec3& ref,
+                                                   SphericalRectangle& rect) {
+  if (!q.is_rectangle()) return false;
+  const float height = glm::dot(ref - q.corner, q.normal);
+  const float longest = glm::max(q.u_length, q.v_length);
+  if (4.0f * longest * longest <= height * height) return false;
+  rect = spherical_rectangle(q, ref);
+  return spherical_usable(rect.solid_angle);
+}
+
 // Area pdf 1/A at `point` seen from `ref` along unit `wi`, in solid angle.
 TESSERA_HD TESSERA_INLINE float area_to_solid_angle(float area, float distance2, const vec3& wi,
                                                     const vec3& light_normal) {
@@ -247,13 +263,11 @@ TESSERA_HD inline bool sample_emitter(const Sphere& s, float area, const vec3& r
 TESSERA_HD inline bool sample_emitter(const Quad& q, float area, const vec3& ref, float u1,
                                       float u2, LightSample& out) {
   using namespace light_detail;
-  if (q.is_rectangle()) {
-    const SphericalRectangle rect = spherical_rectangle(q, ref);
-    if (spherical_usable(rect.solid_angle)) {
-      rect.sample_direction(u1, u2, out.wi, out.distance);
-      out.pdf = 1.0f / rect.solid_angle;
-      return out.distance > 0.0f;
-    }
+  SphericalRectangle rect;
+  if (rectangle_spherical(q, ref, rect)) {
+    rect.sample_direction(u1, u2, out.wi, out.distance);
+    out.pdf = 1.0f / rect.solid_angle;
+    return out.distance > 0.0f;
   }
   return finish_area_sample(ref, q.corner + u1 * q.u + u2 * q.v, q.normal, area, out);
 }
@@ -328,10 +342,8 @@ TESSERA_HD inline float emitter_pdf(const Sphere& s, float area, const vec3& ref
 TESSERA_HD inline float emitter_pdf(const Quad& q, float area, const vec3& ref, const vec3& wi,
                                     float distance, const vec3& light_normal) {
   using namespace light_detail;
-  if (q.is_rectangle()) {
-    const SphericalRectangle rect = spherical_rectangle(q, ref);
-    if (spherical_usable(rect.solid_angle)) return 1.0f / rect.solid_angle;
-  }
+  SphericalRectangle rect;
+  if (rectangle_spherical(q, ref, rect)) return 1.0f / rect.solid_angle;
   return area_to_solid_angle(area, distance * distance, wi, light_normal);
 }
 
