@@ -238,8 +238,8 @@ struct VirtualMaterial {
 struct Light {
   const Shape* shape = nullptr;
   float area = 0.0f;
-  float pmf = 0.0f;  // picked by power
-  bool visible = true;
+  float pmf = 0.0f;              // picked by power
+  bool hit_by_rays = true;       // false: a delta light, found by light sampling alone
   std::uint32_t tree_depth = 0;  // its leaf in the light tree
   std::uint64_t tree_path = 0;
 };
@@ -309,7 +309,7 @@ class VirtualScene {
     const LightPick pick = pick_light(si.position, si.geometric_normal, u.light_pick);
     if (!(pick.pmf > 0.0f)) return vec3(0.0f);
     const Light& light = lights[pick.index];
-    if (strategy == LightStrategy::kBsdf && light.visible) return vec3(0.0f);
+    if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
     LightSample ls;
     if (!light.shape->sample_light(si.position, light.area, u.light_u1, u.light_u2, ls))
       return vec3(0.0f);
@@ -328,7 +328,7 @@ class VirtualScene {
     const vec3 to_light = si.position + ls.distance * ls.wi - origin;
     const float length = glm::length(to_light);
     if (occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)})) return vec3(0.0f);
-    const float weight = strategy == LightStrategy::kMis && light.visible
+    const float weight = strategy == LightStrategy::kMis && light.hit_by_rays
                              ? power_heuristic(pdf, bsdf.pdf(wo, wi, si.front_face))
                              : 1.0f;
     return f * ls.radiance * (weight / pdf);

@@ -38,10 +38,6 @@ void add_analytic_lights(std::vector<LightSource>& lights, std::span<const Analy
 // (lit_region_radius: what reaches the lit region from infinity). When the list has lights
 // at infinity and bounded ones, those at infinity keep a share of the picks within
 // [0.1, 0.9], as infinite_light_share, so neither side starves.
-// At most this many delta lights (points, spots, suns without extent) are sampled at every
-// vertex; more are picked among the others.
-inline constexpr std::size_t kMaxEveryVertexLights = 4;
-
 std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
                                          std::span<const Material> materials,
                                          const SceneView& shapes, float scene_radius);

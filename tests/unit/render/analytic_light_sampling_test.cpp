@@ -80,12 +80,22 @@ TEST(AnalyticLightSampling, SunConeFollowsItsPdf) {
               1e-4 * s.radiance.x);
 }
 
-TEST(AnalyticLightSampling, EnvironmentDirectionsFollowItsPdf) {
+AnalyticLight environment_light() {
   AnalyticLight light;
   light.kind = AnalyticLightKind::kEnvironment;
+  return light;
+}
+
+Environment gradient_sky() {
   Environment env;
   env.kind = EnvironmentKind::kGradient;
   env.scale = vec3(0.8f);
+  return env;
+}
+
+TEST(AnalyticLightSampling, EnvironmentDirectionsFollowItsPdf) {
+  const AnalyticLight light = environment_light();
+  const Environment env = gradient_sky();
   check_directions(light, env, test::DirectionCap{dvec3(0.0, 1.0, 0.0), -1.0}, "environment");
   LightSample s;
   ASSERT_TRUE(sample_analytic_light(light, env, vec3(0.0f), 0.2f, 0.4f, s));
@@ -95,11 +105,8 @@ TEST(AnalyticLightSampling, EnvironmentDirectionsFollowItsPdf) {
 // Seen from a surface, a constant or gradient environment is sampled by the cosine about
 // the surface's normal: no direction below it, pdf cos / pi.
 TEST(AnalyticLightSampling, EnvironmentFromASurfaceFollowsTheCosine) {
-  AnalyticLight light;
-  light.kind = AnalyticLightKind::kEnvironment;
-  Environment env;
-  env.kind = EnvironmentKind::kGradient;
-  env.scale = vec3(0.8f);
+  const AnalyticLight light = environment_light();
+  const Environment env = gradient_sky();
   const vec3 normal = glm::normalize(vec3(0.4f, 0.8f, -0.3f));
   check_directions(light, env, test::DirectionCap{dvec3(normal), 0.0}, "environment, cosine",
                    normal);

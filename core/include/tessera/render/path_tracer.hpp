@@ -33,9 +33,10 @@ struct PathPayload {
   // of them scattered (what max_depth, roulette and clamping count).
   std::uint32_t depth = 0;
   std::uint32_t film_crossings = 0;  // straight passes through thin films (see PathHit)
-  std::uint32_t rays = 0;            // every ray traced for this sample, for rays/s
-  bool count_emission = true;        // camera rays and specular bounces see emitters directly
-  float previous_pdf = 0.0f;         // of the BSDF sample that led here, for MIS at emitters
+  TESSERA_HD std::uint32_t bounces() const { return depth - film_crossings; }
+  std::uint32_t rays = 0;      // every ray traced for this sample, for rays/s
+  bool count_emission = true;  // camera rays and specular bounces see emitters directly
+  float previous_pdf = 0.0f;   // of the BSDF sample that led here, for MIS at emitters
   vec3 previous_position{0.0f};
   vec3 previous_normal{0.0f};  // geometric, on the side the path arrived from
   bool has_next_ray = false;
@@ -345,7 +346,7 @@ struct PathHit {
         payload.aov.primitive = hit.primitive;
       }
     }
-    const std::uint32_t bounces = payload.depth - payload.film_crossings;
+    const std::uint32_t bounces = payload.bounces();
     if (material.emissive())
       payload.radiance += clamp_indirect(
           payload.throughput * material.emission * emission_weight(ray, hit, si, payload), clamp,
@@ -509,8 +510,7 @@ struct PathMiss {
             distant_radiance(light) * weight(payload, scene.first_analytic_light + i, direction);
       }
     }
-    payload.radiance += clamp_indirect(payload.throughput * seen, clamp,
-                                       payload.depth - payload.film_crossings >= 2);
+    payload.radiance += clamp_indirect(payload.throughput * seen, clamp, payload.bounces() >= 2);
   }
 
  private:

@@ -116,8 +116,8 @@ class PreparedScene {
   std::vector<Texture> textures_;  // their pyramids in texels_ (render/texture_pool.hpp)
   std::vector<vec3> texels_;
   std::vector<LightSource> lights_;
-  std::vector<AliasSlot> light_alias_;                   // pick_light's table over lights_
-  std::uint32_t every_vertex_lights_[4] = {0, 0, 0, 0};  // SceneView::every_vertex_lights
+  std::vector<AliasSlot> light_alias_;  // pick_light's table over lights_
+  std::uint32_t every_vertex_lights_[kMaxEveryVertexLights] = {};  // SceneView's
   std::uint32_t every_vertex_count_ = 0;
   std::vector<LightTreeNode> light_tree_;  // empty: pick_light uses the alias table
   Bvh bvh_;                                // every visible bounded shape but triangles

@@ -117,6 +117,10 @@ struct MeshPlacement {
   AffineTransform world_to_object;
 };
 
+// At most this many delta lights (points, spots, suns without extent) are sampled at every
+// vertex (LightSource::every_vertex); a scene with more picks them among the others.
+inline constexpr std::uint32_t kMaxEveryVertexLights = 4;
+
 struct LightSource {
   std::uint32_t primitive;  // tagged reference
   float area;
@@ -252,7 +256,7 @@ struct SceneView : SceneShapes {
   float infinite_pick = 0.0f;
   // The delta lights next-event estimation samples at every vertex (LightSource::
   // every_vertex), by light-list index, and whether any light is left to pick.
-  std::uint32_t every_vertex_lights[4] = {0, 0, 0, 0};
+  std::uint32_t every_vertex_lights[kMaxEveryVertexLights] = {};
   std::uint32_t every_vertex_count = 0;
   bool pick_lights = true;
   Environment environment;
