@@ -278,6 +278,27 @@ TEST(YamlLoader, ExampleCornellBoxLoads) {
   EXPECT_EQ(loaded.scene.spheres.size(), 2u);
 }
 
+// The converge suite's self-contained scenes (the others read ../shared or a generated
+// mesh) load cleanly: a benchmark that fails on its scene is found here, not an hour in.
+TEST(YamlLoader, ConvergeSuiteScenesLoad) {
+  const std::string dir = std::string(TESSERA_SOURCE_DIR) + "/bench/converge/scenes/";
+  const struct {
+    const char* file;
+    std::size_t emitting_spheres;
+  } scenes[] = {{"two_lights.yaml", 1},     {"glossy_glass.yaml", 0},  {"rough_materials.yaml", 0},
+                {"lights_and_sky.yaml", 0}, {"daylight_room.yaml", 0}, {"many_lights.yaml", 40}};
+  for (const auto& s : scenes) {
+    SCOPED_TRACE(s.file);
+    const LoadedScene loaded = load_scene_file(dir + s.file);
+    EXPECT_TRUE(loaded.warnings.empty());
+    std::size_t emitting = 0;
+    for (const auto& sphere : loaded.scene.spheres)
+      emitting +=
+          loaded.scene.materials[sphere.material].emitted_radiance() != glm::dvec3(0.0) ? 1 : 0;
+    EXPECT_EQ(emitting, s.emitting_spheres);
+  }
+}
+
 }  // namespace
 }  // namespace tessera
 
