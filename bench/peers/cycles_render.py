@@ -217,6 +217,32 @@ def add_world(scene, data, scene_path):
     scene.world = world
 
 
+def undo_spot_cosine(lamp, forward):
+    # Cycles 3.4's spot attenuation is the cosine to the axis times its smoothstep
+    # (spot_attenuation in kernel/light/spot.h); Tessera's spot, like a theatre spot, has the
+    # smoothstep alone. The light's node tree divides its strength by that cosine: a lamp's
+    # Incoming is the direction from the lamp to the point it lights, so the cosine is its
+    # dot product with the axis (measured: a spot on a white floor, means +10.8% apart
+    # before, see bench/peers/README.md).
+    lamp.use_nodes = True
+    tree = lamp.node_tree
+    emission = next(n for n in tree.nodes if n.type == "EMISSION")
+    incoming = tree.nodes.new("ShaderNodeNewGeometry").outputs["Incoming"]
+    cosine = tree.nodes.new("ShaderNodeVectorMath")
+    cosine.operation = "DOT_PRODUCT"
+    cosine.inputs[1].default_value = forward
+    tree.links.new(incoming, cosine.inputs[0])
+    floor = tree.nodes.new("ShaderNodeMath")
+    floor.operation = "MAXIMUM"
+    floor.inputs[1].default_value = 1e-4
+    tree.links.new(cosine.outputs["Value"], floor.inputs[0])
+    inverse = tree.nodes.new("ShaderNodeMath")
+    inverse.operation = "DIVIDE"
+    inverse.inputs[0].default_value = 1.0
+    tree.links.new(floor.outputs["Value"], inverse.inputs[1])
+    tree.links.new(inverse.outputs["Value"], emission.inputs["Strength"])
+
+
 def add_lights(scene, data):
     # Blender's lights take a power P in watts and a colour in [0, 1]: a point or spot light
     # of radiant intensity I is P = 4 pi I (measured: radiance I / pi on a white Lambertian
@@ -247,8 +273,7 @@ def add_lights(scene, data):
                 lamp.spot_size = 2.0 * outer
                 # Cycles' smoothstep runs over (1 - cos outer) * blend of the cosine.
                 lamp.spot_blend = (math.cos(inner) - math.cos(outer)) / (1.0 - math.cos(outer))
-                warn(f"light {i}: Cycles 3.4's spot light also falls off as the cosine to its "
-                     "axis; Tessera's does not")
+                undo_spot_cosine(lamp, forward)
         lamp.color = [c / peak for c in colour]
         obj = bpy.data.objects.new(f"light{i}", lamp)
         # Blender lights shine down their local -Z.
