@@ -61,7 +61,12 @@ json material_json(const MaterialDesc& m) {
           {"metallic", m.metallic},
           {"transmission", m.transmission},
           {"anisotropy", m.anisotropy},
-          {"film_thickness", m.film_thickness}};
+          {"film_thickness", m.film_thickness},
+          // What the peer cannot draw yet, so it can say so instead of drawing something else
+          // in silence: texture names ("" for none) and RayON's pattern kind (null for none).
+          {"albedo_texture", m.albedo_texture},
+          {"roughness_texture", m.roughness_texture},
+          {"pattern", m.pattern ? json(m.pattern->type) : json(nullptr)}};
 }
 
 // Row-major, as Blender's Matrix() takes rows; glm stores columns.
@@ -112,6 +117,15 @@ std::string scene_to_json(const SceneDescription& scene) {
     json j = common("sphere", s);
     j["center"] = vec(s.center);
     j["radius"] = s.radius;
+    shapes.push_back(std::move(j));
+  }
+  // RayON's golf balls: the sphere, with how far its dimples tilt the normal (the peer draws
+  // the plain sphere).
+  for (const auto& d : scene.displaced_spheres) {
+    json j = common("sphere", d);
+    j["center"] = vec(d.center);
+    j["radius"] = d.radius;
+    j["dimples"] = d.displacement_scale;
     shapes.push_back(std::move(j));
   }
   for (const auto& q : scene.quads) {

@@ -94,6 +94,36 @@ TEST(SceneExport, MeshesTransformsHiddenAndUnsupportedShapes) {
   EXPECT_EQ(box["source_index"], 7);
 }
 
+// RayON's golf balls are exported as their spheres, and what the peer cannot draw (dimples,
+// textures, patterns) is named so it can warn: before, a golf ball was left out of the
+// peer's image without a word.
+TEST(SceneExport, GolfBallsTexturesAndPatternsAreNamed) {
+  SceneDescription scene;
+  MaterialDesc& plain = scene.materials.emplace_back();
+  plain.name = "plain";
+  MaterialDesc& textured = scene.materials.emplace_back();
+  textured.name = "textured";
+  textured.albedo_texture = "checks";
+  textured.pattern = PatternDesc{.type = "fibonacci_dots", .dot_count = 40, .dot_radius = 0.1};
+  scene.displaced_spheres.push_back(DisplacedSphereDesc{
+      .center = {1, 2, 3}, .radius = 0.5, .displacement_scale = 0.3, .material = 1});
+  const json j = exported(scene);
+
+  ASSERT_EQ(j["shapes"].size(), 1u);
+  const json& ball = j["shapes"][0];
+  EXPECT_EQ(ball["type"], "sphere");
+  EXPECT_DOUBLE_EQ(ball["radius"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(ball["center"][2].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(ball["dimples"].get<double>(), 0.3);
+  EXPECT_EQ(ball["material"], 1);
+
+  EXPECT_EQ(j["materials"][0]["albedo_texture"], "");
+  EXPECT_TRUE(j["materials"][0]["pattern"].is_null());
+  EXPECT_EQ(j["materials"][1]["albedo_texture"], "checks");
+  EXPECT_EQ(j["materials"][1]["roughness_texture"], "");
+  EXPECT_EQ(j["materials"][1]["pattern"], "fibonacci_dots");
+}
+
 // Lights that are not shapes and the environment travel with their fields; without an
 // environment the background colour is the constant one.
 TEST(SceneExport, LightsAndEnvironment) {

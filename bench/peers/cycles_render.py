@@ -302,6 +302,14 @@ def make_material(m):
     albedo = (*m["albedo"], 1.0)
     bsdf = m["bsdf"]
     emitting = max(m["emission"]) > 0.0
+    # Not drawn yet: said, so a difference between the two images has a named cause.
+    for field in ("albedo_texture", "roughness_texture"):
+        if m.get(field):
+            warn(f"material {m['name']}: {field} {m[field]!r} not drawn (the plain value "
+                 "instead)")
+    if m.get("pattern"):
+        warn(f"material {m['name']}: RayON pattern {m['pattern']!r} not drawn (the plain "
+             "albedo instead)")
     surface = None
     if bsdf == "emitter":
         surface = emission_node(nodes, m["emission"]) if emitting else None
@@ -605,6 +613,8 @@ def add_shapes(scene, data, materials, args):
     for s in data["shapes"]:
         kind = s["type"]
         material = data["materials"][s["material"]]
+        if s.get("dimples"):
+            warn(f"shape {s['source_index']}: golf-ball dimples not drawn (a plain sphere)")
         # Opaque, non-emitting spheres become exact point spheres. Emitters stay meshes:
         # Cycles 3.4 samples emitting triangles as lights, not points. Glass stays a mesh
         # too (the point primitive's rays from inside were not checked), and so do
