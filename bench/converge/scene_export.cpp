@@ -62,11 +62,14 @@ json material_json(const MaterialDesc& m) {
           {"transmission", m.transmission},
           {"anisotropy", m.anisotropy},
           {"film_thickness", m.film_thickness},
-          // What the peer cannot draw yet, so it can say so instead of drawing something else
-          // in silence: texture names ("" for none) and RayON's pattern kind (null for none).
+          // Texture names ("" for none), which the peer does not draw and names in a warning,
+          // and RayON's pattern (kind null for none) as the renderer reads it.
           {"albedo_texture", m.albedo_texture},
           {"roughness_texture", m.roughness_texture},
-          {"pattern", m.pattern ? json(m.pattern->type) : json(nullptr)}};
+          {"pattern", m.pattern ? json(m.pattern->type) : json(nullptr)},
+          {"pattern_color", vec(mapped.pattern.color)},
+          {"pattern_dot_count", mapped.pattern.dot_count},
+          {"pattern_cos_dot_radius", mapped.pattern.cos_dot_radius}};
 }
 
 // Row-major, as Blender's Matrix() takes rows; glm stores columns.

@@ -293,7 +293,65 @@ def emission_node(nodes, emission):
     return node
 
 
-def make_material(m):
+# Dots drawn as node-graph tests (two nodes each); a pattern with more is left plain.
+MAX_PEER_DOTS = 256
+
+
+def fibonacci_dots(nodes, links, m, colour, frame):
+    # RayON's fibonacci_dots as Tessera draws it (render/pattern.hpp): the pattern's colour
+    # where the unit direction from the shape's centre lies within the dot radius of one of
+    # dot_count points of a spherical Fibonacci spiral, `colour` elsewhere. `frame`: the
+    # centre in world space and the rows of the inverse linear map into the shape's own space
+    # (None: the world's axes, as for baked spheres and every other shape).
+    centre, inverse = frame
+    offset = nodes.new("ShaderNodeVectorMath")
+    offset.operation = "SUBTRACT"
+    links.new(nodes.new("ShaderNodeNewGeometry").outputs["Position"], offset.inputs[0])
+    offset.inputs[1].default_value = centre
+    direction = offset.outputs["Vector"]
+    if inverse is not None:
+        combine = nodes.new("ShaderNodeCombineXYZ")
+        for axis, row in zip("XYZ", inverse):
+            component = nodes.new("ShaderNodeVectorMath")
+            component.operation = "DOT_PRODUCT"
+            links.new(direction, component.inputs[0])
+            component.inputs[1].default_value = row
+            links.new(component.outputs["Value"], combine.inputs[axis])
+        direction = combine.outputs["Vector"]
+    unit = nodes.new("ShaderNodeVectorMath")
+    unit.operation = "NORMALIZE"
+    links.new(direction, unit.inputs[0])
+    count = m["pattern_dot_count"]
+    inside = None
+    for i in range(count):
+        k = i + 0.5
+        z = 1.0 - 2.0 * k / count
+        r = math.sqrt(max(0.0, 1.0 - z * z))
+        longitude = 2.39996323 * k
+        cosine = nodes.new("ShaderNodeVectorMath")
+        cosine.operation = "DOT_PRODUCT"
+        links.new(unit.outputs["Vector"], cosine.inputs[0])
+        cosine.inputs[1].default_value = (math.cos(longitude) * r, math.sin(longitude) * r, z)
+        test = nodes.new("ShaderNodeMath")
+        test.operation = "GREATER_THAN"
+        links.new(cosine.outputs["Value"], test.inputs[0])
+        test.inputs[1].default_value = m["pattern_cos_dot_radius"]
+        if inside is None:
+            inside = test.outputs[0]
+        else:
+            either = nodes.new("ShaderNodeMath")
+            either.operation = "MAXIMUM"
+            links.new(inside, either.inputs[0])
+            links.new(test.outputs[0], either.inputs[1])
+            inside = either.outputs[0]
+    mix = nodes.new("ShaderNodeMixRGB")
+    links.new(inside, mix.inputs["Fac"])
+    mix.inputs["Color1"].default_value = colour
+    mix.inputs["Color2"].default_value = (*m["pattern_color"], 1.0)
+    return mix.outputs["Color"]
+
+
+def make_material(m, pattern_frame=None):
     mat = bpy.data.materials.new(m["name"] or "material")
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
@@ -307,16 +365,28 @@ def make_material(m):
         if m.get(field):
             warn(f"material {m['name']}: {field} {m[field]!r} not drawn (the plain value "
                  "instead)")
-    if m.get("pattern"):
-        warn(f"material {m['name']}: RayON pattern {m['pattern']!r} not drawn (the plain "
-             "albedo instead)")
+    # RayON's checkerboard and stripes draw the plain albedo in RayON and Tessera alike.
+    # The materials list is built without a frame; each shape of a dotted material gets a
+    # copy with its own (shape_material).
+    dots = m.get("pattern") == "fibonacci_dots" and pattern_frame is not None
+    if dots and (bsdf not in ("diffuse", "coated", "conductor") or m["complex_fresnel"] or
+                 m["pattern_dot_count"] > MAX_PEER_DOTS):
+        warn(f"material {m['name']}: fibonacci_dots not drawn here (the plain albedo instead)")
+        dots = False
+
+    def set_albedo(socket, colour=albedo):
+        # The albedo, or RayON's dots over it on a shape with a pattern frame.
+        if dots:
+            links.new(fibonacci_dots(nodes, links, m, colour, pattern_frame), socket)
+        else:
+            socket.default_value = colour
     surface = None
     if bsdf == "emitter":
         surface = emission_node(nodes, m["emission"]) if emitting else None
         emitting = False
     elif bsdf == "diffuse":
         surface = nodes.new("ShaderNodeBsdfDiffuse")
-        surface.inputs["Color"].default_value = albedo
+        set_albedo(surface.inputs["Color"])
         surface.inputs["Roughness"].default_value = 0.0
     elif bsdf == "conductor":
         # Tessera: GGX (single scattering) with alpha_x, alpha_y; Fresnel = albedo, or
@@ -344,7 +414,7 @@ def make_material(m):
                 warn(f"material {m['name']}: albedo tint of a measured metal not exported")
         else:
             surface = nodes.new("ShaderNodeBsdfGlossy")
-            surface.inputs["Color"].default_value = albedo
+            set_albedo(surface.inputs["Color"])
         surface.distribution = "GGX"
         surface.inputs["Roughness"].default_value = 0.0 if smooth else math.sqrt(
             math.sqrt(alpha_x * alpha_y))
@@ -382,7 +452,7 @@ def make_material(m):
         # Cycles: the same mix by its Fresnel node (which uses the shading normal's angle).
         warn(f"material {m['name']}: clear coat approximated (Fresnel mix of glossy and diffuse)")
         diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-        diffuse.inputs["Color"].default_value = albedo
+        set_albedo(diffuse.inputs["Color"])
         glossy = nodes.new("ShaderNodeBsdfGlossy")
         alpha = m["alpha_x"]
         glossy.distribution = "GGX" if alpha >= 1e-3 else "SHARP"
@@ -608,11 +678,38 @@ def build_mesh(m):
     return mesh
 
 
+def pattern_frame(s):
+    # Where Tessera measures a pattern's direction from (render/surface_textures.hpp): a
+    # sphere's centre, in world space when its transform is baked (none, or a similarity),
+    # in its own space when it is instanced (the inverse of the linear part, as rows);
+    # the world origin for every other shape. Hashable: materials are copied per frame.
+    if s["type"] != "sphere":
+        return ((0.0, 0.0, 0.0), None)
+    rows = s["matrix"]
+    centre = Vector(s["center"])
+    if rows is None:
+        return (tuple(centre), None)
+    m = Matrix([rows[0:4], rows[4:8], rows[8:12], rows[12:16]])
+    world_centre = tuple(m @ centre)
+    if similarity_scale(rows) is not None:
+        return (world_centre, None)
+    inverse = m.to_3x3().inverted()
+    return (world_centre, tuple(tuple(inverse[r]) for r in range(3)))
+
+
 def add_shapes(scene, data, materials, args):
     counts = {}
+    dotted = {}  # (material, frame) -> its copy for shapes of that frame
     for s in data["shapes"]:
         kind = s["type"]
         material = data["materials"][s["material"]]
+        shape_material = materials[s["material"]]
+        if material.get("pattern") == "fibonacci_dots":
+            frame = pattern_frame(s)
+            key = (s["material"], frame)
+            if key not in dotted:
+                dotted[key] = make_material(material, frame)
+            shape_material = dotted[key]
         if s.get("dimples"):
             warn(f"shape {s['source_index']}: golf-ball dimples not drawn (a plain sphere)")
         # Opaque, non-emitting spheres become exact point spheres. Emitters stay meshes:
@@ -624,7 +721,7 @@ def add_shapes(scene, data, materials, args):
                  abs(material["alpha_x"] - material["alpha_y"]) <= 1e-6 and
                  similarity_scale(s["matrix"]) is not None)
         if exact:
-            obj = sphere_points(s, materials[s["material"]])
+            obj = sphere_points(s, shape_material)
             counts["point sphere"] = counts.get("point sphere", 0) + 1
             if not s["visible"]:
                 obj.visible_camera = False
@@ -650,7 +747,7 @@ def add_shapes(scene, data, materials, args):
             warn(f"geometry[{s['source_index']}]: {s.get('kind', kind)} not drawn by the Cycles peer")
             continue
         counts[kind] = counts.get(kind, 0) + 1
-        mesh.materials.append(materials[s["material"]])
+        mesh.materials.append(shape_material)
         obj = bpy.data.objects.new(kind, mesh)
         if s["matrix"] is not None:
             rows = s["matrix"]
