@@ -108,6 +108,10 @@ json mesh_json(const TriangleMeshDesc& mesh) {
   j["positions"] = std::move(positions);
   j["indices"] = mesh.indices;
   j["normals"] = std::move(normals);
+  std::vector<double> uvs;
+  uvs.reserve(mesh.uvs.size() * 2);
+  for (const auto& uv : mesh.uvs) uvs.insert(uvs.end(), {uv.x, uv.y});
+  j["uvs"] = std::move(uvs);  // empty, or one pair per position
   j["source_file"] = mesh.source_file;
   return j;
 }
@@ -189,6 +193,22 @@ std::string scene_to_json(const SceneDescription& scene) {
   json materials = json::array();
   for (const auto& m : scene.materials) materials.push_back(material_json(m));
 
+  // Textures as the renderer reads them; an image's decoded linear pixels go into a file
+  // beside the JSON (write_scene_json), named here.
+  json textures = json::array();
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const TextureDesc& t = scene.textures[i];
+    textures.push_back(
+        {{"name", t.name},
+         {"type", t.type},
+         {"scale", t.scale},
+         {"color_a", vec(t.color_a)},
+         {"color_b", vec(t.color_b)},
+         {"wrap", t.wrap},
+         {"filter", t.filter},
+         {"image", t.type == "image" ? json(texture_image_name(i)) : json(nullptr)}});
+  }
+
   json lights = json::array();
   for (const LightDesc& l : scene.lights)
     lights.push_back({{"type", l.type == "sun" ? "directional" : l.type},
@@ -236,6 +256,7 @@ std::string scene_to_json(const SceneDescription& scene) {
       {"environment", std::move(environment)},
       {"lights", std::move(lights)},
       {"materials", std::move(materials)},
+      {"textures", std::move(textures)},
       {"shapes", std::move(shapes)}};
   return out.dump();
 }
@@ -254,6 +275,19 @@ void write_scene_json(const SceneDescription& scene, const std::filesystem::path
       for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = e.image_pixels[p * 3 + c];
     write_image(path.parent_path() / kEnvironmentImageName, image);
   }
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const TextureDesc& t = scene.textures[i];
+    if (t.type != "image") continue;
+    const std::size_t pixels = std::size_t{t.image_width} * t.image_height;
+    RgbaImage image{t.image_width, t.image_height, std::vector<float>(pixels * 4, 1.0f)};
+    for (std::size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = t.image_pixels[p * 3 + c];
+    write_image(path.parent_path() / texture_image_name(i), image);
+  }
+}
+
+std::string texture_image_name(std::size_t index) {
+  return "texture_" + std::to_string(index) + ".exr";
 }
 
 }  // namespace tessera::bench

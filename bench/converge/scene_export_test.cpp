@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "tessera/image/exr.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
 namespace tessera::bench {
@@ -122,6 +124,54 @@ TEST(SceneExport, GolfBallsTexturesAndPatternsAreNamed) {
   EXPECT_EQ(j["materials"][1]["albedo_texture"], "checks");
   EXPECT_EQ(j["materials"][1]["roughness_texture"], "");
   EXPECT_EQ(j["materials"][1]["pattern"], "fibonacci_dots");
+}
+
+// Textures travel with their fields, an image's pixels go into an EXR beside the JSON
+// named by it, and a mesh's uv go with its positions: what the peer needs to draw them.
+TEST(SceneExport, TexturesAndMeshUvs) {
+  SceneDescription scene;
+  scene.materials.emplace_back().name = "m";
+  TextureDesc checks;
+  checks.name = "checks";
+  checks.type = "checker";
+  checks.scale = 6.0;
+  checks.color_a = {0.75, 0.75, 0.75};
+  TextureDesc image;
+  image.name = "picture";
+  image.type = "image";
+  image.wrap = "clamp";
+  image.image_width = 2;
+  image.image_height = 1;
+  image.image_pixels = {0.25f, 0.5f, 1.0f, 2.0f, 0.0f, 0.125f};
+  scene.textures = {checks, image};
+  TriangleMeshDesc mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2};
+  mesh.uvs = {{0, 0}, {2, 0}, {0, 0.5}};
+  scene.meshes.push_back(mesh);
+
+  const json j = exported(scene);
+  ASSERT_EQ(j["textures"].size(), 2u);
+  EXPECT_EQ(j["textures"][0]["type"], "checker");
+  EXPECT_DOUBLE_EQ(j["textures"][0]["scale"].get<double>(), 6.0);
+  EXPECT_DOUBLE_EQ(j["textures"][0]["color_a"][0].get<double>(), 0.75);
+  EXPECT_TRUE(j["textures"][0]["image"].is_null());
+  EXPECT_EQ(j["textures"][1]["wrap"], "clamp");
+  EXPECT_EQ(j["textures"][1]["image"], texture_image_name(1));
+  const std::vector<double> uvs = j["shapes"][0]["uvs"];
+  EXPECT_EQ(uvs, (std::vector<double>{0, 0, 2, 0, 0, 0.5}));
+
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "tessera_scene_export_textures";
+  std::filesystem::create_directories(dir);
+  write_scene_json(scene, dir / "scene.json");
+  const RgbaImage written = read_image(dir / texture_image_name(1));
+  ASSERT_EQ(written.width, 2u);
+  ASSERT_EQ(written.height, 1u);
+  EXPECT_FLOAT_EQ(written.pixels[1], 0.5f);  // first pixel's green, as read
+  EXPECT_FLOAT_EQ(written.pixels[4], 2.0f);  // second pixel's red: float, not clamped
+  EXPECT_FALSE(std::filesystem::exists(dir / texture_image_name(0)));
+  std::filesystem::remove_all(dir);
 }
 
 // Lights that are not shapes and the environment travel with their fields; without an

@@ -297,12 +297,10 @@ def emission_node(nodes, emission):
 MAX_PEER_DOTS = 256
 
 
-def fibonacci_dots(nodes, links, m, colour, frame):
-    # RayON's fibonacci_dots as Tessera draws it (render/pattern.hpp): the pattern's colour
-    # where the unit direction from the shape's centre lies within the dot radius of one of
-    # dot_count points of a spherical Fibonacci spiral, `colour` elsewhere. `frame`: the
-    # centre in world space and the rows of the inverse linear map into the shape's own space
-    # (None: the world's axes, as for baked spheres and every other shape).
+def direction_from_centre(nodes, links, frame):
+    # The unit direction from a shape's centre to the shaded point, in the frame Tessera
+    # measures patterns and a sphere's uv in: `frame` is the centre in world space and the
+    # rows of the inverse linear map into the shape's own space (None: the world's axes).
     centre, inverse = frame
     offset = nodes.new("ShaderNodeVectorMath")
     offset.operation = "SUBTRACT"
@@ -321,6 +319,77 @@ def fibonacci_dots(nodes, links, m, colour, frame):
     unit = nodes.new("ShaderNodeVectorMath")
     unit.operation = "NORMALIZE"
     links.new(direction, unit.inputs[0])
+    return unit.outputs["Vector"]
+
+
+def math_node(nodes, links, operation, a, b=None):
+    # A Math node of `operation` on sockets or numbers.
+    node = nodes.new("ShaderNodeMath")
+    node.operation = operation
+    for index, value in ((0, a), (1, b)):
+        if value is None:
+            continue
+        if isinstance(value, (int, float)):
+            node.inputs[index].default_value = value
+        else:
+            links.new(value, node.inputs[index])
+    return node.outputs[0]
+
+
+def sphere_uv(nodes, links, frame):
+    # Tessera's sphere uv (geometry/sphere.hpp): u = (atan2(-z, x) + pi) / 2 pi, v = acos(-y) / pi
+    # of the outward direction.
+    xyz = nodes.new("ShaderNodeSeparateXYZ")
+    links.new(direction_from_centre(nodes, links, frame), xyz.inputs[0])
+    x, y, z = xyz.outputs["X"], xyz.outputs["Y"], xyz.outputs["Z"]
+    phi = math_node(nodes, links, "ARCTAN2", math_node(nodes, links, "MULTIPLY", z, -1.0), x)
+    u = math_node(nodes, links, "DIVIDE", math_node(nodes, links, "ADD", phi, math.pi),
+                  2.0 * math.pi)
+    theta = math_node(nodes, links, "ARCCOSINE", math_node(nodes, links, "MULTIPLY", y, -1.0))
+    v = math_node(nodes, links, "DIVIDE", theta, math.pi)
+    uv = nodes.new("ShaderNodeCombineXYZ")
+    links.new(u, uv.inputs["X"])
+    links.new(v, uv.inputs["Y"])
+    return uv.outputs["Vector"]
+
+
+def texture_colour(nodes, links, texture, uv, scene_dir):
+    # Tessera's texture at `uv` (render/texture.hpp). Its checker is colour_a where
+    # floor(u s) + floor(v s) is even; Cycles' Checker gives Color1 where it is odd. Images:
+    # the decoded linear pixels Tessera read, bilinear (Tessera's trilinear mipmaps agree where
+    # a texel is no smaller than a pixel's footprint), wrapped the same way.
+    if texture["type"] == "checker":
+        node = nodes.new("ShaderNodeTexChecker")
+        node.inputs["Scale"].default_value = texture["scale"]
+        node.inputs["Color1"].default_value = (*texture["color_b"], 1.0)
+        node.inputs["Color2"].default_value = (*texture["color_a"], 1.0)
+        links.new(uv, node.inputs["Vector"])
+        return node.outputs["Color"]
+    scaled = nodes.new("ShaderNodeVectorMath")
+    scaled.operation = "SCALE"
+    links.new(uv, scaled.inputs[0])
+    scaled.inputs["Scale"].default_value = texture["scale"]
+    node = nodes.new("ShaderNodeTexImage")
+    node.image = bpy.data.images.load(os.path.join(scene_dir, texture["image"]))
+    node.image.colorspace_settings.name = "Non-Color"  # linear, as exported
+    node.interpolation = "Closest" if texture["filter"] == "nearest" else "Linear"
+    extension = {"repeat": "REPEAT", "clamp": "EXTEND", "mirror": "MIRROR"}[texture["wrap"]]
+    try:
+        node.extension = extension
+    except TypeError:  # Blender 3.4 has no MIRROR
+        warn(f"texture {texture['name']}: wrap {texture['wrap']} drawn as repeat by this Blender")
+        node.extension = "REPEAT"
+    links.new(scaled.outputs["Vector"], node.inputs["Vector"])
+    return node.outputs["Color"]
+
+
+def fibonacci_dots(nodes, links, m, colour, frame):
+    # RayON's fibonacci_dots as Tessera draws it (render/pattern.hpp): the pattern's colour
+    # where the unit direction from the shape's centre lies within the dot radius of one of
+    # dot_count points of a spherical Fibonacci spiral, `colour` elsewhere. `frame`: the
+    # centre in world space and the rows of the inverse linear map into the shape's own space
+    # (None: the world's axes, as for baked spheres and every other shape).
+    unit = direction_from_centre(nodes, links, frame)
     count = m["pattern_dot_count"]
     inside = None
     for i in range(count):
@@ -330,7 +399,7 @@ def fibonacci_dots(nodes, links, m, colour, frame):
         longitude = 2.39996323 * k
         cosine = nodes.new("ShaderNodeVectorMath")
         cosine.operation = "DOT_PRODUCT"
-        links.new(unit.outputs["Vector"], cosine.inputs[0])
+        links.new(unit, cosine.inputs[0])
         cosine.inputs[1].default_value = (math.cos(longitude) * r, math.sin(longitude) * r, z)
         test = nodes.new("ShaderNodeMath")
         test.operation = "GREATER_THAN"
@@ -351,7 +420,11 @@ def fibonacci_dots(nodes, links, m, colour, frame):
     return mix.outputs["Color"]
 
 
-def make_material(m, pattern_frame=None):
+def make_material(m, context=None):
+    # `context`: None for the materials list, or (pattern frame, uv source, textures by name,
+    # the scene's folder) for one shape's copy of a dotted or textured material, uv source
+    # "sphere", "uvmap" (the mesh's UV layer) or None (a shape whose uv the peer lacks).
+    pattern_frame = context[0] if context else None
     mat = bpy.data.materials.new(m["name"] or "material")
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
@@ -360,11 +433,16 @@ def make_material(m, pattern_frame=None):
     albedo = (*m["albedo"], 1.0)
     bsdf = m["bsdf"]
     emitting = max(m["emission"]) > 0.0
-    # Not drawn yet: said, so a difference between the two images has a named cause.
-    for field in ("albedo_texture", "roughness_texture"):
-        if m.get(field):
-            warn(f"material {m['name']}: {field} {m[field]!r} not drawn (the plain value "
-                 "instead)")
+    # Not drawn: said, so a difference between the two images has a named cause.
+    if m.get("roughness_texture") and context:
+        warn(f"material {m['name']}: roughness_texture {m['roughness_texture']!r} not drawn "
+             "(the plain roughness instead)")
+    textured = bool(m.get("albedo_texture")) and context is not None
+    if textured and (context[1] is None or bsdf not in ("diffuse", "coated", "conductor") or
+                     m["complex_fresnel"]):
+        warn(f"material {m['name']}: albedo_texture {m['albedo_texture']!r} not drawn on this "
+             "shape (the plain albedo instead)")
+        textured = False
     # RayON's checkerboard and stripes draw the plain albedo in RayON and Tessera alike.
     # The materials list is built without a frame; each shape of a dotted material gets a
     # copy with its own (shape_material).
@@ -375,8 +453,14 @@ def make_material(m, pattern_frame=None):
         dots = False
 
     def set_albedo(socket, colour=albedo):
-        # The albedo, or RayON's dots over it on a shape with a pattern frame.
-        if dots:
+        # The albedo: a texture's where there is one (it wins over a pattern, as in Tessera),
+        # RayON's dots over it on a shape with a pattern frame, else the plain colour.
+        if textured:
+            uv = (sphere_uv(nodes, links, pattern_frame) if context[1] == "sphere" else
+                  nodes.new("ShaderNodeUVMap").outputs["UV"])
+            links.new(texture_colour(nodes, links, context[2][m["albedo_texture"]], uv,
+                                     context[3]), socket)
+        elif dots:
             links.new(fibonacci_dots(nodes, links, m, colour, pattern_frame), socket)
         else:
             socket.default_value = colour
@@ -630,7 +714,12 @@ def build_torus(t, args):
 
 def build_quad(q):
     c, u, v = Vector(q["corner"]), Vector(q["u"]), Vector(q["v"])
-    return mesh_from_lists("quad", [c, c + u, c + u + v, c + v], [(0, 1, 2, 3)])
+    mesh = mesh_from_lists("quad", [c, c + u, c + u + v, c + v], [(0, 1, 2, 3)])
+    # Tessera's quad uv: the corner's parameters along u and v.
+    layer = mesh.uv_layers.new(name="UVMap")
+    for loop, uv in zip(mesh.loops, [(0, 0), (1, 0), (1, 1), (0, 1)]):
+        layer.data[loop.index].uv = uv
+    return mesh
 
 
 def build_disk(d, args):
@@ -669,6 +758,11 @@ def build_mesh(m):
     mesh.polygons.foreach_set("loop_start", list(range(0, 3 * nt, 3)))
     mesh.polygons.foreach_set("loop_total", [3] * nt)
     mesh.update(calc_edges=True)
+    uvs = m.get("uvs")
+    if uvs:
+        # The file's per-vertex uv, per loop as Blender keeps them.
+        layer = mesh.uv_layers.new(name="UVMap")
+        layer.data.foreach_set("uv", [c for i in indices for c in uvs[2 * i:2 * i + 2]])
     if normals:
         # Tessera interpolates the file's vertex normals; custom split normals do the same.
         mesh.polygons.foreach_set("use_smooth", [True] * nt)
@@ -697,18 +791,20 @@ def pattern_frame(s):
     return (world_centre, tuple(tuple(inverse[r]) for r in range(3)))
 
 
-def add_shapes(scene, data, materials, args):
+def add_shapes(scene, data, materials, args, scene_dir):
     counts = {}
-    dotted = {}  # (material, frame) -> its copy for shapes of that frame
+    dotted = {}  # (material, frame, uv source) -> its copy for such shapes
+    textures = {t["name"]: t for t in data.get("textures", [])}
     for s in data["shapes"]:
         kind = s["type"]
         material = data["materials"][s["material"]]
         shape_material = materials[s["material"]]
-        if material.get("pattern") == "fibonacci_dots":
-            frame = pattern_frame(s)
-            key = (s["material"], frame)
+        if material.get("pattern") == "fibonacci_dots" or material.get("albedo_texture"):
+            uv = ("sphere" if kind == "sphere" else
+                  "uvmap" if kind == "quad" or (kind == "mesh" and s.get("uvs")) else None)
+            key = (s["material"], pattern_frame(s), uv)
             if key not in dotted:
-                dotted[key] = make_material(material, frame)
+                dotted[key] = make_material(material, (key[1], uv, textures, scene_dir))
             shape_material = dotted[key]
         if s.get("dimples"):
             warn(f"shape {s['source_index']}: golf-ball dimples not drawn (a plain sphere)")
@@ -791,7 +887,7 @@ def main():
     add_world(scene, data, args.scene)
     add_lights(scene, data)
     materials = [make_material(m) for m in data["materials"]]
-    counts = add_shapes(scene, data, materials, args)
+    counts = add_shapes(scene, data, materials, args, os.path.dirname(args.scene))
     print(f"cycles_render.py: Blender {bpy.app.version_string}, {scene.render.resolution_x}x"
           f"{scene.render.resolution_y}, bounces {bounces}, threads "
           f"{args.threads or 'all'}, shapes {counts}", flush=True)
