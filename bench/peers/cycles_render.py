@@ -218,9 +218,8 @@ def add_world(scene, data, scene_path):
 
 
 def undo_spot_cosine(lamp, forward):
-    # Cycles 3.4's spot attenuation is the cosine to the axis times its smoothstep
-    # (spot_attenuation in kernel/light/spot.h); Tessera's spot, like a theatre spot, has the
-    # smoothstep alone. The light's node tree divides its strength by that cosine: a lamp's
+    # Cycles 3.4's spot attenuation (its kernel's spot_attenuation) is the cosine to the axis
+    # times the smoothstep; Tessera's spot has the smoothstep alone. The light's node tree divides its strength by that cosine: a lamp's
     # Incoming is the direction from the lamp to the point it lights, so the cosine is its
     # dot product with the axis (measured: a spot on a white floor, means +10.8% apart
     # before, see bench/peers/README.md).
