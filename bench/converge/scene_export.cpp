@@ -64,6 +64,9 @@ json material_json(const MaterialDesc& m) {
           {"film_thickness", m.film_thickness},
           // Texture names ("" for none), which the peer does not draw and names in a warning,
           // and RayON's pattern (kind null for none) as the renderer reads it.
+          {"roughness_mapping", mapped.roughness_mapping == RoughnessMapping::kHalf      ? "half"
+                                : mapped.roughness_mapping == RoughnessMapping::kSquared ? "squared"
+                                                                                         : "none"},
           {"albedo_texture", m.albedo_texture},
           {"roughness_texture", m.roughness_texture},
           {"pattern", m.pattern ? json(m.pattern->type) : json(nullptr)},

@@ -433,9 +433,11 @@ def make_material(m, context=None):
     bsdf = m["bsdf"]
     emitting = max(m["emission"]) > 0.0
     # Not drawn: said, so a difference between the two images has a named cause.
-    if m.get("roughness_texture") and context:
-        warn(f"material {m['name']}: roughness_texture {m['roughness_texture']!r} not drawn "
-             "(the plain roughness instead)")
+    rough_textured = bool(m.get("roughness_texture")) and context is not None
+    if rough_textured and (context[1] is None or m["roughness_mapping"] == "none"):
+        warn(f"material {m['name']}: roughness_texture {m['roughness_texture']!r} not drawn on "
+             "this shape (the plain roughness instead)")
+        rough_textured = False
     textured = bool(m.get("albedo_texture")) and context is not None
     if textured and (context[1] is None or bsdf not in ("diffuse", "coated", "conductor") or
                      m["complex_fresnel"]):
@@ -451,13 +453,34 @@ def make_material(m, context=None):
         warn(f"material {m['name']}: fibonacci_dots not drawn here (the plain albedo instead)")
         dots = False
 
+    def shape_uv():
+        return (sphere_uv(nodes, links, pattern_frame) if context[1] == "sphere" else
+                nodes.new("ShaderNodeUVMap").outputs["UV"])
+
+    def set_roughness(node):
+        # A roughness texture as Tessera reads it (Material::set_roughness): the mean of the
+        # texel's RGB, clamped to [0, 1], mapped to GGX alpha (r / 2 or r^2); Blender's
+        # roughness is sqrt(alpha) (anisotropy keeps sqrt(alpha_x alpha_y) = alpha).
+        if not rough_textured:
+            return
+        colour = texture_colour(nodes, links, context[2][m["roughness_texture"]], shape_uv(),
+                                context[3])
+        rgb = nodes.new("ShaderNodeSeparateRGB")
+        links.new(colour, rgb.inputs[0])
+        total = math_node(nodes, links, "ADD", math_node(nodes, links, "ADD", rgb.outputs["R"],
+                                                         rgb.outputs["G"]), rgb.outputs["B"])
+        mean = math_node(nodes, links, "DIVIDE", total, 3.0)
+        r = math_node(nodes, links, "MINIMUM", math_node(nodes, links, "MAXIMUM", mean, 0.0), 1.0)
+        alpha = (math_node(nodes, links, "MULTIPLY", r, 0.5) if m["roughness_mapping"] == "half"
+                 else math_node(nodes, links, "MULTIPLY", r, r))
+        node.distribution = "GGX"
+        links.new(math_node(nodes, links, "SQRT", alpha), node.inputs["Roughness"])
+
     def set_albedo(socket, colour=albedo):
         # The albedo: a texture's where there is one (it wins over a pattern, as in Tessera),
         # RayON's dots over it on a shape with a pattern frame, else the plain colour.
         if textured:
-            uv = (sphere_uv(nodes, links, pattern_frame) if context[1] == "sphere" else
-                  nodes.new("ShaderNodeUVMap").outputs["UV"])
-            links.new(texture_colour(nodes, links, context[2][m["albedo_texture"]], uv,
+            links.new(texture_colour(nodes, links, context[2][m["albedo_texture"]], shape_uv(),
                                      context[3]), socket)
         elif dots:
             links.new(fibonacci_dots(nodes, links, m, colour, pattern_frame), socket)
@@ -521,6 +544,7 @@ def make_material(m, context=None):
             surface.inputs["Anisotropy"].default_value = (1.0 - ratio) / 0.9
             if alpha_y > alpha_x:
                 surface.inputs["Rotation"].default_value = 0.25
+        set_roughness(surface)
     elif bsdf == "dielectric":
         # Tessera: exact Fresnel, smooth or GGX (Walter et al. 2007) with alpha = roughness^2;
         # the albedo tints light entering the glass (Cycles tints every transmission).
@@ -530,6 +554,7 @@ def make_material(m, context=None):
         surface.inputs["Roughness"].default_value = math.sqrt(alpha) if alpha >= 1e-3 else 0.0
         surface.inputs["Color"].default_value = albedo
         surface.inputs["IOR"].default_value = m["ior"]
+        set_roughness(surface)
     elif bsdf == "coated":
         # Tessera: an exact-Fresnel choice between a white GGX lobe and the diffuse base.
         # Cycles: the same mix by its Fresnel node (which uses the shading normal's angle).
@@ -540,6 +565,7 @@ def make_material(m, context=None):
         alpha = m["alpha_x"]
         glossy.distribution = "GGX" if alpha >= 1e-3 else "SHARP"
         glossy.inputs["Roughness"].default_value = math.sqrt(alpha) if alpha >= 1e-3 else 0.0
+        set_roughness(glossy)
         fresnel = nodes.new("ShaderNodeFresnel")
         fresnel.inputs["IOR"].default_value = m["ior"]
         surface = nodes.new("ShaderNodeMixShader")
@@ -798,7 +824,8 @@ def add_shapes(scene, data, materials, args, scene_dir):
         kind = s["type"]
         material = data["materials"][s["material"]]
         shape_material = materials[s["material"]]
-        if material.get("pattern") == "fibonacci_dots" or material.get("albedo_texture"):
+        if (material.get("pattern") == "fibonacci_dots" or material.get("albedo_texture") or
+                material.get("roughness_texture")):
             uv = ("sphere" if kind == "sphere" else
                   "uvmap" if kind == "quad" or (kind == "mesh" and s.get("uvs")) else None)
             key = (s["material"], pattern_frame(s), uv)
