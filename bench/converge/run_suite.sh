@@ -57,6 +57,7 @@ scenes=(
   "lights_and_sky=$here/scenes/lights_and_sky.yaml"
   "daylight_room=$here/scenes/daylight_room.yaml"
   "many_lights=$here/scenes/many_lights.yaml"
+  "textured=$here/scenes/textured.yaml"
   # RayON's own scenes, beside the box: none of the suite's tuning looked at them.
   "rayon_01=$shared/rayon-scenes/01_bvh_test_scene.yaml"
   "rayon_06=$shared/rayon-scenes/06_caustics_chapel.yaml"
