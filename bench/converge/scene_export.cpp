@@ -62,8 +62,8 @@ json material_json(const MaterialDesc& m) {
           {"transmission", m.transmission},
           {"anisotropy", m.anisotropy},
           {"film_thickness", m.film_thickness},
-          // Texture names ("" for none), which the peer does not draw and names in a warning,
-          // and RayON's pattern (kind null for none) as the renderer reads it.
+          // Texture names ("" for none), the mapping a roughness texture's value goes
+          // through, and RayON's pattern (kind null for none), as the renderer reads them.
           {"roughness_mapping", mapped.roughness_mapping == RoughnessMapping::kHalf      ? "half"
                                 : mapped.roughness_mapping == RoughnessMapping::kSquared ? "squared"
                                                                                          : "none"},
@@ -99,6 +99,16 @@ json unsupported(const char* kind, const Shape& s) {
   json j = common("unsupported", s);
   j["kind"] = kind;
   return j;
+}
+
+// A float EXR of `width` x `height` linear RGB pixels (alpha 1).
+void write_rgb(const std::filesystem::path& path, std::uint32_t width, std::uint32_t height,
+               const std::vector<float>& rgb) {
+  const std::size_t pixels = std::size_t{width} * height;
+  RgbaImage image{width, height, std::vector<float>(pixels * 4, 1.0f)};
+  for (std::size_t p = 0; p < pixels; ++p)
+    for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = rgb[p * 3 + c];
+  write_image(path, image);
 }
 
 json mesh_json(const TriangleMeshDesc& mesh) {
@@ -268,24 +278,18 @@ void write_scene_json(const SceneDescription& scene, const std::filesystem::path
   std::ofstream out(path, std::ios::binary);
   out << scene_to_json(scene);
   if (!out) throw std::runtime_error("cannot write " + path.string());
+  // The pixels the renderer read (linear RGB, rows from the top down), so the peer neither
+  // reads the original files nor converts their colour space again.
   if (scene.environment && scene.environment->type == "image") {
-    // The pixels the renderer read (linear RGB, rows from the zenith down), so the peer
-    // neither reads the original file nor converts its colour space again.
     const EnvironmentDesc& e = *scene.environment;
-    RgbaImage image{e.image_width, e.image_height,
-                    std::vector<float>(std::size_t{e.image_width} * e.image_height * 4, 1.0f)};
-    for (std::size_t p = 0; p < std::size_t{e.image_width} * e.image_height; ++p)
-      for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = e.image_pixels[p * 3 + c];
-    write_image(path.parent_path() / kEnvironmentImageName, image);
+    write_rgb(path.parent_path() / kEnvironmentImageName, e.image_width, e.image_height,
+              e.image_pixels);
   }
   for (std::size_t i = 0; i < scene.textures.size(); ++i) {
     const TextureDesc& t = scene.textures[i];
-    if (t.type != "image") continue;
-    const std::size_t pixels = std::size_t{t.image_width} * t.image_height;
-    RgbaImage image{t.image_width, t.image_height, std::vector<float>(pixels * 4, 1.0f)};
-    for (std::size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c) image.pixels[p * 4 + c] = t.image_pixels[p * 3 + c];
-    write_image(path.parent_path() / texture_image_name(i), image);
+    if (t.type == "image")
+      write_rgb(path.parent_path() / texture_image_name(i), t.image_width, t.image_height,
+                t.image_pixels);
   }
 }
 
