@@ -93,5 +93,21 @@ for entry in "${scenes[@]}"; do
   fmt() { [ "$1" = nan ] && echo "–" || printf '%.3g' "$1"; }
   echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") |" >> "$summary"
 done
+# What the peer drew differently from Tessera, as it said: a ratio or a pair of means is read
+# with these in mind.
+{
+  echo
+  echo "Peer warnings (what the Cycles peer does not draw as Tessera does; bench/peers/README.md):"
+  found=0
+  for entry in "${scenes[@]}"; do
+    name=${entry%%=*}
+    [ -f "$out/$name.log" ] || continue
+    while IFS= read -r warning; do
+      echo "- $name: ${warning#cycles_render.py: warning: }"
+      found=1
+    done < <(grep '^cycles_render.py: warning:' "$out/$name.log" | sort -u)
+  done
+  [ "$found" = 1 ] || echo "- none"
+} >> "$summary"
 echo "run_suite.sh: $summary"
 cat "$summary"
