@@ -419,6 +419,49 @@ def fibonacci_dots(nodes, links, m, colour, frame):
     return mix.outputs["Color"]
 
 
+def conductor_fresnel(nodes, links, eta, k, albedo):
+    # The unpolarised Fresnel reflectance of a conductor of index eta + i k (per RGB channel)
+    # at cos = N . I, as Tessera's conductor_fresnel computes it, times the albedo.
+    geometry = nodes.new("ShaderNodeNewGeometry")
+    cos = nodes.new("ShaderNodeVectorMath")
+    cos.operation = "DOT_PRODUCT"
+    links.new(geometry.outputs["Normal"], cos.inputs[0])
+    links.new(geometry.outputs["Incoming"], cos.inputs[1])
+    c = math_node(nodes, links, "MINIMUM",
+                  math_node(nodes, links, "MAXIMUM", cos.outputs["Value"], 0.0), 1.0)
+    cos2 = math_node(nodes, links, "MULTIPLY", c, c)
+    sin2 = math_node(nodes, links, "SUBTRACT", 1.0, cos2)
+    channels = []
+    for e, kk in zip(eta, k):
+        # t0 = e^2 - k^2 - sin^2; a2b2 = sqrt(t0^2 + 4 e^2 k^2); a = sqrt((a2b2 + t0) / 2)
+        t0 = math_node(nodes, links, "SUBTRACT", e * e - kk * kk, sin2)
+        a2b2 = math_node(nodes, links, "SQRT", math_node(
+            nodes, links, "ADD", math_node(nodes, links, "MULTIPLY", t0, t0), 4.0 * e * e * kk * kk))
+        a = math_node(nodes, links, "SQRT", math_node(
+            nodes, links, "MULTIPLY", math_node(nodes, links, "ADD", a2b2, t0), 0.5))
+        t1 = math_node(nodes, links, "ADD", a2b2, cos2)
+        t2 = math_node(nodes, links, "MULTIPLY", math_node(nodes, links, "MULTIPLY", a, c), 2.0)
+        rs = math_node(nodes, links, "DIVIDE", math_node(nodes, links, "SUBTRACT", t1, t2),
+                       math_node(nodes, links, "ADD", t1, t2))
+        t3 = math_node(nodes, links, "ADD", math_node(nodes, links, "MULTIPLY", cos2, a2b2),
+                       math_node(nodes, links, "MULTIPLY", sin2, sin2))
+        t4 = math_node(nodes, links, "MULTIPLY", t2, sin2)
+        rp = math_node(nodes, links, "MULTIPLY", rs, math_node(
+            nodes, links, "DIVIDE", math_node(nodes, links, "SUBTRACT", t3, t4),
+            math_node(nodes, links, "ADD", t3, t4)))
+        channels.append(math_node(nodes, links, "MULTIPLY",
+                                  math_node(nodes, links, "ADD", rs, rp), 0.5))
+    rgb = nodes.new("ShaderNodeCombineRGB")
+    for name, channel in zip("RGB", channels):
+        links.new(channel, rgb.inputs[name])
+    tint = nodes.new("ShaderNodeMixRGB")
+    tint.blend_type = "MULTIPLY"
+    tint.inputs["Fac"].default_value = 1.0
+    links.new(rgb.outputs["Image"], tint.inputs["Color1"])
+    tint.inputs["Color2"].default_value = albedo
+    return tint.outputs["Color"]
+
+
 def make_material(m, context=None):
     # `context`: None for the materials list, or (pattern frame, uv source, textures by name,
     # the scene's folder) for one shape's copy of a dotted or textured material, uv source
@@ -502,15 +545,15 @@ def make_material(m, context=None):
         alpha_x, alpha_y = m["alpha_x"], m["alpha_y"]
         smooth = max(alpha_x, alpha_y) < 1e-3
         if m["complex_fresnel"] and not hasattr(bpy.types, "ShaderNodeBsdfMetallic"):
-            # Blender before 4.0 has no conductor Fresnel: a Glossy BSDF at the metal's
-            # normal-incidence reflectance, which misses the exact term's rise at grazing
-            # angles.
-            warn(f"material {m['name']}: this Blender has no Metallic BSDF; Glossy at the "
-                 "normal-incidence reflectance instead of the exact conductor Fresnel")
-            f0 = [((e - 1.0) ** 2 + k * k) / ((e + 1.0) ** 2 + k * k)
-                  for e, k in zip(m["eta"], m["k"])]
+            # Blender before 4.0 has no conductor Fresnel: the exact term of eta + i k per
+            # channel in the node graph, at the angle between the view and the shading normal
+            # (Tessera takes it at each microfacet's, so rough metals differ a little at
+            # grazing angles), times the albedo, as a Glossy BSDF's colour.
+            warn(f"material {m['name']}: this Blender has no Metallic BSDF; the conductor "
+                 "Fresnel at the shading normal's angle, not the microfacet's")
             surface = nodes.new("ShaderNodeBsdfGlossy")
-            surface.inputs["Color"].default_value = [a * f for a, f in zip(albedo[:3], f0)] + [1.0]
+            links.new(conductor_fresnel(nodes, links, m["eta"], m["k"], albedo),
+                      surface.inputs["Color"])
         elif m["complex_fresnel"]:
             surface = nodes.new("ShaderNodeBsdfMetallic")
             surface.fresnel_type = "PHYSICAL_CONDUCTOR"
@@ -525,25 +568,47 @@ def make_material(m, context=None):
         surface.inputs["Roughness"].default_value = 0.0 if smooth else math.sqrt(
             math.sqrt(alpha_x * alpha_y))
         if abs(alpha_x - alpha_y) > 1e-6:
-            # Tessera's tangent is cross(+y, n) in world space, Cycles' the object's
-            # radial tangent: the highlight's direction may differ.
-            warn(f"material {m['name']}: anisotropy approximated (tangent frames differ)")
-            # Both use Disney's stretch: alpha / aspect along the tangent, alpha * aspect
-            # across, aspect = sqrt(1 - 0.9 anisotropy); a wider lobe across the tangent is
-            # the same lobe turned a quarter.
             ratio = min(alpha_x, alpha_y) / max(alpha_x, alpha_y)
-            if "Anisotropy" not in surface.inputs:
+            if "Anisotropy" in surface.inputs:
+                # Blender 4's Glossy BSDF stretches as Tessera does (Disney's): alpha / aspect
+                # along the tangent, alpha * aspect across, aspect = sqrt(1 - 0.9 anisotropy);
+                # a wider lobe across the tangent is the same lobe turned a quarter. (Not
+                # run here: Debian's Blender is 3.4.)
+                surface.inputs["Anisotropy"].default_value = (1.0 - ratio) / 0.9
+                if alpha_y > alpha_x:
+                    surface.inputs["Rotation"].default_value = 0.25
+            else:
                 # Before Blender 4.0 the Glossy BSDF is isotropic; anisotropy is a node of
-                # its own, with the same colour and roughness.
+                # its own, with the same colour and roughness, whose positive anisotropy A
+                # narrows the lobe along the tangent: alpha (1 - A) along, alpha / (1 - A)
+                # across. So A = 1 - sqrt(ratio), turned a quarter when Tessera's wider
+                # alpha is the tangent's (measured on RayON's 05_material_laboratory, whose
+                # three brushed metals were +11% apart with Disney's mapping and the other
+                # turn, +0.28% with this).
                 glossy = surface
                 surface = nodes.new("ShaderNodeBsdfAnisotropic")
                 surface.distribution = "GGX"
                 for name in ("Color", "Roughness"):
-                    surface.inputs[name].default_value = glossy.inputs[name].default_value
+                    source = glossy.inputs[name]
+                    if source.is_linked:  # a Fresnel, texture or pattern graph
+                        links.new(source.links[0].from_socket, surface.inputs[name])
+                    else:
+                        surface.inputs[name].default_value = source.default_value
                 nodes.remove(glossy)
-            surface.inputs["Anisotropy"].default_value = (1.0 - ratio) / 0.9
-            if alpha_y > alpha_x:
-                surface.inputs["Rotation"].default_value = 0.25
+                surface.inputs["Anisotropy"].default_value = 1.0 - math.sqrt(ratio)
+                if alpha_x > alpha_y:
+                    surface.inputs["Rotation"].default_value = 0.25
+            # Tessera's tangent (anisotropy_tangent in render/bsdf.hpp) is cross(+y, n) in
+            # world space, the latitude circles of a sphere whose pole is +y; Cycles' default
+            # is the object's radial tangent, so it is given Tessera's.
+            tangent = nodes.new("ShaderNodeVectorMath")
+            tangent.operation = "CROSS_PRODUCT"
+            tangent.inputs[0].default_value = (0.0, 1.0, 0.0)
+            links.new(nodes.new("ShaderNodeNewGeometry").outputs["Normal"], tangent.inputs[1])
+            unit = nodes.new("ShaderNodeVectorMath")
+            unit.operation = "NORMALIZE"
+            links.new(tangent.outputs["Vector"], unit.inputs[0])
+            links.new(unit.outputs["Vector"], surface.inputs["Tangent"])
         set_roughness(surface)
     elif bsdf == "dielectric":
         # Tessera: exact Fresnel, smooth or GGX (Walter et al. 2007) with alpha = roughness^2;
