@@ -529,6 +529,7 @@ def make_material(m, context=None):
             links.new(fibonacci_dots(nodes, links, m, colour, pattern_frame), socket)
         else:
             socket.default_value = colour
+
     surface = None
     if bsdf == "emitter":
         surface = emission_node(nodes, m["emission"]) if emitting else None
