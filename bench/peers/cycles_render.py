@@ -231,15 +231,9 @@ def undo_spot_cosine(lamp, forward):
     cosine.operation = "DOT_PRODUCT"
     cosine.inputs[1].default_value = forward
     tree.links.new(incoming, cosine.inputs[0])
-    floor = tree.nodes.new("ShaderNodeMath")
-    floor.operation = "MAXIMUM"
-    floor.inputs[1].default_value = 1e-4
-    tree.links.new(cosine.outputs["Value"], floor.inputs[0])
-    inverse = tree.nodes.new("ShaderNodeMath")
-    inverse.operation = "DIVIDE"
-    inverse.inputs[0].default_value = 1.0
-    tree.links.new(floor.outputs["Value"], inverse.inputs[1])
-    tree.links.new(inverse.outputs["Value"], emission.inputs["Strength"])
+    inverse = math_node(tree.nodes, tree.links, "DIVIDE", 1.0,
+                        math_node(tree.nodes, tree.links, "MAXIMUM", cosine.outputs["Value"], 1e-4))
+    tree.links.new(inverse, emission.inputs["Strength"])
 
 
 def add_lights(scene, data):
@@ -400,18 +394,9 @@ def fibonacci_dots(nodes, links, m, colour, frame):
         cosine.operation = "DOT_PRODUCT"
         links.new(unit, cosine.inputs[0])
         cosine.inputs[1].default_value = (math.cos(longitude) * r, math.sin(longitude) * r, z)
-        test = nodes.new("ShaderNodeMath")
-        test.operation = "GREATER_THAN"
-        links.new(cosine.outputs["Value"], test.inputs[0])
-        test.inputs[1].default_value = m["pattern_cos_dot_radius"]
-        if inside is None:
-            inside = test.outputs[0]
-        else:
-            either = nodes.new("ShaderNodeMath")
-            either.operation = "MAXIMUM"
-            links.new(inside, either.inputs[0])
-            links.new(test.outputs[0], either.inputs[1])
-            inside = either.outputs[0]
+        test = math_node(nodes, links, "GREATER_THAN", cosine.outputs["Value"],
+                         m["pattern_cos_dot_radius"])
+        inside = test if inside is None else math_node(nodes, links, "MAXIMUM", inside, test)
     mix = nodes.new("ShaderNodeMixRGB")
     links.new(inside, mix.inputs["Fac"])
     mix.inputs["Color1"].default_value = colour
@@ -884,7 +869,7 @@ def pattern_frame(s):
 
 def add_shapes(scene, data, materials, args, scene_dir):
     counts = {}
-    dotted = {}  # (material, frame, uv source) -> its copy for such shapes
+    copies = {}  # (material, frame, uv source) -> its copy for such shapes
     textures = {t["name"]: t for t in data.get("textures", [])}
     for s in data["shapes"]:
         kind = s["type"]
@@ -895,9 +880,9 @@ def add_shapes(scene, data, materials, args, scene_dir):
             uv = ("sphere" if kind == "sphere" else
                   "uvmap" if kind == "quad" or (kind == "mesh" and s.get("uvs")) else None)
             key = (s["material"], pattern_frame(s), uv)
-            if key not in dotted:
-                dotted[key] = make_material(material, (key[1], uv, textures, scene_dir))
-            shape_material = dotted[key]
+            if key not in copies:
+                copies[key] = make_material(material, (key[1], uv, textures, scene_dir))
+            shape_material = copies[key]
         if s.get("dimples"):
             warn(f"shape {s['source_index']}: golf-ball dimples not drawn (a plain sphere)")
         # Opaque, non-emitting spheres become exact point spheres. Emitters stay meshes:

@@ -296,12 +296,8 @@ std::vector<AliasSlot> finish_light_list(std::vector<LightSource>& lights,
   // A few delta lights are sampled at every vertex: a shadow ray each, and no pick noise
   // between them and the other lights (a floor under a point light, a sun and a sky had 3x
   // Cycles' noise per sample from the pick alone).
-  const auto delta = [&](const LightSource& light) {
-    if (!analytic(light)) return false;
-    const AnalyticLight& a = shapes.analytic_lights[primitive_index(light.primitive)];
-    return a.kind == AnalyticLightKind::kPoint || a.kind == AnalyticLightKind::kSpot ||
-           (a.kind == AnalyticLightKind::kDistant && !distant_with_extent(a));
-  };
+  // Delta lights are the ones no ray can hit (add_analytic_lights).
+  const auto delta = [](const LightSource& light) { return !light.hit_by_rays; };
   if (static_cast<std::size_t>(std::count_if(lights.begin(), lights.end(), delta)) <=
       kMaxEveryVertexLights)
     for (LightSource& light : lights) light.every_vertex = delta(light);
