@@ -1,8 +1,10 @@
 // The Owen-scrambled Sobol sampler (math/sobol.hpp): the generator matrices, the scramble's
 // nesting, the net and stratification properties of every pixel's power-of-two prefixes,
-// independence between dimension pairs, and faster convergence than white noise.
+// joined pairs' 4D nets, independence between dimension pairs, and faster convergence than
+// white noise.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -169,6 +171,134 @@ TEST(Sobol, DimensionPairsAreUncorrelated) {
                        std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
       EXPECT_LT(std::abs(r), kBound) << "dimensions " << dims[0] << " and " << dims[1]
                                      << ", pixel (" << p.x << ", " << p.y << ")";
+    }
+}
+
+// Sobol dimensions 2 and 3 from their direction numbers by Bratley and Fox's integer
+// recurrence, m_k = 2 a_1 m_{k-1} ^ 4 a_2 m_{k-2} ^ ... ^ 2^s m_{k-s} ^ m_{k-s}: an
+// independent formulation of what sobol_upper_column and sobol_dimensions23 compute.
+std::uint32_t reference_upper_column(std::uint32_t dimension, std::uint32_t bit) {
+  // Joe and Kuo: dimension 2 is x^2 + x + 1 (s = 2, a = 1, m = 1, 3); dimension 3 is
+  // x^3 + x + 1 (s = 3, a = 1: inner coefficients 0, 1; m = 1, 3, 1).
+  const std::uint32_t s = dimension == 2 ? 2 : 3;
+  const std::vector<std::uint32_t> inner =
+      dimension == 2 ? std::vector<std::uint32_t>{1} : std::vector<std::uint32_t>{0, 1};
+  std::vector<std::uint64_t> m =
+      dimension == 2 ? std::vector<std::uint64_t>{1, 3} : std::vector<std::uint64_t>{1, 3, 1};
+  for (std::uint32_t k = s; k <= bit; ++k) {
+    std::uint64_t next = (m[k - s] << s) ^ m[k - s];
+    for (std::uint32_t j = 1; j < s; ++j)
+      if (inner[j - 1] != 0) next ^= m[k - j] << j;
+    m.push_back(next);
+  }
+  return static_cast<std::uint32_t>(m[bit] << (31 - bit));
+}
+
+TEST(Sobol, JoinedDimensionsFollowTheDirectionNumbers) {
+  for (std::uint32_t dimension : {2U, 3U})
+    for (std::uint32_t bit = 0; bit < 32; ++bit)
+      EXPECT_EQ(sobol_upper_column(dimension, bit), reference_upper_column(dimension, bit))
+          << "dimension " << dimension << " bit " << bit;
+  // The first points, worked by hand from the columns v_1 = 1/2, v_2 = 3/4 of both and
+  // v_3 = m_3 / 8 (m_3 = 3 for dimension 2, 1 for dimension 3): 0, 1/2, 3/4, 1/4, then 3/8
+  // and 1/8. The loop (the device's) and the host's mirrored tables agree.
+  const std::uint32_t first2[] = {0, 0x80000000U, 0xc0000000U, 0x40000000U, 0x60000000U};
+  const std::uint32_t first3[] = {0, 0x80000000U, 0xc0000000U, 0x40000000U, 0x20000000U};
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    std::uint32_t x = 0, y = 0;
+    sobol_dimensions23(i, x, y);
+    EXPECT_EQ(x, first2[i]) << i;
+    EXPECT_EQ(y, first3[i]) << i;
+  }
+  for (std::uint32_t index = 0; index < (1U << kSobolIndexBits); index += 7) {
+    std::uint32_t x = 0, y = 0, mx = 0, my = 0;
+    sobol_dimensions23(index, x, y);
+    sobol_dimensions23_mirrored(index, mx, my);
+    ASSERT_EQ(reverse_bits(x), mx) << index;
+    ASSERT_EQ(reverse_bits(y), my) << index;
+  }
+}
+
+// Whether the first 2^k points are a (t, k, 4)-net: every elementary interval of volume
+// 2^(t - k) (a grid of 2^d_j cells along axis j, d_0 + ... + d_3 = k - t) holds 2^t points.
+bool is_t_k_4_net(const std::vector<std::array<float, 4>>& points, std::uint32_t t,
+                  std::uint32_t k) {
+  const std::uint32_t total = k - t;
+  for (std::uint32_t d0 = 0; d0 <= total; ++d0)
+    for (std::uint32_t d1 = 0; d0 + d1 <= total; ++d1)
+      for (std::uint32_t d2 = 0; d0 + d1 + d2 <= total; ++d2) {
+        const std::uint32_t d[4] = {d0, d1, d2, total - d0 - d1 - d2};
+        std::vector<std::uint32_t> count(std::size_t{1} << total, 0);
+        for (std::uint32_t i = 0; i < (1U << k); ++i) {
+          std::uint32_t cell = 0;
+          for (int j = 0; j < 4; ++j)
+            cell = (cell << d[j]) |
+                   static_cast<std::uint32_t>(points[i][j] * static_cast<float>(1U << d[j]));
+          if (++count[cell] > (1U << t)) return false;
+        }
+      }
+  return true;
+}
+
+TEST(Sobol, JoinedPairsFormA4DNetWithTheirPartner) {
+  // Sobol dimensions 0-3 are a (3, 4)-sequence (t = 0 + 0 + 1 + 2 from the polynomials'
+  // degrees); the shared index shuffle and the nested scrambles keep every power-of-two
+  // prefix a (3, k, 4)-net. Two pairs drawn independently (each its own shuffle) fail this
+  // at once: their cells hold Poisson-like counts.
+  for (const Pixel& p : kPixels)
+    for (std::uint32_t partner : {0U, 2U, 8U, 20U})
+      for (std::uint32_t k = 6; k <= 9; ++k) {
+        std::vector<std::array<float, 4>> joined, unjoined;
+        for (std::uint32_t i = 0; i < (1U << k); ++i) {
+          SampleStream s(p.seed, p.x, p.y, i, SamplerKind::kSobol);
+          std::array<float, 4> point{};
+          s.set_dimension(partner);
+          s.next_2d(point[0], point[1]);
+          s.set_dimension(partner + 4);
+          std::array<float, 4> other = point;
+          s.next_2d_joined(partner, point[2], point[3]);
+          s.set_dimension(partner + 4);
+          s.next_2d(other[2], other[3]);
+          joined.push_back(point);
+          unjoined.push_back(other);
+        }
+        EXPECT_TRUE(is_t_k_4_net(joined, 3, k))
+            << "pixel (" << p.x << ", " << p.y << ") partner " << partner << ", 2^" << k;
+        EXPECT_FALSE(is_t_k_4_net(unjoined, 3, k)) << "partner " << partner << ", 2^" << k;
+      }
+}
+
+TEST(Sobol, JoinedPairsAreStratifiedOnTheirOwn) {
+  // The joined pair alone (Sobol dimensions 2 and 3) is a (1, k, 2)-net: every elementary
+  // interval of area 2^(1 - k) holds two points, and each coordinate is a (0, k, 1)-net.
+  for (const Pixel& p : kPixels)
+    for (std::uint32_t k = 4; k <= 10; ++k) {
+      const std::uint32_t n = 1U << k;
+      for (std::uint32_t a = 0; a + 1 <= k; ++a) {
+        const std::uint32_t b = k - 1 - a;
+        std::vector<int> count(n / 2, 0);
+        for (std::uint32_t i = 0; i < n; ++i) {
+          SampleStream s(p.seed, p.x, p.y, i, SamplerKind::kSobol);
+          float u = 0.0f, v = 0.0f;
+          s.next_2d_joined(2, u, v);
+          const auto cu = static_cast<std::uint32_t>(u * static_cast<float>(1U << a));
+          const auto cv = static_cast<std::uint32_t>(v * static_cast<float>(1U << b));
+          ++count[(cv << a) | cu];
+        }
+        for (int c : count) ASSERT_EQ(c, 2) << "2^" << k << " split " << a << "+" << b;
+      }
+      std::vector<int> u_cells(n, 0), v_cells(n, 0);
+      for (std::uint32_t i = 0; i < n; ++i) {
+        SampleStream s(p.seed, p.x, p.y, i, SamplerKind::kSobol);
+        float u = 0.0f, v = 0.0f;
+        s.next_2d_joined(2, u, v);
+        ++u_cells[static_cast<std::uint32_t>(u * static_cast<float>(n))];
+        ++v_cells[static_cast<std::uint32_t>(v * static_cast<float>(n))];
+      }
+      for (std::uint32_t c = 0; c < n; ++c) {
+        ASSERT_EQ(u_cells[c], 1) << "2^" << k;
+        ASSERT_EQ(v_cells[c], 1) << "2^" << k;
+      }
     }
 }
 

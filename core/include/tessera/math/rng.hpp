@@ -66,6 +66,21 @@ class SampleStream {
     b = next();
   }
 
+  // The next pair (as next_2d) joined to the pair that starts at even dimension `partner`:
+  // for Sobol, dimensions 2 and 3 of the 4D set whose first two are that pair, so the two
+  // are stratified jointly (sobol_joined_pair_mirrored). A pair has at most one pair joined
+  // to it. The independent sampler draws it as next_2d does.
+  TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
+    if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
+    dimension_ += dimension_ & 1U;
+    std::uint32_t x = 0;
+    std::uint32_t y = 0;
+    sobol_joined_pair_mirrored(key_, mirrored_index_, partner >> 1, x, y);
+    dimension_ += 2;
+    a = uint_to_unit_float(x);
+    b = uint_to_unit_float(y);
+  }
+
   // White noise for dimension `dimension`, whatever the kind: for decisions stratification
   // does not help (Russian roulette), at the cost of one hash.
   TESSERA_HD float white(std::uint32_t dimension) const {

@@ -157,6 +157,108 @@ TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key
       laine_karras_permutation(sobol_dimension1_mirrored(index), hash_combine(pair_seed, 2U)));
 }
 
+// Columns of Sobol dimensions 2 and 3 (Joe and Kuo's direction numbers: x^2 + x + 1 with
+// m = 1, 3, and x^3 + x + 1 with m = 1, 3, 1), as 32-bit binary fractions, by the
+// recurrence v_k = v_{k-s} ^ (v_{k-s} >> s) ^ (a_j v_{k-j} for the polynomial's inner terms).
+TESSERA_HD constexpr std::uint32_t sobol_upper_column(std::uint32_t dimension, std::uint32_t bit) {
+  std::uint32_t v[32] = {};
+  if (dimension == 2) {
+    v[0] = 1U << 31;
+    v[1] = 3U << 30;
+    for (std::uint32_t k = 2; k <= bit; ++k) v[k] = v[k - 1] ^ v[k - 2] ^ (v[k - 2] >> 2);
+  } else {
+    v[0] = 1U << 31;
+    v[1] = 3U << 30;
+    v[2] = 1U << 29;
+    for (std::uint32_t k = 3; k <= bit; ++k) v[k] = v[k - 2] ^ v[k - 3] ^ (v[k - 3] >> 3);
+  }
+  return v[bit];
+}
+
+// Sobol dimensions 2 and 3 of a 16-bit index, mirrored (as sobol_dimension1_mirrored): byte
+// tables on the host, the column recurrence on the device.
+#if !defined(__CUDA_ARCH__)
+struct SobolUpperMirroredColumns {
+  std::uint32_t low[2][256];
+  std::uint32_t high[2][256];
+};
+constexpr SobolUpperMirroredColumns make_sobol_upper_mirrored_columns() {
+  SobolUpperMirroredColumns t{};
+  for (std::uint32_t d = 0; d < 2; ++d)
+    for (std::uint32_t byte = 0; byte < 256; ++byte) {
+      std::uint32_t low = 0, high = 0;
+      for (std::uint32_t bit = 0; bit < 8; ++bit)
+        if ((byte >> bit) & 1U) {
+          low ^= sobol_upper_column(2 + d, bit);
+          high ^= sobol_upper_column(2 + d, bit + 8);
+        }
+      t.low[d][byte] = reverse_bits(low);
+      t.high[d][byte] = reverse_bits(high);
+    }
+  return t;
+}
+inline constexpr SobolUpperMirroredColumns kSobolUpperMirroredColumns =
+    make_sobol_upper_mirrored_columns();
+#endif
+
+// Sobol dimensions 2 and 3 of `index`, unscrambled, the columns generated as the loop goes
+// (the device's way; the host's tables below give the same, mirrored).
+TESSERA_HD TESSERA_INLINE void sobol_dimensions23(std::uint32_t index, std::uint32_t& x,
+                                                  std::uint32_t& y) {
+  x = 0;
+  y = 0;
+  // The last columns of each dimension, oldest first: v_{k-2}, v_{k-1} of dimension 2 and
+  // v_{k-3}, v_{k-2}, v_{k-1} of dimension 3.
+  std::uint32_t a0 = 0, a1 = 0, b0 = 0, b1 = 0, b2 = 0;
+  for (std::uint32_t bit = 0; index != 0; ++bit, index >>= 1) {
+    const std::uint32_t a = bit == 0 ? 1U << 31 : bit == 1 ? 3U << 30 : a1 ^ a0 ^ (a0 >> 2);
+    const std::uint32_t b = bit == 0   ? 1U << 31
+                            : bit == 1 ? 3U << 30
+                            : bit == 2 ? 1U << 29
+                                       : b1 ^ b0 ^ (b0 >> 3);
+    if ((index & 1U) != 0) {
+      x ^= a;
+      y ^= b;
+    }
+    a0 = a1;
+    a1 = a;
+    b0 = b1;
+    b1 = b2;
+    b2 = b;
+  }
+}
+
+TESSERA_HD TESSERA_INLINE void sobol_dimensions23_mirrored(std::uint32_t index16, std::uint32_t& x,
+                                                           std::uint32_t& y) {
+#if defined(__CUDA_ARCH__)
+  sobol_dimensions23(index16, x, y);
+  x = reverse_bits(x);
+  y = reverse_bits(y);
+#else
+  const std::uint32_t lo = index16 & 0xffU, hi = index16 >> 8;
+  x = kSobolUpperMirroredColumns.low[0][lo] ^ kSobolUpperMirroredColumns.high[0][hi];
+  y = kSobolUpperMirroredColumns.low[1][lo] ^ kSobolUpperMirroredColumns.high[1][hi];
+#endif
+}
+
+// Dimensions 2 and 3 of the 4D Sobol set whose dimensions 0 and 1 are pair `partner`
+// (sobol_pair_mirrored): the same index shuffle, other scrambles. The two pairs are then
+// stratified jointly, not only each on its own: a direction sampled at one vertex and the
+// point on a light sampled at the vertex it leads to cover their 4D domain evenly.
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_pair_mirrored(std::uint32_t pixel_key,
+                                                                std::uint32_t mirrored_sample_index,
+                                                                std::uint32_t partner,
+                                                                std::uint32_t& x,
+                                                                std::uint32_t& y) {
+  const std::uint32_t pair_seed = hash_combine(pixel_key, partner);
+  const std::uint32_t index =
+      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask;
+  std::uint32_t mx = 0, my = 0;
+  sobol_dimensions23_mirrored(index, mx, my);
+  x = reverse_bits(laine_karras_permutation(mx, hash_combine(pair_seed, 3U)));
+  y = reverse_bits(laine_karras_permutation(my, hash_combine(pair_seed, 4U)));
+}
+
 // The same from the sample index as it is.
 TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
                                           std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {

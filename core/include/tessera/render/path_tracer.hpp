@@ -133,6 +133,13 @@ struct BackgroundMiss {
 // direction, the point on the light, and (lobe, light pick). Each pair is drawn only when
 // the vertex uses it (a Sobol pair costs two scrambles and a shuffle); Russian roulette
 // takes white noise, which stratifying would not improve.
+// The point on the light is joined to the pair that led to the vertex (SampleStream::
+// next_2d_joined): the camera's position in the pixel at the first vertex, the previous
+// vertex's BSDF direction after that. Each such 4D set is stratified as a whole, so where
+// a path goes and which part of a light it then sees are spread evenly together: an area
+// light's penumbra across a pixel, and the light a diffuse bounce finds. Measured on
+// mesh_250k (256 spp, seeds 1-3): relMSE 0.00040 -> 0.00032 (-21%); joined to the previous
+// direction only, -15%.
 inline constexpr std::uint32_t kCameraDimensions = 2;
 inline constexpr std::uint32_t kBounceDimensions = 6;
 enum class BouncePair : std::uint32_t { kBsdfDirection = 0, kLightPoint = 1, kLobeAndPick = 2 };
@@ -145,7 +152,11 @@ struct BounceSamples {
                               float& b) {
     rng.set_dimension(kCameraDimensions + depth * kBounceDimensions +
                       2 * static_cast<std::uint32_t>(pair));
-    rng.next_2d(a, b);
+    if (pair != BouncePair::kLightPoint) return rng.next_2d(a, b);
+    rng.next_2d_joined(depth == 0 ? 0u
+                                  : kCameraDimensions + (depth - 1) * kBounceDimensions +
+                                        2 * static_cast<std::uint32_t>(BouncePair::kBsdfDirection),
+                       a, b);
   }
   TESSERA_HD static float roulette(const SampleStream& rng, std::uint32_t depth) {
     return rng.white(kCameraDimensions + depth * kBounceDimensions + 6);
