@@ -57,10 +57,7 @@ class SampleStream {
       std::uint32_t x = 0;
       std::uint32_t y = 0;
       sobol_pair_mirrored(key_, mirrored_index_, dimension_ >> 1, x, y);
-      dimension_ += 2;
-      a = uint_to_unit_float(x);
-      b = uint_to_unit_float(y);
-      return;
+      return take_pair(x, y, a, b);
     }
     a = next();
     b = next();
@@ -76,9 +73,7 @@ class SampleStream {
     std::uint32_t x = 0;
     std::uint32_t y = 0;
     sobol_joined_pair_mirrored(key_, mirrored_index_, partner >> 1, x, y);
-    dimension_ += 2;
-    a = uint_to_unit_float(x);
-    b = uint_to_unit_float(y);
+    take_pair(x, y, a, b);
   }
 
   // White noise for dimension `dimension`, whatever the kind: for decisions stratification
@@ -94,6 +89,13 @@ class SampleStream {
   TESSERA_HD SamplerKind kind() const { return kind_; }
 
  private:
+  // A Sobol pair's two binary fractions as the values of the pair's two dimensions.
+  TESSERA_HD void take_pair(std::uint32_t x, std::uint32_t y, float& a, float& b) {
+    dimension_ += 2;
+    a = uint_to_unit_float(x);
+    b = uint_to_unit_float(y);
+  }
+
   std::uint32_t key_ = 0;    // independent: hash of seed, pixel, sample; Sobol: of seed, pixel
   std::uint32_t index_ = 0;  // the sample index
   std::uint32_t mirrored_index_ = 0;  // Sobol: its bits mirrored, formed once for every pair

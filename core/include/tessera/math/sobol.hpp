@@ -202,7 +202,7 @@ inline constexpr SobolUpperMirroredColumns kSobolUpperMirroredColumns =
 #endif
 
 // Sobol dimensions 2 and 3 of `index`, unscrambled, the columns generated as the loop goes
-// (the device's way; the host's tables below give the same, mirrored).
+// (the device's way; the host's tables above give the same, mirrored).
 TESSERA_HD TESSERA_INLINE void sobol_dimensions23(std::uint32_t index, std::uint32_t& x,
                                                   std::uint32_t& y) {
   x = 0;
