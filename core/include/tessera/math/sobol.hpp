@@ -157,54 +157,13 @@ TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key
       laine_karras_permutation(sobol_dimension1_mirrored(index), hash_combine(pair_seed, 2U)));
 }
 
-// Columns of Sobol dimensions 2 and 3 (Joe and Kuo's direction numbers: x^2 + x + 1 with
-// m = 1, 3, and x^3 + x + 1 with m = 1, 3, 1), as 32-bit binary fractions, by the
-// recurrence v_k = v_{k-s} ^ (v_{k-s} >> s) ^ (a_j v_{k-j} for the polynomial's inner terms).
-TESSERA_HD constexpr std::uint32_t sobol_upper_column(std::uint32_t dimension, std::uint32_t bit) {
-  std::uint32_t v[32] = {};
-  if (dimension == 2) {
-    v[0] = 1U << 31;
-    v[1] = 3U << 30;
-    for (std::uint32_t k = 2; k <= bit; ++k) v[k] = v[k - 1] ^ v[k - 2] ^ (v[k - 2] >> 2);
-  } else {
-    v[0] = 1U << 31;
-    v[1] = 3U << 30;
-    v[2] = 1U << 29;
-    for (std::uint32_t k = 3; k <= bit; ++k) v[k] = v[k - 2] ^ v[k - 3] ^ (v[k - 3] >> 3);
-  }
-  return v[bit];
-}
-
-// Sobol dimensions 2 and 3 of a 16-bit index, mirrored (as sobol_dimension1_mirrored): byte
-// tables on the host, the column recurrence on the device.
-#if !defined(__CUDA_ARCH__)
-struct SobolUpperMirroredColumns {
-  std::uint32_t low[2][256];
-  std::uint32_t high[2][256];
-};
-constexpr SobolUpperMirroredColumns make_sobol_upper_mirrored_columns() {
-  SobolUpperMirroredColumns t{};
-  for (std::uint32_t d = 0; d < 2; ++d)
-    for (std::uint32_t byte = 0; byte < 256; ++byte) {
-      std::uint32_t low = 0, high = 0;
-      for (std::uint32_t bit = 0; bit < 8; ++bit)
-        if ((byte >> bit) & 1U) {
-          low ^= sobol_upper_column(2 + d, bit);
-          high ^= sobol_upper_column(2 + d, bit + 8);
-        }
-      t.low[d][byte] = reverse_bits(low);
-      t.high[d][byte] = reverse_bits(high);
-    }
-  return t;
-}
-inline constexpr SobolUpperMirroredColumns kSobolUpperMirroredColumns =
-    make_sobol_upper_mirrored_columns();
-#endif
-
-// Sobol dimensions 2 and 3 of `index`, unscrambled, the columns generated as the loop goes
-// (the device's way; the host's tables above give the same, mirrored).
-TESSERA_HD TESSERA_INLINE void sobol_dimensions23(std::uint32_t index, std::uint32_t& x,
-                                                  std::uint32_t& y) {
+// Sobol dimensions 2 and 3 of `index`, unscrambled, as 32-bit binary fractions. Their
+// columns follow Joe and Kuo's direction numbers (x^2 + x + 1 with m = 1, 3, and x^3 + x + 1
+// with m = 1, 3, 1) by the recurrence v_k = v_{k-s} ^ (v_{k-s} >> s) ^ (a_j v_{k-j} for the
+// polynomial's inner terms), generated as the loop goes: the device's way, and what the
+// host's byte tables below are built from.
+TESSERA_HD constexpr void sobol_dimensions23(std::uint32_t index, std::uint32_t& x,
+                                             std::uint32_t& y) {
   x = 0;
   y = 0;
   // The last columns of each dimension, oldest first: v_{k-2}, v_{k-1} of dimension 2 and
@@ -227,6 +186,31 @@ TESSERA_HD TESSERA_INLINE void sobol_dimensions23(std::uint32_t index, std::uint
     b2 = b;
   }
 }
+
+// Sobol dimensions 2 and 3 of a 16-bit index, mirrored (as sobol_dimension1_mirrored): byte
+// tables on the host (the points are linear in the index's bits, so the low and the high
+// byte's points XOR together), the loop on the device.
+#if !defined(__CUDA_ARCH__)
+struct SobolUpperMirroredColumns {
+  std::uint32_t low[2][256];
+  std::uint32_t high[2][256];
+};
+constexpr SobolUpperMirroredColumns make_sobol_upper_mirrored_columns() {
+  SobolUpperMirroredColumns t{};
+  for (std::uint32_t byte = 0; byte < 256; ++byte) {
+    std::uint32_t x = 0, y = 0;
+    sobol_dimensions23(byte, x, y);
+    t.low[0][byte] = reverse_bits(x);
+    t.low[1][byte] = reverse_bits(y);
+    sobol_dimensions23(byte << 8, x, y);
+    t.high[0][byte] = reverse_bits(x);
+    t.high[1][byte] = reverse_bits(y);
+  }
+  return t;
+}
+inline constexpr SobolUpperMirroredColumns kSobolUpperMirroredColumns =
+    make_sobol_upper_mirrored_columns();
+#endif
 
 TESSERA_HD TESSERA_INLINE void sobol_dimensions23_mirrored(std::uint32_t index16, std::uint32_t& x,
                                                            std::uint32_t& y) {
