@@ -271,6 +271,7 @@ class VirtualScene {
   vec3 background{0.0f};
   std::uint32_t max_depth = 1;
   LightStrategy strategy = LightStrategy::kMis;
+  float spawn_scale = 1.0f;  // the pipeline's (SceneView::spawn_scale)
 
   // Two traversals: the conventional code decides per ray, at run time, which query it runs.
   bool trace(const Ray& ray, HitRecord& hit, bool any_hit) const {
@@ -323,8 +324,8 @@ class VirtualScene {
     const float pdf = pick.pmf * ls.pdf;
     if (!(pdf > 0.0f)) return vec3(0.0f);
     ++rays;
-    const vec3 origin =
-        offset_ray_origin(si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal);
+    const vec3 origin = offset_ray_origin(
+        si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal, spawn_scale);
     const vec3 to_light = si.position + ls.distance * ls.wi - origin;
     const float length = glm::length(to_light);
     if (occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)})) return vec3(0.0f);
@@ -402,7 +403,8 @@ class VirtualScene {
       path.throughput /= survive;
     }
     const vec3 side_normal = side >= 0.0f ? ng : -ng;
-    next = Ray{offset_ray_origin(si.position, side_normal), direction, 0.0f, kInfinity};
+    next =
+        Ray{offset_ray_origin(si.position, side_normal, spawn_scale), direction, 0.0f, kInfinity};
     ++path.rays;
     return true;
   }
@@ -460,6 +462,7 @@ VirtualPathTracer::VirtualPathTracer(const SceneDescription& d, bool light_tree)
   const auto prepared =
       PreparedScene::build(d, PrepareOptions{.instancing = false, .light_tree = light_tree});
   const SceneView view = prepared->view();
+  s.spawn_scale = view.spawn_scale;
   s.light_of_shape.assign(s.shapes.size(), -1);
   for (std::uint32_t i = 0; i < view.light_count; ++i) {
     const LightSource& l = view.lights[i];

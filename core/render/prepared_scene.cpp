@@ -14,6 +14,7 @@
 #include "primitive_list.hpp"
 #include "shape_placement.hpp"
 #include "tessera/accel/shape_wide_bvh.hpp"
+#include "tessera/math/offset_ray.hpp"
 #include "tessera/render/material_mapping.hpp"
 #include "texture_pool.hpp"
 #include "variant_choice.hpp"
@@ -142,6 +143,9 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   bind_pools(pooled);
 
   const Aabb scene_bounds = primitives.bounds();
+  if (!scene_bounds.empty())
+    scene->spawn_scale_ = spawn_scale_for_extent(glm::max(
+        max_component(glm::abs(scene_bounds.lower)), max_component(glm::abs(scene_bounds.upper))));
   scene->simd_triangle_references_ =
       primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                     scene->bvh_, scene->hidden_bvh_);
@@ -236,6 +240,7 @@ SceneView PreparedScene::view() const {
   v.pick_lights = every_vertex_count_ < lights_.size();
   v.environment = environment_;
   v.environment_light = environment_light_;
+  v.spawn_scale = spawn_scale_;
   return v;
 }
 

@@ -292,7 +292,8 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
 // transmitted (entering), each from offset_ray_origin. A self-intersection is a hit within
 // 1e-3 sizes of the spawn point that the reference does not have there.
 template <typename Shape>
-void evaluate_spawn(const Shape& shape, const Ray& ray, double scale, Rng& rng, RowResult& result) {
+void evaluate_spawn(const Shape& shape, const Ray& ray, double scale, Rng& rng, RowResult& result,
+                    float spawn_scale) {
   HitRecord hit;
   if (!intersect(shape, ray, kInfinity, hit, 5u)) return;
   const SurfaceInteraction si = surface_at(shape, ray, hit);
@@ -305,7 +306,8 @@ void evaluate_spawn(const Shape& shape, const Ray& ray, double scale, Rng& rng, 
     dvec3 direction = n + rng.unit_vector();
     if (glm::length(direction) < 1e-6) direction = n;
     direction = glm::normalize(direction);
-    const Ray spawned = make_ray(dvec3(offset_ray_origin(si.position, vec3(n))), direction);
+    const Ray spawned =
+        make_ray(dvec3(offset_ray_origin(si.position, vec3(n), spawn_scale)), direction);
     ++result.rays;
     HitRecord again;
     const bool found = intersect(shape, spawned, kInfinity, again, 5u);
@@ -650,16 +652,27 @@ std::function<RowResult(int, std::uint64_t)> ray_row(Make make, Family family, W
   };
 }
 
+// Shapes of `size` at `offset` from the origin. A size below 1 stands for a scene that
+// small, whose spawned rays the renderer offsets at its spawn_scale_for_extent.
 template <typename Make>
-std::function<RowResult(int, std::uint64_t)> spawn_row(Make make, double offset) {
-  return [make, offset](int rays, std::uint64_t seed) {
+std::function<RowResult(int, std::uint64_t)> spawn_row(Make make, double offset,
+                                                       double size = 1.0) {
+  return [make, offset, size](int rays, std::uint64_t seed) {
     Rng rng(seed);
     RowResult result;
     for (int i = 0; i < rays; ++i) {
-      const Placement p{offset > 0.0 ? rng.unit_vector() * offset : dvec3(0.0), 1.0};
+      const Placement p{offset > 0.0 ? rng.unit_vector() * offset : dvec3(0.0), size};
       const auto shape = make(p, rng);
+      float spawn_scale = 1.0f;
+      if constexpr (requires { stress::bounding_sphere(shape); }) {
+        if (size < 1.0) {
+          const BoundingSphere bound = stress::bounding_sphere(shape);
+          spawn_scale =
+              spawn_scale_for_extent(static_cast<float>(glm::length(bound.center) + bound.radius));
+        }
+      }
       evaluate_spawn(shape, generate(shape, Family::kRandom, p.scale, rng).ray, p.scale, rng,
-                     result);
+                     result, spawn_scale);
     }
     return result;
   };
@@ -1030,6 +1043,7 @@ std::vector<Row> all_rows() {
       std::snprintf(name, sizeof name, "spawn @%.0e", offset);
       add(surface, name, spawn_row(make, offset), 2000);
     }
+    add(surface, "spawn, size 1e-3", spawn_row(make, 0.0, 1e-3), 2000);
   };
 
   add_families("sphere", make_sphere, curved);

@@ -11,14 +11,14 @@ namespace {
 
 // Wächter and Binder's offset written out per axis, as the scalar (device) path does it:
 // the host's SSE2 form must give the same bits.
-float reference_axis(float p, float n) {
-  const auto of_i = static_cast<std::int32_t>(256.0f * n);
+float reference_axis(float p, float n, float spawn_scale) {
+  const auto of_i = static_cast<std::int32_t>(kSpawnUlps * n);
   std::uint32_t bits;
   std::memcpy(&bits, &p, sizeof bits);
   bits += static_cast<std::uint32_t>(p < 0.0f ? -of_i : of_i);
   float moved;
   std::memcpy(&moved, &bits, sizeof moved);
-  return std::fabs(p) < 1.0f / 32.0f ? p + (1.0f / 65536.0f) * n : moved;
+  return std::fabs(p) < spawn_scale / 32.0f ? p + (spawn_scale / 65536.0f) * n : moved;
 }
 
 std::uint32_t bits_of(float f) {
@@ -39,10 +39,12 @@ TEST(OffsetRay, MatchesThePerAxisFormBitForBit) {
       n[a] = unit(rng);
     }
     n = glm::normalize(n);
-    const vec3 moved = offset_ray_origin(p, n);
+    // Every fourth point with a scene scale below 1 (a scene smaller than two units).
+    const float spawn_scale = i % 4 == 1 ? std::ldexp(1.0f, -(i % 23)) : 1.0f;
+    const vec3 moved = offset_ray_origin(p, n, spawn_scale);
     for (int a = 0; a < 3; ++a)
-      ASSERT_EQ(bits_of(moved[a]), bits_of(reference_axis(p[a], n[a])))
-          << "axis " << a << " p " << p[a] << " n " << n[a];
+      ASSERT_EQ(bits_of(moved[a]), bits_of(reference_axis(p[a], n[a], spawn_scale)))
+          << "axis " << a << " p " << p[a] << " n " << n[a] << " scale " << spawn_scale;
   }
 }
 
@@ -54,6 +56,22 @@ TEST(OffsetRay, MovesThePointToTheNormalsSide) {
     EXPECT_LT(offset_ray_origin(p, -n).y, y);
     EXPECT_EQ(offset_ray_origin(p, n).x, 3.0f);
   }
+}
+
+// Away from zero a coordinate moves by kSpawnUlps ulps times the normal's component; near
+// zero by a step proportional to the scene's scale.
+TEST(OffsetRay, MovesByKSpawnUlpsAwayFromZeroAndByTheScaledStepNearIt) {
+  const vec3 up(0.0f, 1.0f, 0.0f);
+  for (const float y : {1000.0f, 1.0f, -0.5f}) {
+    const float moved = offset_ray_origin(vec3(0.0f, y, 0.0f), up).y;
+    EXPECT_EQ(bits_of(moved), bits_of(y) + (y > 0.0f ? 64u : -64u)) << y;
+  }
+  EXPECT_EQ(offset_ray_origin(vec3(0.0f), up).y, 1.0f / 65536.0f);
+  const float scale = std::ldexp(1.0f, -10);
+  EXPECT_EQ(offset_ray_origin(vec3(0.0f), up, scale).y, scale / 65536.0f);
+  // 0.01 is outside the scaled band (1/32 of 2^-10): it moves by ulps, not by the step.
+  const float moved = offset_ray_origin(vec3(0.0f, 0.01f, 0.0f), up, scale).y;
+  EXPECT_EQ(bits_of(moved), bits_of(0.01f) + 64u);
 }
 
 }  // namespace

@@ -199,8 +199,8 @@ TESSERA_HD vec3 film_transmittance(const SceneView& scene, const T& tracer, Ray 
     transmittance *= vec3(1.0f) - thin_film_reflectance(cos_theta, material.exterior_ior,
                                                         material.ior, material.film_thickness_nm);
     const float facing = glm::dot(ray.direction, si.geometric_normal);
-    ray.origin =
-        offset_ray_origin(si.position, facing < 0.0f ? -si.geometric_normal : si.geometric_normal);
+    ray.origin = offset_ray_origin(
+        si.position, facing < 0.0f ? -si.geometric_normal : si.geometric_normal, scene.spawn_scale);
     ray.t_min = 0.0f;
     ray.t_max = glm::dot(end - ray.origin, ray.direction);
     if (!(ray.t_max > 0.0f)) return transmittance;
@@ -232,8 +232,9 @@ TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteracti
   const float pdf = pmf * ls.pdf;
   if (!(pdf > 0.0f)) return vec3(0.0f);
   ++rays;
-  const vec3 origin =
-      side > 0.0f ? front_origin : offset_ray_origin(si.position, -si.geometric_normal);
+  const vec3 origin = side > 0.0f
+                          ? front_origin
+                          : offset_ray_origin(si.position, -si.geometric_normal, scene.spawn_scale);
   // Stop just short of the light so the shadow ray cannot hit the light itself, measured
   // from the offset origin: with ls.wi and ls.distance (measured from si.position) the
   // segment's end, moved by the offset, lies inside a sphere light wherever the sample is
@@ -298,9 +299,9 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
   const Frame frame = Frame::from_normal(si.geometric_normal);
   Bsdf lambert;
   lambert.albedo = vec3(1.0f);
-  return estimate_direct<0>(scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u,
-                            LightStrategy::kLight, tracer,
-                            offset_ray_origin(si.position, si.geometric_normal), rays);
+  return estimate_direct<0>(
+      scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u, LightStrategy::kLight, tracer,
+      offset_ray_origin(si.position, si.geometric_normal, scene.spawn_scale), rays);
 }
 
 // The share of light `index`'s radiance, reached by a BSDF-sampled ray in `direction`, that
@@ -377,7 +378,7 @@ struct PathHit {
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
     // The spawn point on ng's side, for the shadow ray and a reflected continuation alike.
-    const vec3 front_origin = offset_ray_origin(si.position, ng);
+    const vec3 front_origin = offset_ray_origin(si.position, ng, scene.spawn_scale);
     Bsdf bsdf = Bsdf::of(material, si.front_face, albedo);
     const Frame frame = bsdf.anisotropic()
                             ? Frame::from_normal_and_tangent(si.shading_normal,
@@ -439,7 +440,8 @@ struct PathHit {
       if (BounceSamples::roulette(rng, payload.depth - 1) >= survive) return;
       payload.throughput /= survive;
     }
-    const vec3 origin = side >= 0.0f ? front_origin : offset_ray_origin(si.position, -ng);
+    const vec3 origin =
+        side >= 0.0f ? front_origin : offset_ray_origin(si.position, -ng, scene.spawn_scale);
     payload.next_ray = Ray{origin, direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
@@ -484,8 +486,8 @@ struct PathHit {
     ++payload.depth;
     ++payload.film_crossings;
     payload.cone_width = footprint;
-    payload.next_ray =
-        Ray{offset_ray_origin(si.position, -si.geometric_normal), ray.direction, 0.0f, kInfinity};
+    payload.next_ray = Ray{offset_ray_origin(si.position, -si.geometric_normal, scene.spawn_scale),
+                           ray.direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
     return true;

@@ -145,6 +145,7 @@ class PreparedScene {
   std::uint32_t first_infinite_light_ = 0;
   std::uint32_t environment_light_ = 0;
   float infinite_pick_ = 0.0f;
+  float spawn_scale_ = 1.0f;  // SceneView::spawn_scale
   RenderSettings settings_;
   SceneFeatures features_;
   PipelineFeatures required_;

@@ -261,6 +261,9 @@ struct SceneView : SceneShapes {
   bool pick_lights = true;
   Environment environment;
   std::uint32_t environment_light = 0;  // its light-list index; light_count when it has none
+  // offset_ray_origin's scale for this scene's extent (spawn_scale_for_extent): 1 unless
+  // the scene is smaller than a few units.
+  float spawn_scale = 1.0f;
 };
 
 namespace scene_detail {
