@@ -18,7 +18,7 @@ float reference_axis(float p, float n, float spawn_scale) {
   bits += static_cast<std::uint32_t>(p < 0.0f ? -of_i : of_i);
   float moved;
   std::memcpy(&moved, &bits, sizeof moved);
-  return std::fabs(p) < spawn_scale / 32.0f ? p + (spawn_scale / 65536.0f) * n : moved;
+  return std::fabs(p) < spawn_scale * kSpawnBand ? p + (spawn_scale * kSpawnStep) * n : moved;
 }
 
 std::uint32_t bits_of(float f) {
@@ -58,21 +58,24 @@ TEST(OffsetRay, MovesThePointToTheNormalsSide) {
   }
 }
 
-// Away from zero a coordinate moves by kSpawnUlps ulps times the normal's component; near
-// zero by a step proportional to the scene's scale.
+// Away from zero a coordinate moves by kSpawnUlps ulps times the normal's component; within
+// kSpawnBand of it by a fixed step, both proportional to the scene's scale; at the band's
+// edge the two agree, so the offset never shrinks as a coordinate grows.
 TEST(OffsetRay, MovesByKSpawnUlpsAwayFromZeroAndByTheScaledStepNearIt) {
   const vec3 up(0.0f, 1.0f, 0.0f);
-  for (const float y : {1000.0f, 1.0f, -0.5f}) {
+  const auto ulps = static_cast<std::uint32_t>(kSpawnUlps);
+  for (const float y : {1000.0f, 9.0f, -20.0f}) {
     const float moved = offset_ray_origin(vec3(0.0f, y, 0.0f), up).y;
-    EXPECT_EQ(bits_of(moved), bits_of(y) + (y > 0.0f ? 64u : -64u)) << y;
+    EXPECT_EQ(bits_of(moved), bits_of(y) + (y > 0.0f ? ulps : -ulps)) << y;
   }
-  EXPECT_EQ(offset_ray_origin(vec3(0.0f), up).y, 1.0f / 65536.0f);
+  for (const float y : {0.0f, 1.0f, -0.5f, 7.9f})
+    EXPECT_EQ(offset_ray_origin(vec3(0.0f, y, 0.0f), up).y, y + kSpawnStep) << y;
+  EXPECT_EQ(offset_ray_origin(vec3(0.0f, kSpawnBand, 0.0f), up).y - kSpawnBand, kSpawnStep);
   const float scale = std::ldexp(1.0f, -10);
-  EXPECT_EQ(offset_ray_origin(vec3(0.0f), up, scale).y, scale / 65536.0f);
-  // 0.01 is outside the scaled band (1/32 of 2^-10): it moves by ulps, not by the step.
+  EXPECT_EQ(offset_ray_origin(vec3(0.0f), up, scale).y, scale * kSpawnStep);
+  // 0.01 is outside the scaled band (8 x 2^-10): it moves by ulps, not by the step.
   const float moved = offset_ray_origin(vec3(0.0f, 0.01f, 0.0f), up, scale).y;
-  EXPECT_EQ(bits_of(moved), bits_of(0.01f) + 64u);
+  EXPECT_EQ(bits_of(moved), bits_of(0.01f) + ulps);
 }
-
 }  // namespace
 }  // namespace tessera

@@ -99,7 +99,7 @@ TEST(SpawnScale, PreparedSceneTakesItFromItsLargestCoordinate) {
 
 // Scaled by a power of two, coordinates, distances and offsets scale exactly, so the two
 // images differ only where the rounding of what is not scale free (the light sampler's
-// thresholds, the ray cone) turns a path: measured, relMSE 2e-9 between them and 0.45% at
+// thresholds, the ray cone) turns a path: measured, relMSE 3e-8 between them and 1.2% at
 // the worst pixel. With the fixed near-origin step (1/65536 units) the 10 um slit under
 // the ceiling was stepped over: relMSE 2e-3, pixels 40% apart.
 TEST(SpawnOffsetRender, ABoxScaledDownByAPowerOfTwoRendersTheSameImage) {
@@ -115,12 +115,12 @@ TEST(SpawnOffsetRender, ABoxScaledDownByAPowerOfTwoRendersTheSameImage) {
   std::printf("scaled by 2^-10 against the unit box: relMSE %.2e, worst pixel %.2e\n", relmse,
               worst);
   EXPECT_LT(relmse, 1e-6);
-  EXPECT_LT(worst, 0.02);
+  EXPECT_LT(worst, 0.05);
 }
 
 // Moved 1,000 units away, coordinates lose 13 bits and the two images decorrelate: they
-// must agree in brightness within 4 standard errors of their difference (measured: +0.07%
-// of the mean, 2.5 standard errors). With 256 ulps the ceiling near the light went dark:
+// must agree in brightness within 4 standard errors of their difference (measured: +0.03%
+// of the mean, 1.9 standard errors). With 256 ulps the ceiling near the light went dark:
 // -1.06% of the mean, 6.6 standard errors at this size.
 TEST(SpawnOffsetRender, ABoxFarFromTheOriginRendersTheSameBrightness) {
   const std::vector<float> unit = render(color_bleed_box(1.0, dvec3(0.0)));

@@ -32,22 +32,30 @@ TESSERA_HD TESSERA_INLINE std::int32_t float_as_int(float f) {
 }  // namespace detail
 
 // How far offset_ray_origin moves a coordinate: kSpawnUlps units in the last place along the
-// normal (times its component). Wächter and Binder use 256, which puts a spawned ray 1.5 cm
-// off a surface 1,000 units from the origin: RayON's colour-bleed box moved there lost the
-// ceiling's light through its 1 cm slit and came out 1.1% darker. Hit points are reprojected
-// onto their surface from parametric coordinates (surface_at), so their error is a few ulps
-// of the primitive's coordinates. The stress suite's spawn rows (rays leaving both sides of
-// every shape kind at 10, 1e3 and 1e5 from the origin, and of shapes 1e-3 across at it) first
-// find a self-intersection at 8 ulps (a float triangle at the origin) and none at 16 with ten
-// times their rays; 64 keeps a factor of four over that, and a quarter of the old offset.
-inline constexpr float kSpawnUlps = 64.0f;
+// normal (times its component), or, within kSpawnBand of zero, where ulps vanish, a fixed
+// kSpawnStep; both times `spawn_scale` (below). Wächter and Binder use 256 ulps, a band of
+// 1/32 and the same step, which put a spawned ray 1.5 cm off a surface 1,000 units from the
+// origin: RayON's colour-bleed box moved there lost the ceiling's light through its 1 cm slit
+// and came out 1.1% darker (64 ulps still left it 0.07% bright, at five standard errors).
+// Hit points are reprojected onto their surface from parametric coordinates (surface_at), so
+// their error is a few ulps of the primitive's coordinates. Just outside the band those can
+// be far larger than the point's own coordinate (a triangle spanning zero), which is where
+// 8 ulps with the old band failed the stress suite's spawn rows (rays leaving both sides of
+// every shape kind at 10, 1e3 and 1e5 from the origin, and of shapes 1e-3 across at it). The
+// band is therefore as wide as the step is long in ulps (128 / kSpawnUlps = 8), so the
+// offset never shrinks below the step. With it, 8 ulps meet every row with ten times its
+// rays and 4 do not (a float triangle 1,000 units out re-hits itself); 16 keeps a factor of
+// two over 8 and leaves 1 mm at 1,000 units, where the box now matches within its noise.
+inline constexpr float kSpawnUlps = 16.0f;
+inline constexpr float kSpawnStep = 1.0f / 65536.0f;
+inline constexpr float kSpawnBand = 8.0f;  // kSpawnUlps ulps of 8 are kSpawnStep
 
-// The band around zero where ulps vanish, and the fixed step taken there instead, are
-// Wächter and Binder's 1/32 and 1/65536 times `spawn_scale`: 1 for scenes of a few units and
-// more, and a power of two proportional to the scene's extent below that
-// (spawn_scale_for_extent), so a scene built in millimetres as metres spawns its rays at the
-// same relative distance instead of 1.5e-5 units off every surface near the origin, which
-// stepped over a 10-micrometre gap.
+// `spawn_scale` is 1 for scenes of a few units and more, and a power of two proportional to
+// the scene's extent below that (spawn_scale_for_extent), so a scene built in millimetres as
+// metres spawns its rays at the same relative distance, instead of 1.5e-5 units off every
+// surface near the origin, which stepped over a 10-micrometre gap. Larger scenes keep 1: a
+// step proportional to them would move rays near the origin, where their detail usually is,
+// by far more than those points' error (RayON's ground is a sphere of radius 1,000).
 TESSERA_HD TESSERA_INLINE float spawn_scale_for_extent(float extent) {
   if (!(extent < 2.0f)) return 1.0f;  // NaN too: no geometry, the fixed band
   float scale = 1.0f;
@@ -61,8 +69,8 @@ TESSERA_HD TESSERA_INLINE float spawn_scale_for_extent(float extent) {
 // (the same operations lane by lane, so the same bits as the scalar form the device runs).
 TESSERA_HD TESSERA_INLINE vec3 offset_ray_origin(const vec3& p, const vec3& normal,
                                                  float spawn_scale = 1.0f) {
-  const float origin_band = spawn_scale * (1.0f / 32.0f);
-  const float near_step = spawn_scale * (1.0f / 65536.0f);
+  const float origin_band = spawn_scale * kSpawnBand;
+  const float near_step = spawn_scale * kSpawnStep;
   constexpr float kIntScale = kSpawnUlps;
 #if TESSERA_OFFSET_RAY_SSE2
   const __m128 point = _mm_setr_ps(p.x, p.y, p.z, 0.0f);
