@@ -33,29 +33,25 @@ TESSERA_HD TESSERA_INLINE std::int32_t float_as_int(float f) {
 
 // How far offset_ray_origin moves a coordinate: kSpawnUlps units in the last place along the
 // normal (times its component), or, within kSpawnBand of zero, where ulps vanish, a fixed
-// kSpawnStep; both times `spawn_scale` (below). Wächter and Binder use 256 ulps, a band of
-// 1/32 and the same step, which put a spawned ray 1.5 cm off a surface 1,000 units from the
-// origin: RayON's colour-bleed box moved there lost the ceiling's light through its 1 cm slit
-// and came out 1.1% darker (64 ulps still left it 0.07% bright, at five standard errors).
-// Hit points are reprojected onto their surface from parametric coordinates (surface_at), so
-// their error is a few ulps of the primitive's coordinates. Just outside the band those can
-// be far larger than the point's own coordinate (a triangle spanning zero), which is where
-// 8 ulps with the old band failed the stress suite's spawn rows (rays leaving both sides of
-// every shape kind at 10, 1e3 and 1e5 from the origin, and of shapes 1e-3 across at it). The
-// band is therefore as wide as the step is long in ulps (128 / kSpawnUlps = 8), so the
-// offset never shrinks below the step. With it, 8 ulps meet every row with ten times its
-// rays and 4 do not (a float triangle 1,000 units out re-hits itself); 16 keeps a factor of
-// two over 8 and leaves 1 mm at 1,000 units, where the box now matches within its noise.
-inline constexpr float kSpawnUlps = 16.0f;
+// kSpawnStep: Wächter and Binder's constants, the band and step times `spawn_scale` (below).
+// Fewer ulps would help scenes far from the origin: at 1,000 units 256 ulps are 1.5 cm, and
+// RayON's colour-bleed box moved there loses the ceiling's light through its 1 cm slit
+// (1.06% dark). But a hit point's error is a few ulps of the coordinates it was computed
+// from, not of its own: 16 ulps with a band of 8 fixed that box and turned a scene with a
+// tilted ground triangle 18 km across 0.7% dark, by self-intersection near the origin, where
+// 256 ulps of 1/32 and more cover it. Offsets from each primitive's own coordinates would
+// serve both; until then the constants stay.
+inline constexpr float kSpawnUlps = 256.0f;
 inline constexpr float kSpawnStep = 1.0f / 65536.0f;
-inline constexpr float kSpawnBand = 8.0f;  // kSpawnUlps ulps of 8 are kSpawnStep
+inline constexpr float kSpawnBand = 1.0f / 32.0f;
 
 // `spawn_scale` is 1 for scenes of a few units and more, and a power of two proportional to
 // the scene's extent below that (spawn_scale_for_extent), so a scene built in millimetres as
 // metres spawns its rays at the same relative distance, instead of 1.5e-5 units off every
-// surface near the origin, which stepped over a 10-micrometre gap. Larger scenes keep 1: a
-// step proportional to them would move rays near the origin, where their detail usually is,
-// by far more than those points' error (RayON's ground is a sphere of radius 1,000).
+// surface near the origin, which stepped over a 10-micrometre gap. Every coordinate of such a
+// scene, and so every hit point's error, shrinks with it. Larger scenes keep 1: a step
+// proportional to them would move rays near the origin, where their detail usually is, by
+// far more than those points' error (RayON's ground is a sphere of radius 1,000).
 TESSERA_HD TESSERA_INLINE float spawn_scale_for_extent(float extent) {
   if (!(extent < 2.0f)) return 1.0f;  // NaN too: no geometry, the fixed band
   float scale = 1.0f;
