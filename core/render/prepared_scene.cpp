@@ -144,8 +144,8 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
 
   const Aabb scene_bounds = primitives.bounds();
   if (!scene_bounds.empty())
-    scene->spawn_scale_ = spawn_scale_for_extent(glm::max(
-        max_component(glm::abs(scene_bounds.lower)), max_component(glm::abs(scene_bounds.upper))));
+    scene->spawn_scale_ = spawn_scale_for_extent(
+        max_component(glm::max(glm::abs(scene_bounds.lower), glm::abs(scene_bounds.upper))));
   scene->simd_triangle_references_ =
       primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
                                     scene->bvh_, scene->hidden_bvh_);

@@ -52,12 +52,14 @@ inline constexpr float kSpawnBand = 1.0f / 32.0f;
 // scene, and so every hit point's error, shrinks with it. Larger scenes keep 1: a step
 // proportional to them would move rays near the origin, where their detail usually is, by
 // far more than those points' error (RayON's ground is a sphere of radius 1,000).
-TESSERA_HD TESSERA_INLINE float spawn_scale_for_extent(float extent) {
+// Host only: the scene's build computes it once (SceneView::spawn_scale).
+inline float spawn_scale_for_extent(float extent) {
   if (!(extent < 2.0f)) return 1.0f;  // NaN too: no geometry, the fixed band
-  float scale = 1.0f;
-  // Halve until extent lies in [2 scale, 4 scale); tiny extents stop at 2^-100.
-  for (int i = 0; i < 100 && extent < 2.0f * scale; ++i) scale *= 0.5f;
-  return scale;
+  // extent = m 2^e with m in [0.5, 1), so it lies in [2 scale, 4 scale) for scale 2^(e - 2);
+  // tiny extents stop at 2^-100.
+  int exponent = 0;
+  std::frexp(extent, &exponent);
+  return std::ldexp(1.0f, exponent - 2 > -100 ? exponent - 2 : -100);
 }
 
 // `normal` must point to the side the new ray leaves towards. Two spawned rays per path
