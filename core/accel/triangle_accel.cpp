@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,10 @@
 #include "tessera/accel/presplit.hpp"
 #include "tessera/accel/sbvh.hpp"
 #include "triangle_kernels.hpp"
+
+#if TESSERA_HAVE_SIMD_KERNELS
+#include <cpuid.h>
+#endif
 
 namespace tessera {
 
@@ -66,6 +71,39 @@ bool cpu_supports_kernels(KernelIsa isa) {
       return accel_detail::cpu_has_avx512();
   }
   return false;
+}
+
+bool avx512_lowers_clock(std::string_view vendor, unsigned family, unsigned model) {
+  return vendor == "GenuineIntel" && family == 6 && (model == 85 || model == 87 || model == 133);
+}
+
+KernelIsa preferred_kernel_isa() {
+  static const KernelIsa preferred = [] {
+#if TESSERA_HAVE_SIMD_KERNELS
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    if (__get_cpuid(0, &eax, &ebx, &ecx, &edx) == 0) return KernelIsa::kAvx512;
+    char vendor[12];
+    std::memcpy(vendor, &ebx, 4);
+    std::memcpy(vendor + 4, &edx, 4);
+    std::memcpy(vendor + 8, &ecx, 4);
+    if (__get_cpuid(1, &eax, &ebx, &ecx, &edx) == 0) return KernelIsa::kAvx512;
+    // Family and model with their extended fields (Intel's SDM, CPUID leaf 1).
+    const unsigned base_family = (eax >> 8) & 0xfU;
+    const unsigned family = base_family == 0xfU ? base_family + ((eax >> 20) & 0xffU) : base_family;
+    const unsigned model = base_family == 0x6U || base_family == 0xfU
+                               ? ((eax >> 4) & 0xfU) | (((eax >> 16) & 0xfU) << 4)
+                               : (eax >> 4) & 0xfU;
+    if (avx512_lowers_clock(std::string_view(vendor, 12), family, model)) {
+      spdlog::info(
+          "triangle kernels: AVX2 preferred over AVX-512 on this processor (family {}, "
+          "model {}: 512-bit instructions lower its clock)",
+          family, model);
+      return KernelIsa::kAvx2;
+    }
+#endif
+    return KernelIsa::kAvx512;
+  }();
+  return preferred;
 }
 
 AccelKind choose_accel_kind(std::size_t triangle_count) {

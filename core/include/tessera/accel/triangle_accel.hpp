@@ -37,6 +37,17 @@ std::optional<KernelIsa> parse_kernel_isa(std::string_view name);
 // True when this processor runs the kernels compiled for `isa`.
 bool cpu_supports_kernels(KernelIsa isa);
 
+// True for the processors whose cores lower their clock while they run 512-bit
+// floating-point instructions (and for some time after, slowing whatever else the core runs
+// then): Intel's first AVX-512 cores, Skylake-SP and -X, Cascade Lake and Cooper Lake
+// (family 6, model 85) and the Xeon Phi (models 87 and 133). The AVX-512 kernels' sixteen-lane
+// leaf test is such an instruction stream. Measured on a Cascade Lake Xeon (model 85,
+// bench/accel/README.md): the AVX2 kernels trace 5-10% more rays per second there.
+bool avx512_lowers_clock(std::string_view vendor, unsigned family, unsigned model);
+// The widest kernels worth running on this processor: AVX-512 except where
+// avx512_lowers_clock, then AVX2 (a cap: narrower where the processor lacks the set).
+KernelIsa preferred_kernel_isa();
+
 // Up to this many triangles brute force is as fast as any tree (measured, see the note in
 // bench/accel/README.md); above it the wide BVH is fastest for every scene measured.
 inline constexpr std::size_t kBruteForceMaxTriangles = 48;
@@ -67,8 +78,8 @@ struct AccelBuildOptions {
   std::optional<float> spatial_split_budget;
   OctreeLimits octree{};
   // The widest kernels used where the processor runs them (a narrower one for tests and
-  // comparisons).
-  KernelIsa max_isa = KernelIsa::kAvx512;
+  // comparisons). By default the fastest for this processor (preferred_kernel_isa).
+  KernelIsa max_isa = preferred_kernel_isa();
 };
 
 // The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
