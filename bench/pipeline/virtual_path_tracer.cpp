@@ -324,8 +324,9 @@ class VirtualScene {
     const float pdf = pick.pmf * ls.pdf;
     if (!(pdf > 0.0f)) return vec3(0.0f);
     ++rays;
-    const vec3 origin = offset_ray_origin(
-        si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal, spawn_scale);
+    const vec3 origin =
+        offset_ray_origin(si.position, side > 0.0f ? si.geometric_normal : -si.geometric_normal,
+                          spawn_scale, si.position_error);
     const vec3 to_light = si.position + ls.distance * ls.wi - origin;
     const float length = glm::length(to_light);
     if (occluded(Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)})) return vec3(0.0f);
@@ -403,8 +404,8 @@ class VirtualScene {
       path.throughput /= survive;
     }
     const vec3 side_normal = side >= 0.0f ? ng : -ng;
-    next =
-        Ray{offset_ray_origin(si.position, side_normal, spawn_scale), direction, 0.0f, kInfinity};
+    next = Ray{offset_ray_origin(si.position, side_normal, spawn_scale, si.position_error),
+               direction, 0.0f, kInfinity};
     ++path.rays;
     return true;
   }

@@ -102,6 +102,7 @@ TESSERA_HD SurfaceInteraction surface_at(const Instance<Shape>& instance, const 
     si = surface_at(instance.shape, to_float_ray(object), hit);
   }
   si.position = vec3(instance.object_to_world.point(dvec3(si.position)));
+  si.position_error = instance.object_to_world.position_error(si.position_error, si.position);
   const glm::dmat3 normal_matrix = glm::transpose(instance.world_to_object.linear);
   // n . d is invariant under (M^-T n) . (M d), so the object-space orientation against the
   // ray (and front_face) carries over.

@@ -5,6 +5,7 @@
 #include "tessera/geometry/aabb.hpp"
 #include "tessera/geometry/local_frame.hpp"
 #include "tessera/geometry/surface.hpp"
+#include "tessera/math/offset_ray.hpp"
 
 namespace tessera {
 
@@ -121,6 +122,9 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
   si.position = q.corner + hit.u * q.u + hit.v * q.v;
+  // As a triangle's (triangle.hpp): roundings of the largest coordinate on the quad.
+  const vec3 largest = glm::abs(q.corner) + glm::abs(q.u) + glm::abs(q.v);
+  si.position_error = position_error_bound(glm::max(largest.x, glm::max(largest.y, largest.z)));
   set_face_normal(si, ray.direction, q.normal);
   si.uv = vec2(hit.u, hit.v);
   si.material = q.material;

@@ -13,6 +13,11 @@ struct SurfaceInteraction {
   vec2 uv;
   std::uint32_t material = 0;
   bool front_face = true;  // true when the ray hit the side the geometric normal points to
+  // A bound on each coordinate's absolute error in `position` (position_error_bound, for the
+  // shapes that compute their hit point in float from their own coordinates: triangles and
+  // quads, and instances of them); negative where none is known. offset_ray_origin moves
+  // spawned rays past it.
+  float position_error = -1.0f;
 };
 
 // Orients the normal against the ray and records which side was hit.

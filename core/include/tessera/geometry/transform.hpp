@@ -1,6 +1,7 @@
 #pragma once
 #include <cmath>
 
+#include "tessera/math/offset_ray.hpp"
 #include "tessera/math/vec.hpp"
 
 namespace tessera {
@@ -45,6 +46,21 @@ struct AffineTransform {
   }
 
   TESSERA_HD double determinant() const { return glm::determinant(linear); }
+
+  // SurfaceInteraction::position_error of a point this maps to `world` (rounded to float)
+  // from one with `object_error`: the error scaled by the largest row sum of |linear| (the
+  // most any coordinate gains from the three), plus the bound for a point of world's own
+  // magnitude. Unknown stays unknown.
+  TESSERA_HD float position_error(float object_error, const vec3& world) const {
+    if (!(object_error >= 0.0f)) return object_error;
+    double gain = 0.0;
+    for (int row = 0; row < 3; ++row)
+      gain = glm::max(
+          gain, glm::abs(linear[0][row]) + glm::abs(linear[1][row]) + glm::abs(linear[2][row]));
+    const vec3 size = glm::abs(world);
+    return static_cast<float>(gain * object_error) +
+           position_error_bound(glm::max(size.x, glm::max(size.y, size.z)));
+  }
 };
 
 }  // namespace tessera

@@ -4,6 +4,7 @@
 
 #include "tessera/geometry/aabb.hpp"
 #include "tessera/geometry/surface.hpp"
+#include "tessera/math/offset_ray.hpp"
 
 namespace tessera {
 
@@ -145,6 +146,10 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, con
   SurfaceInteraction si;
   const float b0 = 1.0f - hit.u - hit.v;
   si.position = b0 * tri.p0 + hit.u * tri.p1 + hit.v * tri.p2;
+  // The point is off the plane by roundings of the corners' magnitude (and so is the next
+  // ray's test of this triangle), however near the origin the point itself lies.
+  const vec3 largest = glm::max(glm::abs(tri.p0), glm::max(glm::abs(tri.p1), glm::abs(tri.p2)));
+  si.position_error = position_error_bound(glm::max(largest.x, glm::max(largest.y, largest.z)));
   set_face_normal(si, ray.direction, geometric_normal(tri, ray.direction));
   si.uv = vec2(hit.u, hit.v);
   si.material = tri.material;

@@ -31,16 +31,15 @@ TESSERA_HD TESSERA_INLINE std::int32_t float_as_int(float f) {
 }
 }  // namespace detail
 
-// How far offset_ray_origin moves a coordinate: kSpawnUlps units in the last place along the
-// normal (times its component), or, within kSpawnBand of zero, where ulps vanish, a fixed
-// kSpawnStep: Wächter and Binder's constants, the band and step times `spawn_scale` (below).
-// Fewer ulps would help scenes far from the origin: at 1,000 units 256 ulps are 1.5 cm, and
-// RayON's colour-bleed box moved there loses the ceiling's light through its 1 cm slit
-// (1.06% dark). But a hit point's error is a few ulps of the coordinates it was computed
-// from, not of its own: 16 ulps with a band of 8 fixed that box and turned a scene with a
-// tilted ground triangle 18 km across 0.7% dark, by self-intersection near the origin, where
-// 256 ulps of 1/32 and more cover it. Offsets from each primitive's own coordinates would
-// serve both; until then the constants stay.
+// How far offset_ray_origin moves a coordinate when the hit point's error is not known (the
+// shapes that compute their point in double from their own definition): kSpawnUlps units in
+// the last place along the normal (times its component), or, within kSpawnBand of zero,
+// where ulps vanish, a fixed kSpawnStep: Wächter and Binder's constants, the band and step
+// times `spawn_scale` (below). Triangles and quads pass their error bound instead (the
+// overload further down): at 1,000 units 256 ulps are 1.5 cm, and RayON's colour-bleed box
+// moved there lost the ceiling's light through its 1 cm slit (1.06% dark), while fewer ulps
+// let a ground triangle 18 km across hit itself near the origin (0.7% dark), because a
+// point's error is a few roundings of the coordinates it was computed from, not of its own.
 inline constexpr float kSpawnUlps = 256.0f;
 inline constexpr float kSpawnStep = 1.0f / 65536.0f;
 inline constexpr float kSpawnBand = 1.0f / 32.0f;
@@ -96,6 +95,80 @@ TESSERA_HD TESSERA_INLINE vec3 offset_ray_origin(const vec3& p, const vec3& norm
     result[axis] = std::fabs(p[axis]) < origin_band ? p[axis] + near_step * normal[axis] : moved;
   }
   return result;
+#endif
+}
+
+// Relative rounding of one float operation (2^-24), the unit the error bounds below count in.
+inline constexpr float kFloatRounding = 0x1p-24f;
+
+// A point computed in float from coordinates no larger than `magnitude` (a hit point from its
+// primitive's corners) is within this many roundings of `magnitude` of the exact point on
+// the primitive, on every axis. pbrt's bound for a triangle's barycentric point is 7
+// (gamma(7)); the spawned ray's own intersection test then rounds its corners against its
+// origin at the same magnitude again. The factor is measured, not derived: the stress
+// suite's spawn rows (tests/stress/stress_cases.cpp: triangles and quads 1e-3 to 1e4
+// across, at the origin and 10 to 1e5 units from it) find self-intersections at 2 (2 of
+// 11,548 rays from triangles 1e-3 across) and 0.5, none at 4 with ten times the rays. 8
+// keeps a factor of two over that and stays below the detail of RayON's colour-bleed box
+// shrunk to 5 mm and moved 10 units out (its light's 10-micrometre slit is 10 ulps there,
+// and 32 closed it: 1.4% dark).
+inline constexpr float kSpawnErrorRoundings = 8.0f;
+
+// The error bound of a point computed from coordinates of at most `magnitude`.
+TESSERA_HD TESSERA_INLINE float position_error_bound(float magnitude) {
+  return kSpawnErrorRoundings * kFloatRounding * magnitude;
+}
+
+// Moves `p` off its surface along `normal` (unit, to the side the new ray leaves towards) by
+// more than `position_error`, a bound on each coordinate's absolute error
+// (SurfaceInteraction::position_error): the distance the error can reach along the normal,
+// then one more ulp outward on every axis, so the sum's rounding cannot pull the point back.
+// Unlike Wächter and Binder's ulps of the point itself, the offset follows the magnitude the
+// point was computed from, so it stays small for detail far from the origin (1,000 units
+// out, ulps of the point are 1.5 cm) and large enough for a point near the origin on a
+// primitive kilometres across. A negative error (not known) takes the ulps (above).
+TESSERA_HD TESSERA_INLINE vec3 offset_ray_origin(const vec3& p, const vec3& normal,
+                                                 float spawn_scale, float position_error) {
+  if (!(position_error >= 0.0f)) return offset_ray_origin(p, normal, spawn_scale);
+  const float distance =
+      position_error * (std::fabs(normal.x) + std::fabs(normal.y) + std::fabs(normal.z));
+  // Then one ulp further in the normal's direction: +1 on the bits where the coordinate's
+  // sign matches the normal's (away from zero), -1 where it does not (towards zero); a zero
+  // coordinate becomes the smallest subnormal on the normal's side, and an axis the normal
+  // does not move stays. On x86 the three axes go through one SSE2 register, the same
+  // operations lane by lane as the per-axis form.
+#if TESSERA_OFFSET_RAY_SSE2
+  const __m128 n = _mm_setr_ps(normal.x, normal.y, normal.z, 0.0f);
+  const __m128 moved =
+      _mm_add_ps(_mm_setr_ps(p.x, p.y, p.z, 0.0f), _mm_mul_ps(_mm_set1_ps(distance), n));
+  const __m128 zero = _mm_setzero_ps();
+  const __m128i differ =
+      _mm_castps_si128(_mm_xor_ps(_mm_cmplt_ps(moved, zero), _mm_cmplt_ps(n, zero)));
+  const __m128i step = _mm_or_si128(differ, _mm_set1_epi32(1));  // -1 where signs differ
+  const __m128 stepped = _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(moved), step));
+  const __m128 smallest =  // copysign(2^-149, n)
+      _mm_or_ps(_mm_and_ps(n, _mm_set1_ps(-0.0f)), _mm_castsi128_ps(_mm_set1_epi32(1)));
+  const __m128 at_zero = _mm_cmpeq_ps(moved, zero);
+  __m128 result = _mm_or_ps(_mm_and_ps(at_zero, smallest), _mm_andnot_ps(at_zero, stepped));
+  const __m128 still = _mm_cmpeq_ps(n, zero);
+  result = _mm_or_ps(_mm_and_ps(still, moved), _mm_andnot_ps(still, result));
+  alignas(16) float out[4];
+  _mm_store_ps(out, result);
+  return vec3(out[0], out[1], out[2]);
+#else
+  vec3 moved = p + distance * normal;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float n = normal[axis];
+    const float x = moved[axis];
+    if (n == 0.0f) continue;
+    if (x == 0.0f) {
+      moved[axis] = n > 0.0f ? 0x1p-149f : -0x1p-149f;
+      continue;
+    }
+    const std::int32_t bits = detail::float_as_int(x);
+    moved[axis] = detail::int_as_float((x < 0.0f) != (n < 0.0f) ? bits - 1 : bits + 1);
+  }
+  return moved;
 #endif
 }
 

@@ -199,8 +199,9 @@ TESSERA_HD vec3 film_transmittance(const SceneView& scene, const T& tracer, Ray 
     transmittance *= vec3(1.0f) - thin_film_reflectance(cos_theta, material.exterior_ior,
                                                         material.ior, material.film_thickness_nm);
     const float facing = glm::dot(ray.direction, si.geometric_normal);
-    ray.origin = offset_ray_origin(
-        si.position, facing < 0.0f ? -si.geometric_normal : si.geometric_normal, scene.spawn_scale);
+    ray.origin =
+        offset_ray_origin(si.position, facing < 0.0f ? -si.geometric_normal : si.geometric_normal,
+                          scene.spawn_scale, si.position_error);
     ray.t_min = 0.0f;
     ray.t_max = glm::dot(end - ray.origin, ray.direction);
     if (!(ray.t_max > 0.0f)) return transmittance;
@@ -232,9 +233,9 @@ TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteracti
   const float pdf = pmf * ls.pdf;
   if (!(pdf > 0.0f)) return vec3(0.0f);
   ++rays;
-  const vec3 origin = side > 0.0f
-                          ? front_origin
-                          : offset_ray_origin(si.position, -si.geometric_normal, scene.spawn_scale);
+  const vec3 origin = side > 0.0f ? front_origin
+                                  : offset_ray_origin(si.position, -si.geometric_normal,
+                                                      scene.spawn_scale, si.position_error);
   // Stop just short of the light so the shadow ray cannot hit the light itself, measured
   // from the offset origin: with ls.wi and ls.distance (measured from si.position) the
   // segment's end, moved by the offset, lies inside a sphere light wherever the sample is
@@ -301,7 +302,8 @@ TESSERA_HD vec3 sample_direct_light(const SceneView& scene, const SurfaceInterac
   lambert.albedo = vec3(1.0f);
   return estimate_direct<0>(
       scene, si, frame, vec3(0.0f, 0.0f, 1.0f), lambert, u, LightStrategy::kLight, tracer,
-      offset_ray_origin(si.position, si.geometric_normal, scene.spawn_scale), rays);
+      offset_ray_origin(si.position, si.geometric_normal, scene.spawn_scale, si.position_error),
+      rays);
 }
 
 // The share of light `index`'s radiance, reached by a BSDF-sampled ray in `direction`, that
@@ -378,7 +380,8 @@ struct PathHit {
 
     const vec3 ng = si.geometric_normal;  // faces the incoming ray
     // The spawn point on ng's side, for the shadow ray and a reflected continuation alike.
-    const vec3 front_origin = offset_ray_origin(si.position, ng, scene.spawn_scale);
+    const vec3 front_origin =
+        offset_ray_origin(si.position, ng, scene.spawn_scale, si.position_error);
     Bsdf bsdf = Bsdf::of(material, si.front_face, albedo);
     const Frame frame = bsdf.anisotropic()
                             ? Frame::from_normal_and_tangent(si.shading_normal,
@@ -441,7 +444,8 @@ struct PathHit {
       payload.throughput /= survive;
     }
     const vec3 origin =
-        side >= 0.0f ? front_origin : offset_ray_origin(si.position, -ng, scene.spawn_scale);
+        side >= 0.0f ? front_origin
+                     : offset_ray_origin(si.position, -ng, scene.spawn_scale, si.position_error);
     payload.next_ray = Ray{origin, direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
@@ -486,8 +490,9 @@ struct PathHit {
     ++payload.depth;
     ++payload.film_crossings;
     payload.cone_width = footprint;
-    payload.next_ray = Ray{offset_ray_origin(si.position, -si.geometric_normal, scene.spawn_scale),
-                           ray.direction, 0.0f, kInfinity};
+    payload.next_ray = Ray{
+        offset_ray_origin(si.position, -si.geometric_normal, scene.spawn_scale, si.position_error),
+        ray.direction, 0.0f, kInfinity};
     payload.has_next_ray = true;
     ++payload.rays;
     return true;

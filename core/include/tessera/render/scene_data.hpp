@@ -207,6 +207,7 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
   const Ray object = to_float_ray(to_object_ray(instance, ray));
   SurfaceInteraction si = surface_at(instance.shape, object, hit);
   si.position = vec3(placement.object_to_world.point(dvec3(si.position)));
+  si.position_error = placement.object_to_world.position_error(si.position_error, si.position);
   const glm::dmat3 normal_matrix = glm::transpose(placement.world_to_object.linear);
   si.geometric_normal = vec3(glm::normalize(normal_matrix * dvec3(si.geometric_normal)));
   si.shading_normal = si.geometric_normal;
