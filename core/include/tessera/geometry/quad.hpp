@@ -124,7 +124,7 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Quad& q, const Ray
   si.position = q.corner + hit.u * q.u + hit.v * q.v;
   // As a triangle's (triangle.hpp): roundings of the largest coordinate on the quad.
   const vec3 largest = glm::abs(q.corner) + glm::abs(q.u) + glm::abs(q.v);
-  si.position_error = position_error_bound(glm::max(largest.x, glm::max(largest.y, largest.z)));
+  si.position_error = position_error_bound(max_component(largest));
   set_face_normal(si, ray.direction, q.normal);
   si.uv = vec2(hit.u, hit.v);
   si.material = q.material;

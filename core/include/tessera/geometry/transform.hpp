@@ -57,9 +57,8 @@ struct AffineTransform {
     for (int row = 0; row < 3; ++row)
       gain = glm::max(
           gain, glm::abs(linear[0][row]) + glm::abs(linear[1][row]) + glm::abs(linear[2][row]));
-    const vec3 size = glm::abs(world);
     return static_cast<float>(gain * object_error) +
-           position_error_bound(glm::max(size.x, glm::max(size.y, size.z)));
+           position_error_bound(max_component(glm::abs(world)));
   }
 };
 

@@ -149,7 +149,7 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Triangle& tri, con
   // The point is off the plane by roundings of the corners' magnitude (and so is the next
   // ray's test of this triangle), however near the origin the point itself lies.
   const vec3 largest = glm::max(glm::abs(tri.p0), glm::max(glm::abs(tri.p1), glm::abs(tri.p2)));
-  si.position_error = position_error_bound(glm::max(largest.x, glm::max(largest.y, largest.z)));
+  si.position_error = position_error_bound(max_component(largest));
   set_face_normal(si, ray.direction, geometric_normal(tri, ray.direction));
   si.uv = vec2(hit.u, hit.v);
   si.material = tri.material;
