@@ -228,6 +228,42 @@ TEST(RootsInInterval, ClosePairsAreSeparatedAndNearMissesInventNothing) {
   EXPECT_EQ(roots_in_interval(near_miss, 0.0, 3.0, roots), 0);
 }
 
+TEST(RootsInInterval, AComplexPairBesideARootInventsNoRoot) {
+  // Found by the stress suite: real roots 0.8489 and 0.9294, and a complex pair about
+  // 0.0008 beyond the second, close to the real axis. At the critical points between them
+  // p is ~1e-17 while Horner's rounding error is ~1e-15, so its sign there was noise and a
+  // third root was reported at 0.93018. The quad-precision reference finds two.
+  const Polynomial<4, double> p{
+      {0.68261598893747066, -3.0063246628207003, 4.9623863220952025, -3.6386256258014926, 1.0}};
+  double roots[4];
+  ASSERT_EQ(roots_in_interval(p, -5.9623863220952025, 5.9623863220952025, roots), 2);
+  EXPECT_NEAR(roots[0], 0.84888465388100298, 1e-9);
+  // Ill-conditioned beside the pair: p' there is ~1e-8.
+  EXPECT_NEAR(roots[1], 0.9293877804576226, 1e-7);
+}
+
+TEST(Polynomial, CompensatedHornerDecidesSignsHornerCannot) {
+  // (x - 1)^4 at 1 + 2^-20 is 2^-80; Horner's terms there are ~16, so its rounding error
+  // (~1e-15) swamps the value, and its running bound says so. Compensated Horner is as
+  // accurate as Horner at twice the precision: within its bound of the exact value, and
+  // that bound is small enough to give the sign.
+  const Polynomial<4, double> p{{1.0, -4.0, 6.0, -4.0, 1.0}};
+  const double x = 1.0 + std::ldexp(1.0, -20);
+  const double exact = std::ldexp(1.0, -80);
+  double horner_bound = 0.0;
+  const double horner = p.evaluate_with_error(x, horner_bound);
+  EXPECT_GT(horner_bound, std::fabs(horner - exact));
+  EXPECT_GT(horner_bound, exact);  // Horner cannot decide the sign
+  double bound = 0.0;
+  const double compensated = p.evaluate_compensated(x, bound);
+  EXPECT_LE(std::fabs(compensated - exact), bound);
+  EXPECT_LT(bound, 1e-3 * exact);
+  // On both sides of a simple root, signs that plain Horner gets right stay right.
+  const Polynomial<2, double> line_pair{{-2.0, 0.0, 1.0}};  // x^2 - 2
+  EXPECT_LT(line_pair.evaluate_compensated(1.4142135623730949, bound), 0.0);
+  EXPECT_GT(line_pair.evaluate_compensated(1.4142135623730951, bound), 0.0);
+}
+
 TEST(PolishRoot, NewtonNeverMakesARootWorse) {
   const Polynomial<3, double> p{{-6.0, 11.0, -6.0, 1.0}};
   EXPECT_NEAR(polish_root(p, 2.001), 2.0, 1e-12);

@@ -1,6 +1,7 @@
 #pragma once
 #include <cmath>
 
+#include "tessera/math/error_free.hpp"
 #include "tessera/math/host_device.hpp"
 
 namespace tessera {
@@ -18,22 +19,8 @@ namespace tessera {
 
 namespace orient2d_detail {
 
-// a + b = x + y exactly, |y| <= ulp(x) / 2 (Knuth's two-sum, no ordering of a and b needed).
-TESSERA_HD TESSERA_INLINE void two_sum(double a, double b, double& x, double& y) {
-  x = a + b;
-  const double b_virtual = x - a;
-  const double a_virtual = x - b_virtual;
-  const double b_roundoff = b - b_virtual;
-  const double a_roundoff = a - a_virtual;
-  y = a_roundoff + b_roundoff;
-}
-
-// a * b = x + y exactly: the fused multiply-add computes a * b - x with one rounding, and
-// that difference is representable (the role of Dekker's splitting in the paper).
-TESSERA_HD TESSERA_INLINE void two_product(double a, double b, double& x, double& y) {
-  x = a * b;
-  y = std::fma(a, b, -x);
-}
+using tessera::two_product;
+using tessera::two_sum;
 
 // Shewchuk's Grow-Expansion: adds q to the non-overlapping expansion e[0..n) (components
 // in increasing magnitude) giving n + 1 components, still non-overlapping.

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <limits>
 
+#include "tessera/math/error_free.hpp"
 #include "tessera/math/host_device.hpp"
 
 namespace tessera {
@@ -52,6 +53,31 @@ struct Polynomial {
     return value;
   }
 
+  // Value by compensated Horner (Graillat, Langlois and Louvet, "Compensated Horner
+  // scheme", 2005): each step's rounding errors, found exactly by two_product and two_sum,
+  // are summed by a second Horner pass and added at the end, so the result is as accurate
+  // as Horner's rule at twice the precision, then rounded. `error_bound` bounds its error:
+  // u |value| + 2 gamma_2n^2 sum |c_i| |x|^i (their Theorem 3.1, with a factor of 2 for the
+  // rounding of the sum itself). For the rare sign a running bound cannot decide.
+  TESSERA_HD T evaluate_compensated(T x, T& error_bound) const {
+    T value = c[Degree];
+    T correction = T(0);
+    T magnitude = std::fabs(value);
+    const T ax = std::fabs(x);
+    for (int i = Degree - 1; i >= 0; --i) {
+      T product, product_error, sum, sum_error;
+      two_product(value, x, product, product_error);
+      two_sum(product, c[i], sum, sum_error);
+      correction = correction * x + (product_error + sum_error);
+      value = sum;
+      magnitude = magnitude * ax + std::fabs(c[i]);
+    }
+    constexpr T kUnitRoundoff = std::numeric_limits<T>::epsilon() * T(0.5);
+    constexpr T kGamma = T(2 * Degree) * kUnitRoundoff / (T(1) - T(2 * Degree) * kUnitRoundoff);
+    const T result = value + correction;
+    error_bound = kUnitRoundoff * std::fabs(result) + T(2) * kGamma * kGamma * magnitude;
+    return result;
+  }
   TESSERA_HD Polynomial<(Degree > 0 ? Degree - 1 : 0), T> derivative() const {
     Polynomial<(Degree > 0 ? Degree - 1 : 0), T> d{};
     if constexpr (Degree == 0) {

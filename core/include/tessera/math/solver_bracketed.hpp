@@ -15,10 +15,12 @@ namespace tessera {
 // See Yuksel, "High-Performance Polynomial Root Finding for Graphics" (HPG 2022).
 //
 // Why this suits ray tracing: only the ray's interval is searched; a root is reported only
-// where a sign change was observed, so no root is ever invented; every simple root whose
-// neighbourhood values exceed the evaluation error is found, and to full precision. What
-// it cannot see is a double root whose extremum value is lost in rounding (an exactly
-// tangent ray), which no floating-point method decides reliably either.
+// where a sign change was observed, and the signs at the pieces' ends are ones the
+// evaluation can vouch for (sign_reliable_value), so no root is invented; every simple
+// root whose neighbourhood values exceed the evaluation error is found, and to full
+// precision. What it cannot tell apart is a double root from a near-double one whose
+// extremum is below even the compensated evaluation's error (an exactly tangent ray):
+// it reports the critical point as a root.
 
 // How a root search ended.
 enum class RootSearch {
@@ -86,6 +88,23 @@ TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T val
   return false;
 }
 
+// p(x) where its sign can be trusted, else 0. Horner's running error bound decides almost
+// every sign; a value within it (p near a critical point that nearly touches zero: a
+// complex pair of roots close to the real axis beside a real root) is evaluated again by
+// compensated Horner, as accurate as twice the precision; only a value within that bound
+// too comes back as 0, a root there (a double root to that precision). Without this, a
+// sign lost in rounding at a critical point made two roots, or removed two. Bounds that
+// overflow leave the value as it is (its sign is the best there is).
+template <int Degree, typename T>
+TESSERA_HD T sign_reliable_value(const Polynomial<Degree, T>& p, T x) {
+  T error;
+  const T value = p.evaluate_with_error(x, error);
+  if (!(std::fabs(value) <= error) || !std::isfinite(error)) return value;
+  const T refined = p.evaluate_compensated(x, error);
+  if (!(std::fabs(refined) <= error) || !std::isfinite(error)) return refined;
+  return T(0);
+}
+
 // Cauchy's bound: every root of p lies in (-B, B), B = 1 + max |c_i / c_n| (widened by a
 // few ulps for its own rounding). Infinite when the leading coefficient is zero.
 template <int Degree, typename T>
@@ -129,7 +148,7 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
             T(1e-10) * (hi - lo)) == RootSearch::kNotConverged)
       return RootSearch::kNotConverged;
     T a = lo;
-    T value_a = p(lo);
+    T value_a = sign_reliable_value(p, lo);
     T last_visited = hi;
     bool visited_any = false;
     if (value_a == T(0)) {
@@ -140,7 +159,7 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
     for (int i = 0; i <= critical_count; ++i) {
       const T b = i < critical_count ? critical[i] : hi;
       if (!(b > a)) continue;  // repeated critical point
-      const T value_b = p(b);
+      const T value_b = sign_reliable_value(p, b);
       if (value_b == T(0)) {
         if (!visited_any || last_visited != b) {
           if (visit(b)) return RootSearch::kStopped;
