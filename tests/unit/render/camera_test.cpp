@@ -131,6 +131,32 @@ std::vector<float> render_image(const SceneDescription& scene) {
 
 // Orthographic rays are parallel: a square's image has the same size wherever it stands,
 // and that size is its side over the ortho height, in image heights.
+TEST(Camera, AFarCameraAimsItsRaysAsTheSameCameraAtTheOrigin) {
+  // RayON's colour-bleed box scaled by 1,000 puts the eye at (0, 1100, 5200). The image
+  // plane corner was a world position there, and subtracting the eye from it left its ulp
+  // (5e-4) in a direction of length ~1: every ray 5e-4 rad off, 6% of a pixel, which moved
+  // the light's edges by a pixel row in one sample of 17. Directions must not depend on
+  // where the camera is: the same camera at the origin and moved out agree to float
+  // precision (a few ulps of a unit vector, 1e-6 allowed).
+  for (double distance : {5200.0, 1e5}) {
+    const glm::dvec3 out{0.0, distance * 0.2, distance};
+    CameraDesc near_origin;
+    near_origin.position = {0.0, 0.1, 0.2};
+    near_origin.look_at = {0.0, 0.0, -5.0};
+    CameraDesc far = near_origin;
+    far.position += out;
+    far.look_at += out;
+    const Camera a = Camera::from_description(near_origin, 96, 96);
+    const Camera b = Camera::from_description(far, 96, 96);
+    double worst = 0.0;
+    for (float px : {0.0f, 13.25f, 48.0f, 95.5f})
+      for (float py : {0.0f, 15.125f, 60.0f, 96.0f})
+        worst = std::max<double>(
+            worst, glm::length(a.generate(px, py).direction - b.generate(px, py).direction));
+    EXPECT_LT(worst, 1e-6) << "camera " << distance << " units out";
+  }
+}
+
 TEST(Camera, OrthographicImageSizeDoesNotDependOnDistance) {
   const CameraDesc desc{.position = {1.0, 2.0, 3.0},
                         .look_at = {1.0, 2.0, -7.0},

@@ -26,8 +26,9 @@ inline constexpr std::uint32_t kLensDimension = 0x7fff0000U;
 //   centred on the camera position.
 struct Camera {
   vec3 origin;    // perspective: the eye (lens centre)
-  vec3 top_left;  // perspective: the image plane's top-left corner at distance 1;
-                  // orthographic: the image rectangle's top-left corner, world position
+  vec3 top_left;  // perspective: the image plane's top-left corner at distance 1,
+                  // relative to `origin`; orthographic: the image rectangle's top-left
+                  // corner, world position
   vec3 pixel_dx;  // step of one pixel to the right
   vec3 pixel_dy;  // step of one pixel down
   vec3 forward{0.0f, 0.0f, -1.0f};  // unit
@@ -62,7 +63,7 @@ struct Camera {
       ray.direction = forward;
     } else {
       ray.origin = origin;
-      ray.direction = glm::normalize(top_left + px * pixel_dx + py * pixel_dy - origin);
+      ray.direction = glm::normalize(top_left + px * pixel_dx + py * pixel_dy);
     }
     ray.t_min = 0.0f;
     ray.t_max = kInfinity;
