@@ -154,6 +154,19 @@ TEST(Camera, AFarCameraAimsItsRaysAsTheSameCameraAtTheOrigin) {
         worst = std::max<double>(
             worst, glm::length(a.generate(px, py).direction - b.generate(px, py).direction));
     EXPECT_LT(worst, 1e-6) << "camera " << distance << " units out";
+    // A thin lens focused 5 units away: the lens point and the focus point, taken as world
+    // positions, cancelled the same way (1e5 units out their ulp is 8e-3).
+    near_origin.aperture_radius = 0.05;
+    far.aperture_radius = 0.05;
+    const Camera lens_a = Camera::from_description(near_origin, 96, 96);
+    const Camera lens_b = Camera::from_description(far, 96, 96);
+    double lens_worst = 0.0;
+    for (float u : {0.1f, 0.5f, 0.93f})
+      for (float v : {0.2f, 0.77f})
+        lens_worst = std::max<double>(lens_worst,
+                                      glm::length(lens_a.generate(13.25f, 60.0f, u, v).direction -
+                                                  lens_b.generate(13.25f, 60.0f, u, v).direction));
+    EXPECT_LT(lens_worst, 1e-6) << "thin lens " << distance << " units out";
   }
 }
 

@@ -91,10 +91,12 @@ struct Camera {
     dx = lens_radius * r * std::cos(phi);
     dy = lens_radius * r * std::sin(phi);
     // The pinhole ray meets the focus plane at t = focus_distance / cos(angle to forward).
-    const vec3 focus =
-        ray.origin + ray.direction * (focus_distance / glm::dot(ray.direction, forward));
-    ray.origin = origin + dx * right + dy * up;
-    ray.direction = glm::normalize(focus - ray.origin);
+    // Both points relative to the eye, so that a camera far from the origin loses nothing
+    // to the ulp of its own coordinates (see generate above).
+    const vec3 focus = ray.direction * (focus_distance / glm::dot(ray.direction, forward));
+    const vec3 lens_point = dx * right + dy * up;
+    ray.origin = origin + lens_point;
+    ray.direction = glm::normalize(focus - lens_point);
     return ray;
   }
 
