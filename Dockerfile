@@ -14,7 +14,8 @@
 ARG BASE_IMAGE=debian:bookworm
 ARG RUNTIME_IMAGE=debian:bookworm-slim
 
-# The Debian packages holding the shared libraries tesserad and tessera link directly; apt
+# The Debian packages holding the shared libraries tesserad, tessera and the image codecs
+# module (core/image_codecs, loaded by both at their first image) link directly; apt
 # brings in what those need in turn. The builder stage checks this list against the binaries
 # it built (deploy/runtime-packages.sh) and the runtime stage runs ldd, so it cannot drift.
 ARG RUNTIME_PACKAGES="libgrpc++1.51 libgrpc29 libprotobuf32 libabsl20220623 libopenimageio2.4 libyaml-cpp0.7 libspdlog1.10 libfmt9 libassimp5 libtbb12 libsqlite3-0 libcpp-httplib0.11 libssl3"
@@ -37,12 +38,15 @@ RUN cmake -S . -B /build \
       -DTESSERA_BUILD_TESTS=OFF \
       -DTESSERA_BUILD_BENCH=OFF \
       -DTESSERA_CUDA=OFF \
- && cmake --build /build --parallel "${JOBS:-$(nproc)}" --target tesserad tessera
+ && cmake --build /build --parallel "${JOBS:-$(nproc)}" --target tesserad tessera tessera_image_codecs
 
 RUN install -D --strip -m 0755 /build/server/tesserad /out/usr/local/bin/tesserad \
  && install -D --strip -m 0755 /build/client/tessera /out/usr/local/bin/tessera \
+ && install -D --strip -m 0644 /build/core/libtessera_image_codecs.so \
+      /out/usr/local/lib/tessera/libtessera_image_codecs.so \
  && bash deploy/runtime-packages.sh --check "${RUNTIME_PACKAGES}" \
-      /out/usr/local/bin/tesserad /out/usr/local/bin/tessera
+      /out/usr/local/bin/tesserad /out/usr/local/bin/tessera \
+      /out/usr/local/lib/tessera/libtessera_image_codecs.so
 
 # ---------------------------------------------------------------------------------------------
 FROM ${RUNTIME_IMAGE} AS runtime
@@ -62,7 +66,8 @@ RUN groupadd --gid 10001 tessera \
 COPY --from=build /out/ /
 
 # Fail the build, not the first start, when a shared library is missing.
-RUN if ldd /usr/local/bin/tesserad /usr/local/bin/tessera | grep "not found"; then \
+RUN if ldd /usr/local/bin/tesserad /usr/local/bin/tessera \
+      /usr/local/lib/tessera/libtessera_image_codecs.so | grep "not found"; then \
       echo "runtime image lacks the shared libraries above" >&2; exit 1; \
     fi
 

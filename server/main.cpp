@@ -8,6 +8,7 @@
 #include "server/command_line.hpp"
 #include "server/daemon.hpp"
 #include "server/structured_log.hpp"
+#include "tessera/image/image_codecs.hpp"
 
 int main(int argc, char** argv) {
   using namespace tessera::server;
@@ -32,6 +33,9 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
 
   try {
+    // Jobs write EXR tiles through the image codecs module: a daemon that cannot load it
+    // refuses to start rather than failing every job.
+    spdlog::debug("image codecs: {}", tessera::load_image_codecs().string());
     Daemon daemon(config);
     const int port = daemon.start();
     std::printf("tesserad listening on %s (port %d)\n", daemon.address().c_str(), port);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CTest InstallTree.ConsumerFindsThePackage: `cmake --install` into a fresh prefix, then use
 # what it installed as a user would:
-#   - the files: tesserad, tessera, the systemd unit (ExecStart at this prefix), the example
+#   - the files: tesserad, tessera, the image codecs module, the systemd unit (ExecStart at this prefix), the example
 #     configuration, the CMake package, the Python package;
 #   - the installed tesserad, started with the example configuration (flags override its
 #     address and data folder), which must load without a warning;
@@ -31,7 +31,7 @@ trap cleanup EXIT
 
 cmake --install "$build_dir" --prefix "$prefix" >"$work/install.log" || fail "cmake --install failed: $(cat "$work/install.log")"
 
-for file in bin/tesserad bin/tessera lib/systemd/system/tesserad.service share/tessera/tesserad.yaml \
+for file in bin/tesserad bin/tessera lib/tessera/libtessera_image_codecs.so lib/systemd/system/tesserad.service share/tessera/tesserad.yaml \
   lib/cmake/tessera/tesseraConfig.cmake lib/cmake/tessera/tesseraTargets.cmake \
   include/tessera/client/client.hpp include/tessera/tessera/v1/render.grpc.pb.h; do
   [ -e "$prefix/$file" ] || fail "not installed: $file"
@@ -58,6 +58,9 @@ for _ in $(seq 1 300); do
   sleep 0.1
 done
 [ -n "$port" ] || fail "tesserad did not report its port"
+# It loads the image codecs at start, and must take the prefix's module, not the build tree's.
+grep -q "$(realpath "$prefix")/lib/tessera/libtessera_image_codecs.so" "/proc/$daemon_pid/maps" ||
+  fail "the installed tesserad did not load $prefix/lib/tessera/libtessera_image_codecs.so: $(grep image_codecs "/proc/$daemon_pid/maps" || echo none)"
 address="127.0.0.1:$port"
 if grep -Eiq "warn|unknown" "$work/tesserad.log"; then
   fail "the example configuration gave warnings: $(cat "$work/tesserad.log")"

@@ -414,6 +414,18 @@ TEST_F(SecurityTest, TesseradRefusesABadTokensFileNamingEntryAndField) {
   EXPECT_EQ(output.find("listening"), std::string::npos) << output;
 }
 
+// A daemon that could not write a tile's EXR must not accept jobs it would fail.
+TEST_F(SecurityTest, TesseradWithoutItsImageCodecsRefusesToStartAndSaysWhereItLooked) {
+  const std::string missing = (dir_ / "nowhere" / "libtessera_image_codecs.so").string();
+  const auto [code, output] =
+      run("env TESSERA_IMAGE_CODECS='" + missing + "' " + std::string(TESSERAD_PATH) +
+          " --listen 127.0.0.1:0 --data '" + data().string() + "'");
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_NE(output.find("image codecs module"), std::string::npos) << output;
+  EXPECT_NE(output.find(missing + ": no such file"), std::string::npos) << output;
+  EXPECT_EQ(output.find("listening"), std::string::npos) << output;
+}
+
 // ---- The CLI ------------------------------------------------------------------------------
 
 TEST_F(SecurityTest, TheCliRendersThroughMutualTlsWithAToken) {

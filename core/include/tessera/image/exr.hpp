@@ -38,7 +38,11 @@ inline const std::vector<std::string>& rgba_channels() {
 // Channels whose layer name ends in "ID" (PrimitiveID.X) are written as EXR UINT channels:
 // an ID must read back exactly, and a float keeps integers exact only up to 2^24. In memory
 // they travel as the integer's bits in a float slot, which every copy here preserves.
-bool is_id_channel(std::string_view name);
+inline bool is_id_channel(std::string_view name) {
+  const std::size_t dot = name.rfind('.');
+  const std::string_view layer = dot == std::string_view::npos ? name : name.substr(0, dot);
+  return layer.size() >= 2 && layer.substr(layer.size() - 2) == "ID";
+}
 
 // Header attributes of a rendered image. OpenEXR's standard attributes where one exists
 // (worldToCamera, worldToNDC, chromaticities), "software", and Tessera's own under
