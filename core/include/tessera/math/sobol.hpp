@@ -26,12 +26,18 @@ namespace tessera {
 // Everything is a pure function of (seed, pixel, sample index, dimension): no tables, no
 // state, the same on the CPU and the GPU.
 
-TESSERA_HD constexpr std::uint32_t reverse_bits(std::uint32_t x) {
+// Forced inline (GCC kept it out of line) and a byte swap for the first two steps: render
+// instructions -0.9% on the colour-bleed box, -0.7% on glossy_glass, the same pixels.
+TESSERA_HD TESSERA_FORCE_INLINE constexpr std::uint32_t reverse_bits(std::uint32_t x) {
 #if defined(__CUDA_ARCH__)
   if (!std::is_constant_evaluated()) return __brev(x);
 #endif
+#if !defined(__CUDA_ARCH__) && (defined(__GNUC__) || defined(__clang__))
+  x = __builtin_bswap32(x);
+#else
   x = (x << 16) | (x >> 16);
   x = ((x & 0x00ff00ffU) << 8) | ((x >> 8) & 0x00ff00ffU);
+#endif
   x = ((x & 0x0f0f0f0fU) << 4) | ((x >> 4) & 0x0f0f0f0fU);
   x = ((x & 0x33333333U) << 2) | ((x >> 2) & 0x33333333U);
   x = ((x & 0x55555555U) << 1) | ((x >> 1) & 0x55555555U);
