@@ -85,9 +85,11 @@ struct BoxRay {
 };
 
 // Returns the mask of children whose box the ray enters within [t_min, t_max]; `entry`
-// receives the bits of their entry distances, clamped to >= +0.
+// receives the bits of their entry distances, clamped to >= +0. `far_limit` is
+// t_max * kFarScale, which the walk forms only when t_max changes.
 TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay& r,
-                                              const BoxRay& b, float t_max, std::uint32_t* entry) {
+                                              const BoxRay& b, float /*t_max*/, float far_limit,
+                                              std::uint32_t* entry) {
   const auto slab = [&](std::uint32_t row, int axis, const __m256* inv) {
     return _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[row]), b.origin[axis]),
                          inv[axis]);
@@ -102,8 +104,8 @@ TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const Pre
   // and the accumulated interval second, so a NaN plane leaves the interval unchanged.
   const __m256 t_near =
       _mm256_max_ps(near_x, _mm256_max_ps(near_y, _mm256_max_ps(near_z, b.t_min)));
-  const __m256 t_far = _mm256_min_ps(
-      far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(t_max * kFarScale))));
+  const __m256 t_far =
+      _mm256_min_ps(far_x, _mm256_min_ps(far_y, _mm256_min_ps(far_z, _mm256_set1_ps(far_limit))));
   // Entry distances clamped to +0 (max returns its second operand for -0 and NaN), so their
   // bits order like their values: the stack keys need no branch (see stack_key).
   _mm256_store_ps(reinterpret_cast<float*>(entry), _mm256_max_ps(t_near, _mm256_setzero_ps()));
@@ -117,7 +119,8 @@ struct BoxRay : wide_node_sse::BoxRay {
 };
 
 TESSERA_KERNEL_INLINE std::uint32_t test_node(const WideBvhNode& node, const PreparedRay&,
-                                              const BoxRay& b, float t_max, std::uint32_t* entry) {
+                                              const BoxRay& b, float t_max, float /*far_limit*/,
+                                              std::uint32_t* entry) {
   return wide_node_sse::test_node(node, b, t_max, entry);
 }
 #endif
@@ -657,10 +660,13 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
   std::uint32_t size = 0;
   std::uint32_t child = 0;  // the root, always an interior node
   alignas(32) std::uint32_t entry[kWideBvhWidth];
+  // The far planes' bound changes only when a leaf shortens t_max; formed at every node it
+  // was a load, a multiply and a broadcast on each node test's path.
+  float far_limit = query.t_max * kFarScale;
   for (;;) {
     while (!wide_is_leaf(child)) {
       const WideBvhNode& node = view.nodes[child];
-      std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, entry);
+      std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, far_limit, entry);
       if (mask == 0) goto pop;
       if (view.prefetch) prefetch_children(view, node, mask);
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
@@ -734,6 +740,7 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
     }
     if (query.leaf(view.blocks, wide_leaf_first(child), wide_leaf_count(child), triangle_ray))
       return;
+    far_limit = query.t_max * kFarScale;
   pop:
     StackKey popped;
     do {
