@@ -663,12 +663,15 @@ TESSERA_KERNEL_INLINE void traverse_wide(const WideTriangleView& view, const Pre
   // The far planes' bound changes only when a leaf shortens t_max; formed at every node it
   // was a load, a multiply and a broadcast on each node test's path.
   float far_limit = query.t_max * kFarScale;
+  // Read once: through `view`, whose address the walk keeps on the stack, the flag was two
+  // loads per node.
+  const bool prefetch = view.prefetch;
   for (;;) {
     while (!wide_is_leaf(child)) {
       const WideBvhNode& node = view.nodes[child];
       std::uint32_t mask = test_node(node, ray, box_ray, query.t_max, far_limit, entry);
       if (mask == 0) goto pop;
-      if (view.prefetch) prefetch_children(view, node, mask);
+      if (prefetch) prefetch_children(view, node, mask);
       const auto first = static_cast<std::uint32_t>(__builtin_ctz(mask));
       mask &= mask - 1;
       if (mask == 0) {
