@@ -14,8 +14,10 @@
 //  2. beside the program itself;
 //  3. where this build put it (the build tree, for tests and bench tools);
 //  4. the install prefix this build was configured with.
-// A file that is not the module of this very build (kAbi: the library's version and the
-// compiler) is skipped, so a stale install never serves a newer build.
+// A module whose tag (kAbi: the library's version and the compiler) differs from the
+// program's is skipped, so an install of another version never serves this build; two
+// builds of one version by one compiler are not told apart, which the search order above
+// covers (a program finds its own build's or its own prefix's module first).
 #include <cstdint>
 #include <filesystem>
 #include <span>
