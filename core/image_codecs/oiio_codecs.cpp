@@ -86,44 +86,54 @@ std::vector<std::uint8_t> encode_exr(std::span<const float> pixels, std::uint32_
   return bytes;
 }
 
-ChannelImage decode_exr_channels(std::span<const std::uint8_t> bytes) {
-  OIIO::Filesystem::IOMemReader proxy(const_cast<std::uint8_t*>(bytes.data()), bytes.size());
-  auto in = OIIO::ImageInput::open("tile.exr", nullptr, &proxy);
-  if (!in) throw std::runtime_error("decode_exr: not a readable EXR: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1)
-    throw std::runtime_error("decode_exr: unexpected image layout");
-  ChannelImage image;
-  image.width = static_cast<std::uint32_t>(spec.width);
-  image.height = static_cast<std::uint32_t>(spec.height);
-  image.channels = spec.channelnames;
-  image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * spec.nchannels);
-  // Native reads keep UINT channels' bits; other layouts (half channels) convert to float.
-  const OIIO::TypeDesc format =
-      four_byte_channels(spec) ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT;
-  if (!in->read_image(0, 0, 0, spec.nchannels, format, image.pixels.data()))
-    throw std::runtime_error("decode_exr: " + in->geterror());
-  return image;
-}
-
-RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
+// Opens an in-memory EXR and hands it to `read`. The proxy must outlive the input, so both
+// live in this frame.
+template <typename Read>
+auto read_exr_in_memory(std::span<const std::uint8_t> bytes, int min_channels, Read&& read) {
   OIIO::Filesystem::IOMemReader proxy(const_cast<std::uint8_t*>(bytes.data()), bytes.size());
   // OIIO 2.4 takes the proxy as open()'s own argument; the "oiio:ioproxy" config hint
   // alone makes it read "tile.exr" from disk.
   auto in = OIIO::ImageInput::open("tile.exr", nullptr, &proxy);
   if (!in) throw std::runtime_error("decode_exr: not a readable EXR: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 3)
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < min_channels)
     throw std::runtime_error("decode_exr: unexpected image layout");
-  RgbaImage image;
+  return read(*in, spec);
+}
+
+// The first four channels as RGBA; a file without alpha reads as opaque. Returns false
+// (the input's error set) when the pixels do not read.
+bool read_rgba_pixels(OIIO::ImageInput& in, RgbaImage& image) {
+  const OIIO::ImageSpec& spec = in.spec();
   image.width = static_cast<std::uint32_t>(spec.width);
   image.height = static_cast<std::uint32_t>(spec.height);
   image.pixels.assign(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
-  const int channels = std::min(spec.nchannels, 4);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, image.pixels.data(),
-                      4 * sizeof(float)))
-    throw std::runtime_error("decode_exr: " + in->geterror());
-  return image;
+  return in.read_image(0, 0, 0, std::min(spec.nchannels, 4), OIIO::TypeDesc::FLOAT,
+                       image.pixels.data(), 4 * sizeof(float));
+}
+
+ChannelImage decode_exr_channels(std::span<const std::uint8_t> bytes) {
+  return read_exr_in_memory(bytes, 1, [](OIIO::ImageInput& in, const OIIO::ImageSpec& spec) {
+    ChannelImage image;
+    image.width = static_cast<std::uint32_t>(spec.width);
+    image.height = static_cast<std::uint32_t>(spec.height);
+    image.channels = spec.channelnames;
+    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height * spec.nchannels);
+    // Native reads keep UINT channels' bits; other layouts (half channels) convert to float.
+    const OIIO::TypeDesc format =
+        four_byte_channels(spec) ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT;
+    if (!in.read_image(0, 0, 0, spec.nchannels, format, image.pixels.data()))
+      throw std::runtime_error("decode_exr: " + in.geterror());
+    return image;
+  });
+}
+
+RgbaImage decode_exr(std::span<const std::uint8_t> bytes) {
+  return read_exr_in_memory(bytes, 3, [](OIIO::ImageInput& in, const OIIO::ImageSpec&) {
+    RgbaImage image;
+    if (!read_rgba_pixels(in, image)) throw std::runtime_error("decode_exr: " + in.geterror());
+    return image;
+  });
 }
 
 struct TiledFile {
@@ -167,35 +177,34 @@ void free_tiled_exr(void* handle) {
   delete static_cast<TiledFile*>(handle);
 }
 
-void write_exr(const std::filesystem::path& path, const ChannelImage& image,
-               std::uint32_t tile_size, const ImageMetadata& metadata) {
+// Writes one whole image to a file of the format its extension names.
+void write_image_file(const std::filesystem::path& path, const OIIO::ImageSpec& spec,
+                      OIIO::TypeDesc format, const void* pixels) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
+  if (!out->open(path.string(), spec) || !out->write_image(format, pixels) || !out->close())
+    throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+}
+
+void write_exr(const std::filesystem::path& path, const ChannelImage& image,
+               std::uint32_t tile_size, const ImageMetadata& metadata) {
   OIIO::ImageSpec spec = channel_spec(image.width, image.height, image.channels);
   spec.tile_width = static_cast<int>(tile_size);
   spec.tile_height = static_cast<int>(tile_size);
   add_metadata(spec, metadata);
-  if (!out->open(path.string(), spec) ||
-      !out->write_image(buffer_format(spec), image.pixels.data()) || !out->close())
-    throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+  write_image_file(path, spec, buffer_format(spec), image.pixels.data());
 }
 
 void write_rgba_exr(const std::filesystem::path& path, const RgbaImage& image) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
-  if (!out->open(path.string(), channel_spec(image.width, image.height, rgba_channels())) ||
-      !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !out->close())
-    throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+  write_image_file(path, channel_spec(image.width, image.height, rgba_channels()),
+                   OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
 void write_rgb8(const std::filesystem::path& path, std::uint32_t width, std::uint32_t height,
                 std::span<const std::uint8_t> rgb) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
-  OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 3, OIIO::TypeDesc::UINT8);
-  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) ||
-      !out->close())
-    throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+  const OIIO::ImageSpec spec(static_cast<int>(width), static_cast<int>(height), 3,
+                             OIIO::TypeDesc::UINT8);
+  write_image_file(path, spec, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
 ImageHeader read_header(const std::filesystem::path& path) {
@@ -225,13 +234,8 @@ ImageHeader read_header(const std::filesystem::path& path) {
 RgbaImage read_rgba(const std::filesystem::path& path) {
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw std::runtime_error("cannot read " + path.string() + ": " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
   RgbaImage image;
-  image.width = static_cast<std::uint32_t>(spec.width);
-  image.height = static_cast<std::uint32_t>(spec.height);
-  image.pixels.assign(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
-  if (!in->read_image(0, 0, 0, std::min(spec.nchannels, 4), OIIO::TypeDesc::FLOAT,
-                      image.pixels.data(), 4 * sizeof(float)))
+  if (!read_rgba_pixels(*in, image))
     throw std::runtime_error("cannot read " + path.string() + ": " + in->geterror());
   return image;
 }
