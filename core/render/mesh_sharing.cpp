@@ -102,6 +102,7 @@ SharedMeshes share_mesh_geometry(const SceneDescription& description,
       placement.material = entry.material;
       placement.object_to_world = Placement(entry.transform).affine;
       placement.world_to_object = placement.object_to_world.inverse();
+      placement.world_position_error_gain = placement.object_to_world.max_error_gain();
       shared.placements.push_back(placement);
       instances.push_back(
           MeshInstance{&shared.geometries.back(),

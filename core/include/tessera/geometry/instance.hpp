@@ -18,13 +18,21 @@ struct Instance {
   Shape shape;
   AffineTransform object_to_world;
   AffineTransform world_to_object;
+  // Per-instance constants of the error bounds, computed once by make() rather than at
+  // every intersection test and hit: world_to_object's Frobenius norm (how far a world
+  // origin's rounding can move the object-space origin) and object_to_world's largest
+  // row sum of |linear| (how much an object-space position error grows in world space).
+  double object_origin_error_gain = 0.0;
+  double world_position_error_gain = 0.0;
 
   // Returns false (and leaves `out` alone) for a singular transform, which would map a
   // ray to a zero direction: such an instance must be rejected when the scene is built.
   static bool make(const Shape& shape, const AffineTransform& object_to_world, Instance& out) {
     const double det = object_to_world.determinant();
     if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return false;
-    out = Instance{shape, object_to_world, object_to_world.inverse()};
+    const AffineTransform world_to_object = object_to_world.inverse();
+    out = Instance{shape, object_to_world, world_to_object, world_to_object.frobenius_norm(),
+                   object_to_world.max_error_gain()};
     return true;
   }
 };
@@ -42,12 +50,9 @@ concept PreciseIntersectable = requires(const Shape& shape, const PreciseRay& ra
 template <typename Shape>
 TESSERA_HD PreciseRay to_object_ray(const Instance<Shape>& instance, const Ray& ray) {
   const PreciseRay world = make_precise_ray(ray);
-  const glm::dmat3& m = instance.world_to_object.linear;
-  double norm2 = 0.0;
-  for (int c = 0; c < 3; ++c) norm2 += glm::dot(m[c], m[c]);
   return PreciseRay{instance.world_to_object.point(world.origin),
                     instance.world_to_object.vector(world.direction), ray.t_min,
-                    world.origin_error * std::sqrt(norm2)};
+                    world.origin_error * instance.object_origin_error_gain};
 }
 
 TESSERA_HD TESSERA_INLINE Ray to_float_ray(const PreciseRay& ray) {
@@ -102,7 +107,8 @@ TESSERA_HD SurfaceInteraction surface_at(const Instance<Shape>& instance, const 
     si = surface_at(instance.shape, to_float_ray(object), hit);
   }
   si.position = vec3(instance.object_to_world.point(dvec3(si.position)));
-  si.position_error = instance.object_to_world.position_error(si.position_error, si.position);
+  si.position_error = transformed_position_error(si.position_error,
+                                                 instance.world_position_error_gain, si.position);
   const glm::dmat3 normal_matrix = glm::transpose(instance.world_to_object.linear);
   // n . d is invariant under (M^-T n) . (M d), so the object-space orientation against the
   // ray (and front_face) carries over.

@@ -47,19 +47,32 @@ struct AffineTransform {
 
   TESSERA_HD double determinant() const { return glm::determinant(linear); }
 
-  // SurfaceInteraction::position_error of a point this maps to `world` (rounded to float)
-  // from one with `object_error`: the error scaled by the largest row sum of |linear| (the
-  // most any coordinate gains from the three), plus the bound for a point of world's own
-  // magnitude. Unknown stays unknown.
-  TESSERA_HD float position_error(float object_error, const vec3& world) const {
-    if (!(object_error >= 0.0f)) return object_error;
+  // The most any coordinate of an error vector can grow through the linear part: the
+  // largest row sum of |linear|.
+  TESSERA_HD double max_error_gain() const {
     double gain = 0.0;
     for (int row = 0; row < 3; ++row)
       gain = glm::max(
           gain, glm::abs(linear[0][row]) + glm::abs(linear[1][row]) + glm::abs(linear[2][row]));
-    return static_cast<float>(gain * object_error) +
-           position_error_bound(max_component(glm::abs(world)));
+    return gain;
+  }
+
+  // The Frobenius norm of the linear part: a bound on how much it lengthens any vector.
+  TESSERA_HD double frobenius_norm() const {
+    double norm2 = 0.0;
+    for (int c = 0; c < 3; ++c) norm2 += glm::dot(linear[c], linear[c]);
+    return std::sqrt(norm2);
   }
 };
+
+// SurfaceInteraction::position_error of a world point (rounded to float) mapped from one
+// with `object_error` by a transform of max_error_gain() `gain`: the error grown by the
+// transform plus the rounding of a point of world's own magnitude. Unknown stays unknown.
+TESSERA_HD TESSERA_INLINE float transformed_position_error(float object_error, double gain,
+                                                           const vec3& world) {
+  if (!(object_error >= 0.0f)) return object_error;
+  return static_cast<float>(gain * object_error) +
+         position_error_bound(max_component(glm::abs(world)));
+}
 
 }  // namespace tessera

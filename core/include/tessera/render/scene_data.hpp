@@ -115,6 +115,7 @@ struct MeshPlacement {
   std::uint32_t material = 0;
   AffineTransform object_to_world;
   AffineTransform world_to_object;
+  double world_position_error_gain = 0.0;  // object_to_world.max_error_gain(), once per placement
 };
 
 // At most this many delta lights (points, spots, suns without extent) are sampled at every
@@ -207,7 +208,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
   const Ray object = to_float_ray(to_object_ray(instance, ray));
   SurfaceInteraction si = surface_at(instance.shape, object, hit);
   si.position = vec3(placement.object_to_world.point(dvec3(si.position)));
-  si.position_error = placement.object_to_world.position_error(si.position_error, si.position);
+  si.position_error = transformed_position_error(si.position_error,
+                                                 placement.world_position_error_gain, si.position);
   const glm::dmat3 normal_matrix = glm::transpose(placement.world_to_object.linear);
   si.geometric_normal = vec3(glm::normalize(normal_matrix * dvec3(si.geometric_normal)));
   si.shading_normal = si.geometric_normal;
