@@ -59,7 +59,9 @@ vec3 paper_sample_float(const SphericalRectangle& r, float u, float v) {
 // light wherever it subtends the 3e-4 sr the lights sample it from (points from 1 mm to 1 km
 // below it, beside it and nearly level with it), and
 // no larger than the paper's float steps' plus 1e-4 wherever the float path runs; over all
-// points its mean is no larger than theirs.
+// points its mean is no larger than theirs. The light sampler's direction and distance
+// (sample_direction, which takes the direction's y component from the sampled height
+// instead of forming the point) reach a point within the same bound.
 TEST(SphericalRectangle, SampleIsAsCloseToThePapersStepsInDoubleAsTheyAreInFloat) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -74,16 +76,24 @@ TEST(SphericalRectangle, SampleIsAsCloseToThePapersStepsInDoubleAsTheyAreInFloat
     const SphericalRectangle r =
         SphericalRectangle::make(corner, x, y, glm::cross(x, y), 1.0f, 0.75f, origin);
     if (!(r.solid_angle > 1e-4f)) continue;
-    double worst_folded = 0.0, worst_paper = 0.0;
+    double worst_folded = 0.0, worst_paper = 0.0, worst_direction = 0.0;
     for (int j = 0; j < 20; ++j) {
       const float u = unit(rng), v = unit(rng);
       const glm::dvec3 exact = paper_sample(r, u, v);
       worst_folded = std::max(worst_folded, glm::length(glm::dvec3(r.sample(u, v)) - exact));
+      vec3 wi;
+      float distance = 0.0f;
+      r.sample_direction(u, v, wi, distance);
+      EXPECT_NEAR(glm::length(wi), 1.0f, 1e-6f);
+      worst_direction =
+          std::max(worst_direction,
+                   glm::length(glm::dvec3(origin) + double{distance} * glm::dvec3(wi) - exact));
       worst_paper =
           std::max(worst_paper, glm::length(glm::dvec3(paper_sample_float(r, u, v)) - exact));
     }
     if (r.solid_angle >= 3e-4f) {  // where the lights use it (light_detail::spherical_usable)
       EXPECT_LE(worst_folded, 5e-4) << "z0 " << r.z0 << " origin y " << origin.y;
+      EXPECT_LE(worst_direction, 5e-4) << "z0 " << r.z0 << " origin y " << origin.y;
     }
     if (!r.near_plane) {
       EXPECT_LE(worst_folded, worst_paper + 1e-4) << "z0 " << r.z0;
@@ -99,8 +109,9 @@ TEST(SphericalRectangle, SampleIsAsCloseToThePapersStepsInDoubleAsTheyAreInFloat
 }
 
 // Points a few millimetres from a 1 x 1 light's plane, up to 3 m beside it (ratios of
-// in-plane distance to height up to 3,000): each sample within 1e-5 of the double-precision
-// point, relative to its distance.
+// in-plane distance to height up to 3,000): each sample, and the point sample_direction's
+// direction and distance reach, within 1e-5 of the double-precision point, relative to its
+// distance.
 TEST(SphericalRectangle, PointsNearlyLevelWithTheLightSampleItExactly) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -120,6 +131,13 @@ TEST(SphericalRectangle, PointsNearlyLevelWithTheLightSampleItExactly) {
       const glm::dvec3 exact = paper_sample(r, u, v);
       const double distance = glm::length(exact - glm::dvec3(origin));
       EXPECT_LE(glm::length(glm::dvec3(r.sample(u, v)) - exact), 1e-5 * distance)
+          << "origin " << origin.x << " " << origin.y << " " << origin.z << " u " << u << " v "
+          << v;
+      vec3 wi;
+      float sampled_distance = 0.0f;
+      r.sample_direction(u, v, wi, sampled_distance);
+      const glm::dvec3 reached = glm::dvec3(origin) + double{sampled_distance} * glm::dvec3(wi);
+      EXPECT_LE(glm::length(reached - exact), 1e-5 * distance)
           << "origin " << origin.x << " " << origin.y << " " << origin.z << " u " << u << " v "
           << v;
     }

@@ -83,20 +83,57 @@ struct SphericalRectangle {
     return origin + p.x * x + p.y * y + z0 * z;
   }
 
-  // The unit direction from the reference point to sample(u, v), and its distance, from the
-  // point's frame coordinates: no round trip through world space (origin added, then
-  // subtracted again) and one division instead of three on the sampler's dependency chain.
+  // The unit direction from the reference point to sample(u, v), and its distance. hv, the
+  // sampled sine of the direction's elevation towards y, is the direction's y component
+  // itself: with c = sqrt(1 - hv^2) / sqrt(xu^2 + z0^2) the direction is (xu c, hv, z0 c)
+  // and the distance 1 / c, so the point's y coordinate (a square root and a division) and
+  // its distance (another pair) stay off the sampler's dependency chain.
   TESSERA_HD void sample_direction(float u, float v, vec3& wi, float& distance) const {
+    if (!near_plane) [[likely]] {
+      float xu, hv, d2;
+      sample_xu_hv(u, v, xu, hv, d2);
+      if (direction_from(xu, hv, d2, 1e-6f, wi, distance)) [[likely]]
+        return;
+    } else {
+      double xu, hv, d2;
+      near_plane_xu_hv(u, v, xu, hv, d2);
+      if (direction_from(xu, hv, d2, 1e-12, wi, distance)) return;
+    }
+    // Along y's edge (cos^2 of the elevation lost to rounding): from the clamped point.
     const vec2 p = sample_coordinates(u, v);
     distance = std::sqrt(p.x * p.x + p.y * p.y + z0 * z0);
     const float inverse = 1.0f / distance;
     wi = (p.x * inverse) * x + (p.y * inverse) * y + (z0 * inverse) * z;
   }
 
+  // The direction (xu c, hv, z0 c) and distance 1 / c of sample_direction, unless
+  // 1 - hv^2 is below `min_cos2` (where its rounding dominates it).
+  template <typename Real>
+  TESSERA_HD bool direction_from(Real xu, Real hv, Real d2, Real min_cos2, vec3& wi,
+                                 float& distance) const {
+    const Real cos2 = Real(1) - hv * hv;
+    if (!(cos2 >= min_cos2)) return false;
+    const Real c = std::sqrt(cos2 / d2);
+    wi = static_cast<float>(xu * c) * x + static_cast<float>(hv) * y +
+         static_cast<float>(z0 * c) * z;
+    distance = static_cast<float>(Real(1) / c);
+    return true;
+  }
+
   // The sample's coordinates (xu, yv) along x and y in the rectangle's frame.
   TESSERA_HD vec2 sample_coordinates(float u, float v) const {
     if (near_plane) [[unlikely]]
       return sample_near_plane(u, v);
+    float xu, hv, d2;
+    sample_xu_hv(u, v, xu, hv, d2);
+    const float hv2 = hv * hv;
+    const float yv = hv2 < 1.0f - 1e-6f ? (hv * std::sqrt(d2)) / std::sqrt(1.0f - hv2) : y1;
+    return vec2(xu, glm::clamp(yv, y0, y1));
+  }
+
+  // The far-from-the-plane sample in float: xu, the sine hv of the elevation towards y,
+  // and d2 = xu^2 + z0^2.
+  TESSERA_HD void sample_xu_hv(float u, float v, float& xu, float& hv, float& d2) const {
     const float au = u * solid_angle + k;
     float sin_au, cos_au;
     fast_sincos(au, sin_au, cos_au);
@@ -105,21 +142,17 @@ struct SphericalRectangle {
     // xu = -sign(fu) |sin| z0 / sqrt(num^2 - (1 - b0^2) sin^2) with num = cos b0 - b1. The
     // sample is a chain of dependent square roots and divisions, and each one taken out of
     // it is time (the light sampler was a third of the colour-bleed box's wall clock,
-    // perf's cpu-clock samples, against a sixth of its instructions). A vanishing denominator gives
-    // an infinite xu, which the clamp below takes to the rectangle's edge, as the paper's clamps
-    // did.
+    // perf's cpu-clock samples, against a sixth of its instructions). A vanishing denominator
+    // gives an infinite xu, which the clamp below takes to the rectangle's edge, as the
+    // paper's clamps did.
     const float num = cos_au * b0 - b1;
     const float n = num * num - (1.0f - b0 * b0) * (sin_au * sin_au);
-    float xu = -z0 * (num > 0.0f ? sin_au : -sin_au) / std::sqrt(glm::max(n, 1e-30f));
+    xu = -z0 * (num > 0.0f ? sin_au : -sin_au) / std::sqrt(glm::max(n, 1e-30f));
     xu = glm::clamp(xu, x0, x1);
-    const float d2 = xu * xu + z0 * z0;
-    const float d = std::sqrt(d2);
+    d2 = xu * xu + z0 * z0;
     const float h0 = y0 / std::sqrt(d2 + y0 * y0);
     const float h1 = y1 / std::sqrt(d2 + y1 * y1);
-    const float hv = h0 + v * (h1 - h0);
-    const float hv2 = hv * hv;
-    const float yv = hv2 < 1.0f - 1e-6f ? (hv * d) / std::sqrt(1.0f - hv2) : y1;
-    return vec2(xu, glm::clamp(yv, y0, y1));
+    hv = h0 + v * (h1 - h0);
   }
 
   // sample_coordinates in double, with 1 - b0^2 and the heights formed without cancellation, for
@@ -130,6 +163,17 @@ struct SphericalRectangle {
   // Points this close to a light's plane are few: on the box, whose ceiling is 1 cm above
   // its light, the path costs 0.4% of the render's instructions.
   TESSERA_HD vec2 sample_near_plane(float u, float v) const {
+    double xu, hv, d2;
+    near_plane_xu_hv(u, v, xu, hv, d2);
+    const double one_minus_hv_sq = 1.0 - hv * hv;
+    double yv = one_minus_hv_sq > 0.0 ? hv * std::sqrt(d2 / one_minus_hv_sq)
+                                      : (hv < 0.0 ? double{y0} : double{y1});
+    yv = glm::clamp(yv, double{y0}, double{y1});
+    return vec2(static_cast<float>(xu), static_cast<float>(yv));
+  }
+
+  // sample_xu_hv in double, for sample_near_plane.
+  TESSERA_HD void near_plane_xu_hv(float u, float v, double& xu, double& hv, double& d2) const {
     const double zd = z0, z2 = zd * zd, y0d = y0, y1d = y1;
     const double b0d = -y0d / std::sqrt(z2 + y0d * y0d);
     const double b1d = y1d / std::sqrt(z2 + y1d * y1d);
@@ -139,17 +183,12 @@ struct SphericalRectangle {
     fast_sincos(au, sin_au, cos_au);
     const double num = cos_au * b0d - b1d;
     const double n = num * num - one_minus_b0_sq * (sin_au * sin_au);
-    double xu = -zd * (num > 0.0 ? sin_au : -sin_au) / std::sqrt(n > 1e-300 ? n : 1e-300);
+    xu = -zd * (num > 0.0 ? sin_au : -sin_au) / std::sqrt(n > 1e-300 ? n : 1e-300);
     xu = glm::clamp(xu, double{x0}, double{x1});
-    const double d2 = xu * xu + z2;
+    d2 = xu * xu + z2;
     const double h0 = y0d / std::sqrt(d2 + y0d * y0d);
     const double h1 = y1d / std::sqrt(d2 + y1d * y1d);
-    const double hv = h0 + static_cast<double>(v) * (h1 - h0);
-    const double one_minus_hv_sq = 1.0 - hv * hv;
-    double yv =
-        one_minus_hv_sq > 0.0 ? hv * std::sqrt(d2 / one_minus_hv_sq) : (hv < 0.0 ? y0d : y1d);
-    yv = glm::clamp(yv, y0d, y1d);
-    return vec2(static_cast<float>(xu), static_cast<float>(yv));
+    hv = h0 + static_cast<double>(v) * (h1 - h0);
   }
 };
 
