@@ -6,12 +6,15 @@
 #   sudo deploy/check-image.sh              build the committed tree (git HEAD) and check it
 #   sudo deploy/check-image.sh --worktree   build the working tree as it is, edits included
 #   sudo deploy/check-image.sh --base-only  only prepare the cached Debian base images
+#   sudo deploy/check-image.sh --check-only check an image built before (TESSERA_IMAGE_TAG)
 #
 # How: debootstrap makes a Debian bookworm rootfs from the mirror this machine's apt already
 # uses (no registry needed), podman imports it as localhost/debian:bookworm and, slimmed like
 # the official image, as localhost/debian:bookworm-slim; buildah builds the Dockerfile on top
 # of those with chroot isolation and the vfs storage driver (no daemon, no overlay mounts);
-# podman then runs `tesserad --version` in the result and probes the HEALTHCHECK.
+# podman then runs `tesserad --version` in the result, probes the HEALTHCHECK and renders
+# examples/scenes/cornell.yaml through the container's tesserad with its tessera CLI (both
+# load the image codecs module from /usr/local/lib/tessera: for the EXR tiles and the file).
 #
 # Everything lives under TESSERA_IMAGE_CACHE, including a container store of its own, so the
 # machine's default podman storage is left alone and a second run reuses the base images.
@@ -48,16 +51,18 @@ die() {
 }
 
 base_only=0
+check_only=0
 use_worktree=0
 for argument in "$@"; do
   case "$argument" in
     --base-only) base_only=1 ;;
     --worktree) use_worktree=1 ;;
+    --check-only) check_only=1 ;;
     -h | --help)
       sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
       exit 0
       ;;
-    *) die "unknown argument '$argument' (expected --base-only, --worktree or --help)" ;;
+    *) die "unknown argument '$argument' (expected --base-only, --check-only, --worktree or --help)" ;;
   esac
 done
 
@@ -312,8 +317,8 @@ check_image() {
   # No automatic health timer (that needs systemd): the loop below runs the check itself.
   # Podman's complaints about the missing systemd go to a log, shown only on failure.
   local name="tessera-check-$$" log="${CACHE_DIR}/healthcheck.log"
-  "${PODMAN[@]}" run -d "${RUN_FLAGS[@]}" --health-interval disable --name "$name" "$IMAGE_TAG" \
-    >"$log" 2>&1 || {
+  "${PODMAN[@]}" run -d "${RUN_FLAGS[@]}" --health-interval disable --name "$name" \
+    -v "${REPO_ROOT}/examples/scenes:/scenes:ro" "$IMAGE_TAG" >"$log" 2>&1 || {
     cat "$log" >&2
     die "could not start tesserad in a container"
   }
@@ -328,6 +333,18 @@ check_image() {
     fi
     sleep 1
   done
+  local rendered=0
+  if [ "$healthy" -eq 1 ]; then
+    step "render examples/scenes/cornell.yaml through the container's tesserad"
+    # A job as a user submits one: the CLI sends the scene, the daemon renders and encodes
+    # EXR tiles, the CLI writes the file. Both load the image codecs module.
+    if "${PODMAN[@]}" exec "$name" tessera render --width 32 --height 32 --spp 4 \
+      /scenes/cornell.yaml -o /var/lib/tessera/cornell.exr >>"$log" 2>&1 &&
+      "${PODMAN[@]}" exec "$name" test -s /var/lib/tessera/cornell.exr >>"$log" 2>&1; then
+      rendered=1
+      tail -n 1 "$log"
+    fi
+  fi
   "${PODMAN[@]}" logs "$name" 2>&1 | tail -n 5
   # SIGTERM, then SIGKILL after 10 s: a clean shutdown shows as a prompt removal.
   local stop_started=${SECONDS}
@@ -338,6 +355,11 @@ check_image() {
     die "tesserad did not become healthy (HEALTHCHECK failed)"
   fi
   echo "healthcheck passed after ${attempt} attempt(s)"
+  if [ "$rendered" -ne 1 ]; then
+    tail -n 20 "$log" >&2
+    die "the container's tesserad did not render examples/scenes/cornell.yaml"
+  fi
+  echo "rendered a 32x32 Cornell box through the container's tesserad"
 
   step "image size"
   local bytes
@@ -348,6 +370,12 @@ check_image() {
 # ---------------------------------------------------------------------------------------------
 mkdir -p "$CACHE_DIR"
 ensure_tools
+if [ "$check_only" -eq 1 ]; then
+  "${PODMAN[@]}" image exists "$IMAGE_TAG" || die "no image ${IMAGE_TAG} to check; build it first"
+  check_image
+  step "image check passed in $((SECONDS - started_at)) s"
+  exit 0
+fi
 base_is_new=0 # set by make_base_tarballs when it made new tarballs
 make_base_tarballs
 import_base_images
