@@ -255,11 +255,11 @@ struct Bsdf {
   }
 
   // A thin film reflects R (RGB, Airy) and transmits 1 - R straight on. The lobe is picked
-  // by the channel average, and each lobe's weight divides by its probability, so every
-  // channel keeps exactly R + (1 - R) = 1 in expectation.
+  // with thin_film_reflect_probability, and each lobe's weight divides by its probability,
+  // so every channel keeps exactly R + (1 - R) = 1 in expectation.
   TESSERA_HD BsdfSample sample_thin_film(const vec3& wo, float u_lobe) const {
     const vec3 r = thin_film_reflectance(wo.z, exterior_ior, film_ior, film_thickness_nm);
-    const float reflect = (r.x + r.y + r.z) * (1.0f / 3.0f);
+    const float reflect = thin_film_reflect_probability(r);
     BsdfSample s;
     if (u_lobe < reflect) {
       s.wi = vec3(-wo.x, -wo.y, wo.z);

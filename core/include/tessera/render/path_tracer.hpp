@@ -470,8 +470,8 @@ struct PathHit {
   }
 
   // A thin film reflects R or transmits 1 - R straight on (Bsdf's thin-film lobes, picked by
-  // the same sample). Crossing it is no scattering vertex: the path keeps its previous
-  // vertex, so an emitter seen through films is weighed against the light sample taken
+  // the same sample and probability). Crossing it is no scattering vertex: the path keeps its
+  // previous vertex, so an emitter seen through films is weighed against the light sample taken
   // there, whose shadow ray crossed the same films (film_transmittance), and the crossing
   // does not count towards max_depth (Cycles counts such transparent bounces apart too).
   // Without this a floor under soap bubbles was lit only by BSDF samples that happened to
@@ -481,7 +481,7 @@ struct PathHit {
     const vec3 wo = Frame::from_normal(si.shading_normal).to_local(-ray.direction);
     const vec3 r = thin_film_reflectance(wo.z, material.exterior_ior, material.ior,
                                          material.film_thickness_nm);
-    const float reflect = (r.x + r.y + r.z) * (1.0f / 3.0f);
+    const float reflect = thin_film_reflect_probability(r);
     float u_lobe, u_unused;
     BounceSamples::draw(payload.samples, payload.depth, BouncePair::kLobeAndPick, u_lobe, u_unused);
     if (u_lobe < reflect || !(wo.z > 0.0f)) return false;  // reflected: an ordinary vertex
