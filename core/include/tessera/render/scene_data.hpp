@@ -203,6 +203,8 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
   }
   const MeshPlacement& placement = s.mesh_placements[lo];
   const std::uint32_t triangle = placement.first_triangle + (id - placement.first_id);
+  // Only the object-space ray is wanted: its gains stay 0 (to_float_ray drops the origin
+  // error they would scale, and the position error below uses the placement's own gain).
   Instance<Triangle> instance{s.instanced_triangles[triangle], placement.object_to_world,
                               placement.world_to_object};
   const Ray object = to_float_ray(to_object_ray(instance, ray));
