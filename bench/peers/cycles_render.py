@@ -587,13 +587,31 @@ def make_material(m, context=None):
             # Tessera's tangent (anisotropy_tangent in render/bsdf.hpp) is cross(+y, n) in
             # world space, the latitude circles of a sphere whose pole is +y; Cycles' default
             # is the object's radial tangent, so it is given Tessera's.
+            # Where the normal is +-y (a cap, a sphere's pole) the cross product vanishes and
+            # Tessera takes +x; so does this graph: cross + x * (|cross|^2 < 1e-8).
             tangent = nodes.new("ShaderNodeVectorMath")
             tangent.operation = "CROSS_PRODUCT"
             tangent.inputs[0].default_value = (0.0, 1.0, 0.0)
             links.new(nodes.new("ShaderNodeNewGeometry").outputs["Normal"], tangent.inputs[1])
+            length2 = nodes.new("ShaderNodeVectorMath")
+            length2.operation = "DOT_PRODUCT"
+            links.new(tangent.outputs["Vector"], length2.inputs[0])
+            links.new(tangent.outputs["Vector"], length2.inputs[1])
+            degenerate = nodes.new("ShaderNodeMath")
+            degenerate.operation = "LESS_THAN"
+            links.new(length2.outputs["Value"], degenerate.inputs[0])
+            degenerate.inputs[1].default_value = 1e-8
+            fallback = nodes.new("ShaderNodeVectorMath")
+            fallback.operation = "SCALE"
+            fallback.inputs[0].default_value = (1.0, 0.0, 0.0)
+            links.new(degenerate.outputs["Value"], fallback.inputs["Scale"])
+            chosen = nodes.new("ShaderNodeVectorMath")
+            chosen.operation = "ADD"
+            links.new(tangent.outputs["Vector"], chosen.inputs[0])
+            links.new(fallback.outputs["Vector"], chosen.inputs[1])
             unit = nodes.new("ShaderNodeVectorMath")
             unit.operation = "NORMALIZE"
-            links.new(tangent.outputs["Vector"], unit.inputs[0])
+            links.new(chosen.outputs["Vector"], unit.inputs[0])
             links.new(unit.outputs["Vector"], surface.inputs["Tangent"])
         set_roughness(surface)
     elif bsdf == "dielectric":
@@ -758,13 +776,18 @@ def build_revolved(base, axis, profile, segments, caps):
             faces.append((start + i, start + j, start + segments + j, start + segments + i))
             smooth.append(True)
     if caps:
-        for radius, height in (profile[0], profile[-1]):
+        # Faces face outwards: the last ring's cap along +axis, the first ring's along
+        # -axis. Glass needs it (Cycles tells entering from leaving by the face's side); the
+        # bottom cap once faced inwards, which only opaque cylinders and cones had hidden.
+        for (radius, height), outward in ((profile[0], False), (profile[-1], True)):
             if radius <= 0.0:
                 continue
             start = len(vertices)
             vertices += ring(radius, height) + [base + height * n]
             for i in range(segments):
-                faces.append((start + segments, start + i, start + (i + 1) % segments))
+                here, after = start + i, start + (i + 1) % segments
+                faces.append((start + segments, here, after) if outward else
+                             (start + segments, after, here))
                 smooth.append(False)
     mesh = mesh_from_lists("revolved", vertices, faces)
     mesh.polygons.foreach_set("use_smooth", smooth)
