@@ -329,6 +329,22 @@ def math_node(nodes, links, operation, a, b=None):
     return node.outputs[0]
 
 
+def vector_math_node(nodes, links, operation, a, b=None, scale=None):
+    # A Vector Math node of `operation` on sockets or (x, y, z) tuples; `scale` for SCALE.
+    node = nodes.new("ShaderNodeVectorMath")
+    node.operation = operation
+    for index, value in ((0, a), (1, b)):
+        if value is None:
+            continue
+        if isinstance(value, tuple):
+            node.inputs[index].default_value = value
+        else:
+            links.new(value, node.inputs[index])
+    if scale is not None:
+        links.new(scale, node.inputs["Scale"])
+    return node
+
+
 def sphere_uv(nodes, links, frame):
     # Tessera's sphere uv (geometry/sphere.hpp): u = (atan2(-z, x) + pi) / 2 pi, v = acos(-y) / pi
     # of the outward direction.
@@ -589,29 +605,14 @@ def make_material(m, context=None):
             # is the object's radial tangent, so it is given Tessera's.
             # Where the normal is +-y (a cap, a sphere's pole) the cross product vanishes and
             # Tessera takes +x; so does this graph: cross + x * (|cross|^2 < 1e-8).
-            tangent = nodes.new("ShaderNodeVectorMath")
-            tangent.operation = "CROSS_PRODUCT"
-            tangent.inputs[0].default_value = (0.0, 1.0, 0.0)
-            links.new(nodes.new("ShaderNodeNewGeometry").outputs["Normal"], tangent.inputs[1])
-            length2 = nodes.new("ShaderNodeVectorMath")
-            length2.operation = "DOT_PRODUCT"
-            links.new(tangent.outputs["Vector"], length2.inputs[0])
-            links.new(tangent.outputs["Vector"], length2.inputs[1])
-            degenerate = nodes.new("ShaderNodeMath")
-            degenerate.operation = "LESS_THAN"
-            links.new(length2.outputs["Value"], degenerate.inputs[0])
-            degenerate.inputs[1].default_value = 1e-8
-            fallback = nodes.new("ShaderNodeVectorMath")
-            fallback.operation = "SCALE"
-            fallback.inputs[0].default_value = (1.0, 0.0, 0.0)
-            links.new(degenerate.outputs["Value"], fallback.inputs["Scale"])
-            chosen = nodes.new("ShaderNodeVectorMath")
-            chosen.operation = "ADD"
-            links.new(tangent.outputs["Vector"], chosen.inputs[0])
-            links.new(fallback.outputs["Vector"], chosen.inputs[1])
-            unit = nodes.new("ShaderNodeVectorMath")
-            unit.operation = "NORMALIZE"
-            links.new(chosen.outputs["Vector"], unit.inputs[0])
+            normal = nodes.new("ShaderNodeNewGeometry").outputs["Normal"]
+            cross = vector_math_node(nodes, links, "CROSS_PRODUCT", (0.0, 1.0, 0.0),
+                                     normal).outputs["Vector"]
+            length2 = vector_math_node(nodes, links, "DOT_PRODUCT", cross, cross).outputs["Value"]
+            degenerate = math_node(nodes, links, "LESS_THAN", length2, 1e-8)
+            fallback = vector_math_node(nodes, links, "SCALE", (1.0, 0.0, 0.0), scale=degenerate)
+            chosen = vector_math_node(nodes, links, "ADD", cross, fallback.outputs["Vector"])
+            unit = vector_math_node(nodes, links, "NORMALIZE", chosen.outputs["Vector"])
             links.new(unit.outputs["Vector"], surface.inputs["Tangent"])
         set_roughness(surface)
     elif bsdf == "dielectric":
