@@ -315,31 +315,28 @@ def direction_from_centre(nodes, links, frame):
     return unit.outputs["Vector"]
 
 
-def math_node(nodes, links, operation, a, b=None):
-    # A Math node of `operation` on sockets or numbers.
-    node = nodes.new("ShaderNodeMath")
+def operation_node(nodes, links, node_type, operation, a, b=None):
+    # A Math or Vector Math node of `operation` on its first two inputs, each a socket (linked)
+    # or a constant (a number, or an (x, y, z) tuple).
+    node = nodes.new(node_type)
     node.operation = operation
     for index, value in ((0, a), (1, b)):
         if value is None:
             continue
-        if isinstance(value, (int, float)):
+        if isinstance(value, (int, float, tuple)):
             node.inputs[index].default_value = value
         else:
             links.new(value, node.inputs[index])
-    return node.outputs[0]
+    return node
+
+
+def math_node(nodes, links, operation, a, b=None):
+    return operation_node(nodes, links, "ShaderNodeMath", operation, a, b).outputs[0]
 
 
 def vector_math_node(nodes, links, operation, a, b=None, scale=None):
-    # A Vector Math node of `operation` on sockets or (x, y, z) tuples; `scale` for SCALE.
-    node = nodes.new("ShaderNodeVectorMath")
-    node.operation = operation
-    for index, value in ((0, a), (1, b)):
-        if value is None:
-            continue
-        if isinstance(value, tuple):
-            node.inputs[index].default_value = value
-        else:
-            links.new(value, node.inputs[index])
+    # Vector Math has two outputs (Vector, Value): the node is returned. `scale` for SCALE.
+    node = operation_node(nodes, links, "ShaderNodeVectorMath", operation, a, b)
     if scale is not None:
         links.new(scale, node.inputs["Scale"])
     return node
@@ -658,12 +655,9 @@ def make_material(m, context=None):
         fresnel = nodes.new("ShaderNodeFresnel")
         backfacing = nodes.new("ShaderNodeNewGeometry").outputs["Backfacing"]
         ior = m["ior"]
-        facing_ior = nodes.new("ShaderNodeMath")
-        facing_ior.operation = "MULTIPLY_ADD"  # ior + backfacing * (1/ior - ior)
-        links.new(backfacing, facing_ior.inputs[0])
-        facing_ior.inputs[1].default_value = 1.0 / ior - ior
-        facing_ior.inputs[2].default_value = ior
-        links.new(facing_ior.outputs[0], fresnel.inputs["IOR"])
+        facing_ior = math_node(nodes, links, "ADD",  # ior + backfacing * (1/ior - ior)
+                               math_node(nodes, links, "MULTIPLY", backfacing, 1.0 / ior - ior), ior)
+        links.new(facing_ior, fresnel.inputs["IOR"])
         face = fresnel.outputs["Fac"]
         film = math_node(nodes, links, "DIVIDE", math_node(nodes, links, "MULTIPLY", face, 2.0),
                          math_node(nodes, links, "ADD", face, 1.0))
