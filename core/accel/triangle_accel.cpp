@@ -284,6 +284,21 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
     if (accel.wide_.depth > kMaxBvhDepth)
       throw std::logic_error("TriangleAccel: tree deeper than the traversal stack allows");
     accel.kernels_ = select_kernels(kind, options.max_isa);
+    if (!accel.wide_.nodes.empty()) {
+      const WideBvhNode& root = accel.wide_.nodes[0];
+      for (std::uint32_t axis = 0; axis < 3; ++axis) {
+        // Empty slots hold (+inf, -inf), which min and max pass over.
+        float lower = kInfinity, upper = -kInfinity;
+        for (std::uint32_t slot = 0; slot < kWideBvhWidth; ++slot) {
+          lower = std::min(lower, root.bounds[2 * axis][slot]);
+          upper = std::max(upper, root.bounds[2 * axis + 1][slot]);
+        }
+        accel.root_box_[axis] = lower;
+        accel.root_box_[4 + axis] = upper;
+      }
+      accel.root_box_[3] = accel.root_box_[2];
+      accel.root_box_[7] = accel.root_box_[6];
+    }
     accel.stats_.bytes = accel.wide_.bytes() + accel.blocks_.size() * sizeof(TriangleBlock4);
     accel.stats_.nodes = accel.wide_.nodes.size();
     accel.stats_.depth = accel.wide_.depth;

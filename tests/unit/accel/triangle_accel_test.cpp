@@ -227,6 +227,64 @@ TEST_P(TriangleAccelTest, BounceRaysFromTheSurfaceMatchBruteForce) {
   expect_same_hits(tris, accel, rays);
 }
 
+// The wide structures reject a ray that misses the root's box before the walk's set-up.
+// A flat structure (one plane of triangles: a root box of zero thickness) and rays from
+// outside it that only just reach it: in its plane with +0.0 and -0.0 normal components
+// (origin on the box's flat faces), at its corners and edges, and with t_max ending at the
+// edge they aim for. Every one must agree with the brute-force reference.
+TEST_P(TriangleAccelTest, RaysThatOnlyJustReachTheStructuresBoxMatchBruteForce) {
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      const vec3 p00(static_cast<float>(i), static_cast<float>(j), 0.0f);
+      const vec3 p10 = p00 + vec3(1, 0, 0), p01 = p00 + vec3(0, 1, 0), p11 = p00 + vec3(1, 1, 0);
+      tris.push_back(Triangle{p00, p10, p11, 0});
+      tris.push_back(Triangle{p00, p11, p01, 0});
+    }
+  const TriangleAccel accel = build(tris);
+  std::vector<Ray> rays;
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> along(-1.0f, 7.0f);
+  for (int i = 0; i < 600; ++i) {
+    // A target on the structure's boundary (edge or corner) or inside it, and an origin
+    // outside its box.
+    vec3 target(along(rng), along(rng), 0.0f);
+    if (i % 3 == 0) target.x = (i % 2) ? 0.0f : 6.0f;
+    if (i % 5 == 0) target.y = (i % 2) ? 6.0f : 0.0f;
+    const vec3 origin = target + vec3(along(rng) - 3.0f, along(rng) - 3.0f,
+                                      (i % 4 == 0) ? 0.0f : along(rng) - 3.0f);
+    vec3 direction = target - origin;
+    if (direction == vec3(0.0f)) continue;
+    if (i % 4 == 0) direction.z = (i % 8 == 0) ? -0.0f : 0.0f;  // in the plane, either zero
+    const float reach = glm::length(target - origin) / glm::length(direction);
+    rays.push_back(Ray{origin, direction, 0.0f, kInfinity});
+    rays.push_back(Ray{origin, direction, 0.0f, reach});       // ends where it reaches the target
+    rays.push_back(Ray{origin, -direction, 0.0f, kInfinity});  // away from it: no hit
+  }
+  // Along the box's faces and edges exactly: axis-parallel rays from outside on its
+  // boundary lines, each sign of zero.
+  for (float y : {0.0f, 3.0f, 6.0f})
+    for (float zero : {0.0f, -0.0f}) {
+      rays.push_back(Ray{vec3(-2.0f, y, 0.0f), vec3(1.0f, zero, zero)});
+      rays.push_back(Ray{vec3(8.0f, y, 0.0f), vec3(-1.0f, zero, zero)});
+      rays.push_back(Ray{vec3(y, -2.0f, 0.0f), vec3(zero, 1.0f, zero)});
+      rays.push_back(Ray{vec3(y, 3.0f, 2.0f), vec3(zero, zero, -1.0f)});
+    }
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const ReferenceHit expected = accel_test::reference_closest(tris, rays[i]);
+    HitRecord got;
+    ASSERT_EQ(accel.closest(rays[i], got), expected.hit) << "ray " << i;
+    ASSERT_EQ(accel.occluded(rays[i]), expected.hit) << "ray " << i;
+    HitRecord all[4];
+    ASSERT_EQ(accel.all_hits(rays[i], all, 4) > 0, expected.hit) << "ray " << i;
+    if (!expected.hit) continue;
+    ++hits;
+    ASSERT_EQ(got.t, expected.record.t) << "ray " << i;
+  }
+  EXPECT_GT(hits, rays.size() / 8);
+}
+
 TEST_P(TriangleAccelTest, DegenerateRaysNeverHit) {
   const auto tris = accel_test::triangle_soup(50, 9);
   const TriangleAccel accel = build(tris);

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -134,6 +135,10 @@ struct WideTriangleView {
   // Request each entered child's memory as soon as its parent is tested: pays where the
   // structure is larger than the caches, costs where it is not (see kPrefetchMinBytes).
   bool prefetch = false;
+  // The root node's box (the union of its children's), lower then upper corner, each as
+  // x, y, z, z (16-byte aligned); null for brute force. Rays that miss it skip the walk's
+  // per-ray set-up (accel_detail::*::may_enter_root).
+  const float* root_box = nullptr;
 };
 
 // Structures of at least this many bytes (nodes and blocks; an L2 cache) are walked with
@@ -194,7 +199,8 @@ class TriangleAccel {
   WideTriangleView view() const {
     return WideTriangleView{wide_.nodes.empty() ? nullptr : wide_.nodes.data(), blocks_.data(),
                             static_cast<std::uint32_t>(blocks_.size()),
-                            stats_.bytes >= kPrefetchMinBytes};
+                            stats_.bytes >= kPrefetchMinBytes,
+                            wide_.nodes.empty() ? nullptr : root_box_.data()};
   }
 
   AccelStats stats_;
@@ -204,6 +210,7 @@ class TriangleAccel {
   Bvh bvh_;                                // kBvh only
   WideBvh wide_;                           // kWide and kOctree
   HugePageVector<TriangleBlock4> blocks_;
+  alignas(16) std::array<float, 8> root_box_{};             // WideTriangleView::root_box
   const accel_detail::TriangleKernels* kernels_ = nullptr;  // null for kBvh
 };
 
