@@ -234,6 +234,26 @@ TESSERA_KERNEL_INLINE void exact_zero_edges(std::uint32_t zero_lanes, V& u, V& w
   w2 = load_lanes(w2_, w2);
 }
 
+#if TESSERA_KERNEL_AVX2
+// The ray's constants on eight lanes for intersect_pair, formed once per ray with the
+// four-lane ones: formed at each leaf, they cost seven broadcasts and stores per leaf.
+struct PairRay {
+  __m256 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
+  std::uint32_t row_x, row_y, row_z;
+  explicit PairRay(const PreparedRay& r)
+      : origin_x(_mm256_set1_ps(r.origin[r.kx])),
+        origin_y(_mm256_set1_ps(r.origin[r.ky])),
+        origin_z(_mm256_set1_ps(r.origin[r.kz])),
+        sx(_mm256_set1_ps(r.sx)),
+        sy(_mm256_set1_ps(r.sy)),
+        sz(_mm256_set1_ps(r.sz)),
+        t_min(_mm256_set1_ps(r.t_min)),
+        row_x(4 * r.kx),
+        row_y(4 * r.ky),
+        row_z(4 * r.kz) {}
+};
+#endif
+
 struct TriangleRay {
   __m128 origin_x, origin_y, origin_z;  // origin in the permuted frame
   __m128 sx, sy, sz, t_min;
@@ -248,7 +268,16 @@ struct TriangleRay {
         t_min(_mm_set1_ps(r.t_min)),
         row_x(4 * r.kx),
         row_y(4 * r.ky),
-        row_z(4 * r.kz) {}
+        row_z(4 * r.kz)
+#if TESSERA_KERNEL_AVX2
+        ,
+        pair(r)
+#endif
+  {
+  }
+#if TESSERA_KERNEL_AVX2
+  PairRay pair;
+#endif
 };
 
 // Lanes of one block the ray hits in (t_min, t_max), with t and barycentrics per lane.
@@ -317,21 +346,6 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_block(const TriangleBlock4& block,
 #if TESSERA_KERNEL_AVX2
 // Two blocks at once on eight AVX2 lanes (lanes 0-3 the first block, 4-7 the second):
 // the same operations as intersect_block, so each lane's result is the same bit for bit.
-struct PairRay {
-  __m256 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
-  std::uint32_t row_x, row_y, row_z;
-  explicit PairRay(const TriangleRay& r)
-      : origin_x(_mm256_broadcastss_ps(r.origin_x)),
-        origin_y(_mm256_broadcastss_ps(r.origin_y)),
-        origin_z(_mm256_broadcastss_ps(r.origin_z)),
-        sx(_mm256_broadcastss_ps(r.sx)),
-        sy(_mm256_broadcastss_ps(r.sy)),
-        sz(_mm256_broadcastss_ps(r.sz)),
-        t_min(_mm256_broadcastss_ps(r.t_min)),
-        row_x(r.row_x),
-        row_y(r.row_y),
-        row_z(r.row_z) {}
-};
 
 struct PairHits {
   std::uint32_t mask;
@@ -540,7 +554,7 @@ struct ClosestQuery {
 #endif
 #if TESSERA_KERNEL_AVX2
     if (b + 1 < first + count) {
-      const PairRay pair_ray(r);
+      const PairRay& pair_ray = r.pair;
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;
         if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) == 0) continue;
@@ -601,7 +615,7 @@ struct AnyQuery {
 #endif
 #if TESSERA_KERNEL_AVX2
     if (b + 1 < first + count) {
-      const PairRay pair_ray(r);
+      const PairRay& pair_ray = r.pair;
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;
         if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) != 0) {
