@@ -234,50 +234,46 @@ TESSERA_KERNEL_INLINE void exact_zero_edges(std::uint32_t zero_lanes, V& u, V& w
   w2 = load_lanes(w2_, w2);
 }
 
+// The ray's constants for the triangle tests, broadcast once per ray. With AVX2 they are
+// eight lanes wide for intersect_pair, and intersect_block reads their lower halves: a
+// second, four-lane copy cost seven more broadcasts and stores per ray, and one formed at
+// each leaf seven per leaf.
 #if TESSERA_KERNEL_AVX2
-// The ray's constants on eight lanes for intersect_pair, formed once per ray with the
-// four-lane ones: formed at each leaf, they cost seven broadcasts and stores per leaf.
-struct PairRay {
-  __m256 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
-  std::uint32_t row_x, row_y, row_z;
-  explicit PairRay(const PreparedRay& r)
-      : origin_x(_mm256_set1_ps(r.origin[r.kx])),
-        origin_y(_mm256_set1_ps(r.origin[r.ky])),
-        origin_z(_mm256_set1_ps(r.origin[r.kz])),
-        sx(_mm256_set1_ps(r.sx)),
-        sy(_mm256_set1_ps(r.sy)),
-        sz(_mm256_set1_ps(r.sz)),
-        t_min(_mm256_set1_ps(r.t_min)),
-        row_x(4 * r.kx),
-        row_y(4 * r.ky),
-        row_z(4 * r.kz) {}
-};
+using RayLanes = __m256;
+TESSERA_KERNEL_INLINE __m128 low_lanes(__m256 v) {
+  return _mm256_castps256_ps128(v);
+}
+TESSERA_KERNEL_INLINE __m256 broadcast_lanes(float x) {
+  return _mm256_set1_ps(x);
+}
+#else
+using RayLanes = __m128;
+TESSERA_KERNEL_INLINE __m128 low_lanes(__m128 v) {
+  return v;
+}
+TESSERA_KERNEL_INLINE __m128 broadcast_lanes(float x) {
+  return _mm_set1_ps(x);
+}
 #endif
 
 struct TriangleRay {
-  __m128 origin_x, origin_y, origin_z;  // origin in the permuted frame
-  __m128 sx, sy, sz, t_min;
-  std::uint32_t row_x, row_y, row_z;  // float offsets of the permuted axes in a vertex row
+  RayLanes origin_x, origin_y, origin_z;  // origin in the permuted frame
+  RayLanes sx, sy, sz, t_min;
+  // Float offsets of the permuted axes in a vertex row, pointer-sized: with 32-bit offsets
+  // the sums 12 + row_x, 24 + row_x, ... were formed in registers at every leaf (they may
+  // wrap), where pointer-sized ones fold into the loads' addresses.
+  std::size_t row_x, row_y, row_z;
   explicit TriangleRay(const PreparedRay& r)
-      : origin_x(_mm_set1_ps(r.origin[r.kx])),
-        origin_y(_mm_set1_ps(r.origin[r.ky])),
-        origin_z(_mm_set1_ps(r.origin[r.kz])),
-        sx(_mm_set1_ps(r.sx)),
-        sy(_mm_set1_ps(r.sy)),
-        sz(_mm_set1_ps(r.sz)),
-        t_min(_mm_set1_ps(r.t_min)),
+      : origin_x(broadcast_lanes(r.origin[r.kx])),
+        origin_y(broadcast_lanes(r.origin[r.ky])),
+        origin_z(broadcast_lanes(r.origin[r.kz])),
+        sx(broadcast_lanes(r.sx)),
+        sy(broadcast_lanes(r.sy)),
+        sz(broadcast_lanes(r.sz)),
+        t_min(broadcast_lanes(r.t_min)),
         row_x(4 * r.kx),
         row_y(4 * r.ky),
-        row_z(4 * r.kz)
-#if TESSERA_KERNEL_AVX2
-        ,
-        pair(r)
-#endif
-  {
-  }
-#if TESSERA_KERNEL_AVX2
-  PairRay pair;
-#endif
+        row_z(4 * r.kz) {}
 };
 
 // Lanes of one block the ray hits in (t_min, t_max), with t and barycentrics per lane.
@@ -292,22 +288,25 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_block(const TriangleBlock4& block,
                                                     const TriangleRay& r, float t_max,
                                                     BlockHits& out) {
   const float* v = &block.vertices[0][0][0];
+  const __m128 origin_x = low_lanes(r.origin_x), origin_y = low_lanes(r.origin_y),
+               origin_z = low_lanes(r.origin_z), sx = low_lanes(r.sx), sy = low_lanes(r.sy),
+               sz = low_lanes(r.sz);
   // Vertex rows are 12 floats apart ([vertex][axis][lane]).
-  const __m128 a_x = _mm_sub_ps(_mm_load_ps(v + r.row_x), r.origin_x);
-  const __m128 a_y = _mm_sub_ps(_mm_load_ps(v + r.row_y), r.origin_y);
-  const __m128 a_z = _mm_sub_ps(_mm_load_ps(v + r.row_z), r.origin_z);
-  const __m128 b_x = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_x), r.origin_x);
-  const __m128 b_y = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_y), r.origin_y);
-  const __m128 b_z = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_z), r.origin_z);
-  const __m128 c_x = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_x), r.origin_x);
-  const __m128 c_y = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_y), r.origin_y);
-  const __m128 c_z = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_z), r.origin_z);
-  const __m128 ax = _mm_sub_ps(a_x, _mm_mul_ps(r.sx, a_z));
-  const __m128 ay = _mm_sub_ps(a_y, _mm_mul_ps(r.sy, a_z));
-  const __m128 bx = _mm_sub_ps(b_x, _mm_mul_ps(r.sx, b_z));
-  const __m128 by = _mm_sub_ps(b_y, _mm_mul_ps(r.sy, b_z));
-  const __m128 cx = _mm_sub_ps(c_x, _mm_mul_ps(r.sx, c_z));
-  const __m128 cy = _mm_sub_ps(c_y, _mm_mul_ps(r.sy, c_z));
+  const __m128 a_x = _mm_sub_ps(_mm_load_ps(v + r.row_x), origin_x);
+  const __m128 a_y = _mm_sub_ps(_mm_load_ps(v + r.row_y), origin_y);
+  const __m128 a_z = _mm_sub_ps(_mm_load_ps(v + r.row_z), origin_z);
+  const __m128 b_x = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_x), origin_x);
+  const __m128 b_y = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_y), origin_y);
+  const __m128 b_z = _mm_sub_ps(_mm_load_ps(v + 12 + r.row_z), origin_z);
+  const __m128 c_x = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_x), origin_x);
+  const __m128 c_y = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_y), origin_y);
+  const __m128 c_z = _mm_sub_ps(_mm_load_ps(v + 24 + r.row_z), origin_z);
+  const __m128 ax = _mm_sub_ps(a_x, _mm_mul_ps(sx, a_z));
+  const __m128 ay = _mm_sub_ps(a_y, _mm_mul_ps(sy, a_z));
+  const __m128 bx = _mm_sub_ps(b_x, _mm_mul_ps(sx, b_z));
+  const __m128 by = _mm_sub_ps(b_y, _mm_mul_ps(sy, b_z));
+  const __m128 cx = _mm_sub_ps(c_x, _mm_mul_ps(sx, c_z));
+  const __m128 cy = _mm_sub_ps(c_y, _mm_mul_ps(sy, c_z));
   __m128 u = _mm_sub_ps(_mm_mul_ps(cx, by), _mm_mul_ps(cy, bx));
   __m128 w1 = _mm_sub_ps(_mm_mul_ps(ax, cy), _mm_mul_ps(ay, cx));
   __m128 w2 = _mm_sub_ps(_mm_mul_ps(bx, ay), _mm_mul_ps(by, ax));
@@ -329,12 +328,12 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_block(const TriangleBlock4& block,
   if (_mm_movemask_ps(valid) == 0) return 0;
 
   const __m128 t_scaled = _mm_add_ps(
-      _mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(r.sz, a_z)), _mm_mul_ps(w1, _mm_mul_ps(r.sz, b_z))),
-      _mm_mul_ps(w2, _mm_mul_ps(r.sz, c_z)));
+      _mm_add_ps(_mm_mul_ps(u, _mm_mul_ps(sz, a_z)), _mm_mul_ps(w1, _mm_mul_ps(sz, b_z))),
+      _mm_mul_ps(w2, _mm_mul_ps(sz, c_z)));
   const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
   const __m128 t = _mm_mul_ps(t_scaled, inv_det);
-  valid =
-      _mm_and_ps(valid, _mm_and_ps(_mm_cmpgt_ps(t, r.t_min), _mm_cmplt_ps(t, _mm_set1_ps(t_max))));
+  valid = _mm_and_ps(
+      valid, _mm_and_ps(_mm_cmpgt_ps(t, low_lanes(r.t_min)), _mm_cmplt_ps(t, _mm_set1_ps(t_max))));
   out.mask = static_cast<std::uint32_t>(_mm_movemask_ps(valid));
   out.valid = valid;
   out.t = t;
@@ -353,11 +352,12 @@ struct PairHits {
 };
 
 TESSERA_KERNEL_INLINE std::uint32_t intersect_pair(const TriangleBlock4& first,
-                                                   const TriangleBlock4& second, const PairRay& r,
-                                                   float t_max, PairHits& out) {
+                                                   const TriangleBlock4& second,
+                                                   const TriangleRay& r, float t_max,
+                                                   PairHits& out) {
   const float* v0 = &first.vertices[0][0][0];
   const float* v1 = &second.vertices[0][0][0];
-  const auto row = [&](std::uint32_t offset) {
+  const auto row = [&](std::size_t offset) {
     return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(v0 + offset)),
                                 _mm_load_ps(v1 + offset), 1);
   };
@@ -423,15 +423,15 @@ inline float lane_of(__m256 v, std::uint32_t lane) {
 // blocks the third is loaded twice and its second copy's lanes are masked off.
 struct QuadRay {
   __m512 origin_x, origin_y, origin_z, sx, sy, sz, t_min;
-  std::uint32_t row_x, row_y, row_z;
+  std::size_t row_x, row_y, row_z;  // as TriangleRay's
   explicit QuadRay(const TriangleRay& r)
-      : origin_x(_mm512_broadcastss_ps(r.origin_x)),
-        origin_y(_mm512_broadcastss_ps(r.origin_y)),
-        origin_z(_mm512_broadcastss_ps(r.origin_z)),
-        sx(_mm512_broadcastss_ps(r.sx)),
-        sy(_mm512_broadcastss_ps(r.sy)),
-        sz(_mm512_broadcastss_ps(r.sz)),
-        t_min(_mm512_broadcastss_ps(r.t_min)),
+      : origin_x(_mm512_broadcastss_ps(low_lanes(r.origin_x))),
+        origin_y(_mm512_broadcastss_ps(low_lanes(r.origin_y))),
+        origin_z(_mm512_broadcastss_ps(low_lanes(r.origin_z))),
+        sx(_mm512_broadcastss_ps(low_lanes(r.sx))),
+        sy(_mm512_broadcastss_ps(low_lanes(r.sy))),
+        sz(_mm512_broadcastss_ps(low_lanes(r.sz))),
+        t_min(_mm512_broadcastss_ps(low_lanes(r.t_min))),
         row_x(r.row_x),
         row_y(r.row_y),
         row_z(r.row_z) {}
@@ -448,7 +448,7 @@ TESSERA_KERNEL_INLINE std::uint32_t intersect_quad(const TriangleBlock4* blocks,
   const float* v1 = &blocks[1].vertices[0][0][0];
   const float* v2 = &blocks[2].vertices[0][0][0];
   const float* v3 = four ? &blocks[3].vertices[0][0][0] : v2;
-  const auto row = [&](std::uint32_t offset) {
+  const auto row = [&](std::size_t offset) {
     __m512 v = _mm512_castps128_ps512(_mm_load_ps(v0 + offset));
     v = _mm512_insertf32x4(v, _mm_load_ps(v1 + offset), 1);
     v = _mm512_insertf32x4(v, _mm_load_ps(v2 + offset), 2);
@@ -554,10 +554,9 @@ struct ClosestQuery {
 #endif
 #if TESSERA_KERNEL_AVX2
     if (b + 1 < first + count) {
-      const PairRay& pair_ray = r.pair;
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;
-        if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) == 0) continue;
+        if (intersect_pair(blocks[b], blocks[b + 1], r, t_max, hits) == 0) continue;
         const __m256 masked = _mm256_blendv_ps(_mm256_set1_ps(kInfinity), hits.t, hits.valid);
         __m256 m = _mm256_min_ps(masked, _mm256_permute_ps(masked, 0xB1));
         m = _mm256_min_ps(m, _mm256_permute_ps(m, 0x4E));
@@ -615,10 +614,9 @@ struct AnyQuery {
 #endif
 #if TESSERA_KERNEL_AVX2
     if (b + 1 < first + count) {
-      const PairRay& pair_ray = r.pair;
       for (; b + 1 < first + count; b += 2) {
         PairHits hits;
-        if (intersect_pair(blocks[b], blocks[b + 1], pair_ray, t_max, hits) != 0) {
+        if (intersect_pair(blocks[b], blocks[b + 1], r, t_max, hits) != 0) {
           found = true;
           return true;
         }
