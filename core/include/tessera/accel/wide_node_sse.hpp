@@ -26,6 +26,7 @@ struct BoxRay {
   __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
   std::uint32_t near_row[3], far_row[3];
 
+  BoxRay() = default;  // for callers that fill the lanes themselves
   BoxRay(const float (&ray_origin)[3], const float (&ray_inv_direction)[3],
          const std::uint32_t (&near)[3], const std::uint32_t (&far)[3], float ray_t_min) {
     for (int axis = 0; axis < 3; ++axis) {
