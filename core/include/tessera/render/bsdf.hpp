@@ -138,7 +138,28 @@ struct Bsdf {
     return kind == BsdfKind::kConductor && ggx.alpha_x != ggx.alpha_y;
   }
 
-  TESSERA_HD BsdfSample sample(const vec3& wo, float u_lobe, float u1, float u2) const {
+  // sample, eval and pdf take the Lambertian case inline (the most common vertex by far)
+  // and call the general forms for the others: called out of line for every kind, each
+  // call spilled and reloaded the caller's registers around a few multiplies.
+  TESSERA_HD TESSERA_FORCE_INLINE BsdfSample sample(const vec3& wo, float u_lobe, float u1,
+                                                    float u2) const {
+    if (kind == BsdfKind::kDiffuse)
+      return wo.z <= 0.0f ? BsdfSample{} : sample_diffuse(u1, u2, albedo);
+    return sample_any(wo, u_lobe, u1, u2);
+  }
+  TESSERA_HD TESSERA_FORCE_INLINE vec3 eval(const vec3& wo, const vec3& wi) const {
+    if (kind == BsdfKind::kDiffuse)
+      return wo.z <= 0.0f || wi.z <= 0.0f ? vec3(0.0f) : albedo * kInvPi;
+    return eval_any(wo, wi);
+  }
+  TESSERA_HD TESSERA_FORCE_INLINE float pdf(const vec3& wo, const vec3& wi) const {
+    if (kind == BsdfKind::kDiffuse) return wo.z <= 0.0f || wi.z <= 0.0f ? 0.0f : wi.z * kInvPi;
+    return pdf_any(wo, wi);
+  }
+
+ private:
+  // The general forms of sample, eval and pdf, for every kind.
+  TESSERA_HD BsdfSample sample_any(const vec3& wo, float u_lobe, float u1, float u2) const {
     BsdfSample s;
     if (wo.z <= 0.0f) return s;
     switch (kind) {
@@ -189,7 +210,7 @@ struct Bsdf {
     return s;
   }
 
-  TESSERA_HD vec3 eval(const vec3& wo, const vec3& wi) const {
+  TESSERA_HD vec3 eval_any(const vec3& wo, const vec3& wi) const {
     if (wo.z <= 0.0f) return vec3(0.0f);
     if (kind == BsdfKind::kDielectric) return eval_rough_dielectric(wo, wi);
     if (wi.z <= 0.0f) return vec3(0.0f);
@@ -214,7 +235,7 @@ struct Bsdf {
     }
   }
 
-  TESSERA_HD float pdf(const vec3& wo, const vec3& wi) const {
+  TESSERA_HD float pdf_any(const vec3& wo, const vec3& wi) const {
     if (wo.z <= 0.0f) return 0.0f;
     if (kind == BsdfKind::kDielectric) return pdf_rough_dielectric(wo, wi);
     if (wi.z <= 0.0f) return 0.0f;
@@ -239,7 +260,6 @@ struct Bsdf {
     }
   }
 
- private:
   // The coat faces air on both sides: its Fresnel term uses the material's index whichever
   // side is hit.
   TESSERA_HD float eta_outside() const { return eta >= 1.0f ? eta : 1.0f / eta; }
