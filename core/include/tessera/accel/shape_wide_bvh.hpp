@@ -38,7 +38,7 @@ namespace shape_walk_detail {
 // The node test's per-ray constants for `ray`: the near plane of each axis is the upper
 // bound for a negative direction (an infinite reciprocal for a zero component keeps its
 // sign). Formed on four lanes at once: per axis in scalar code (three divisions, ten
-// broadcasts from memory, six row words) it was most of the walk's cost in a room of a few
+// broadcasts from memory, six row words) it was much of the walk's cost in a room of a few
 // shapes, whose rays then test one node.
 inline wide_node_sse::BoxRay box_ray_of(const Ray& ray) {
   static_assert(sizeof(Ray) == 32 && offsetof(Ray, direction) == 12,
@@ -46,26 +46,7 @@ inline wide_node_sse::BoxRay box_ray_of(const Ray& ray) {
   // (ox, oy, oz, dx) and (dx, dy, dz, t_min): the fourth lane is never used.
   const __m128 origin = _mm_loadu_ps(&ray.origin.x);
   const __m128 inverse = _mm_div_ps(_mm_set1_ps(1.0f), _mm_loadu_ps(&ray.direction.x));
-  const __m128 inverse_far = _mm_mul_ps(inverse, _mm_set1_ps(wide_node_sse::kFarScale));
-  const auto negative =
-      static_cast<std::uint32_t>(_mm_movemask_ps(_mm_cmplt_ps(inverse, _mm_setzero_ps())));
-  wide_node_sse::BoxRay b;
-  b.origin[0] = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(0, 0, 0, 0));
-  b.origin[1] = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(1, 1, 1, 1));
-  b.origin[2] = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(2, 2, 2, 2));
-  b.inv_direction[0] = _mm_shuffle_ps(inverse, inverse, _MM_SHUFFLE(0, 0, 0, 0));
-  b.inv_direction[1] = _mm_shuffle_ps(inverse, inverse, _MM_SHUFFLE(1, 1, 1, 1));
-  b.inv_direction[2] = _mm_shuffle_ps(inverse, inverse, _MM_SHUFFLE(2, 2, 2, 2));
-  b.inv_direction_far[0] = _mm_shuffle_ps(inverse_far, inverse_far, _MM_SHUFFLE(0, 0, 0, 0));
-  b.inv_direction_far[1] = _mm_shuffle_ps(inverse_far, inverse_far, _MM_SHUFFLE(1, 1, 1, 1));
-  b.inv_direction_far[2] = _mm_shuffle_ps(inverse_far, inverse_far, _MM_SHUFFLE(2, 2, 2, 2));
-  b.t_min = _mm_set1_ps(ray.t_min);
-  for (std::uint32_t axis = 0; axis < 3; ++axis) {
-    const std::uint32_t flip = (negative >> axis) & 1U;
-    b.near_row[axis] = 2 * axis + flip;
-    b.far_row[axis] = 2 * axis + 1 - flip;
-  }
-  return b;
+  return wide_node_sse::BoxRay(origin, inverse, ray.t_min);
 }
 
 }  // namespace shape_walk_detail

@@ -26,7 +26,32 @@ struct BoxRay {
   __m128 origin[3], inv_direction[3], inv_direction_far[3], t_min;
   std::uint32_t near_row[3], far_row[3];
 
-  BoxRay() = default;  // for callers that fill the lanes themselves
+  // From the ray's origin and reciprocal direction as (x, y, z, unused) lanes: shuffles and
+  // one sign mask, where the per-axis form below takes ten broadcasts from memory.
+  BoxRay(__m128 ray_origin, __m128 ray_inv_direction, float ray_t_min) {
+    const __m128 inv_far = _mm_mul_ps(ray_inv_direction, _mm_set1_ps(kFarScale));
+    origin[0] = _mm_shuffle_ps(ray_origin, ray_origin, _MM_SHUFFLE(0, 0, 0, 0));
+    origin[1] = _mm_shuffle_ps(ray_origin, ray_origin, _MM_SHUFFLE(1, 1, 1, 1));
+    origin[2] = _mm_shuffle_ps(ray_origin, ray_origin, _MM_SHUFFLE(2, 2, 2, 2));
+    inv_direction[0] =
+        _mm_shuffle_ps(ray_inv_direction, ray_inv_direction, _MM_SHUFFLE(0, 0, 0, 0));
+    inv_direction[1] =
+        _mm_shuffle_ps(ray_inv_direction, ray_inv_direction, _MM_SHUFFLE(1, 1, 1, 1));
+    inv_direction[2] =
+        _mm_shuffle_ps(ray_inv_direction, ray_inv_direction, _MM_SHUFFLE(2, 2, 2, 2));
+    inv_direction_far[0] = _mm_shuffle_ps(inv_far, inv_far, _MM_SHUFFLE(0, 0, 0, 0));
+    inv_direction_far[1] = _mm_shuffle_ps(inv_far, inv_far, _MM_SHUFFLE(1, 1, 1, 1));
+    inv_direction_far[2] = _mm_shuffle_ps(inv_far, inv_far, _MM_SHUFFLE(2, 2, 2, 2));
+    t_min = _mm_set1_ps(ray_t_min);
+    // The upper row is the near plane where the reciprocal is negative (-0 gives -inf).
+    const auto negative = static_cast<std::uint32_t>(
+        _mm_movemask_ps(_mm_cmplt_ps(ray_inv_direction, _mm_setzero_ps())));
+    for (std::uint32_t axis = 0; axis < 3; ++axis) {
+      const std::uint32_t flip = (negative >> axis) & 1U;
+      near_row[axis] = 2 * axis + flip;
+      far_row[axis] = 2 * axis + 1 - flip;
+    }
+  }
   BoxRay(const float (&ray_origin)[3], const float (&ray_inv_direction)[3],
          const std::uint32_t (&near)[3], const std::uint32_t (&far)[3], float ray_t_min) {
     for (int axis = 0; axis < 3; ++axis) {
