@@ -208,30 +208,46 @@ TESSERA_HD vec3 film_transmittance(const SceneView& scene, const T& tracer, Ray 
   }
 }
 
-// One light's sample at the point for estimate_direct, `pmf` the probability it was chosen
-// (1 for a light sampled at every vertex).
-template <unsigned kFilmShapes, typename T>
-TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteraction& si,
-                                  const Frame& frame, const vec3& wo, const Bsdf& bsdf,
-                                  const LightSource& light, float pmf, const BounceSamples& u,
-                                  LightStrategy strategy, const T& tracer, const vec3& front_origin,
-                                  std::uint32_t& rays) {
+// A light sample whose shadow ray is not traced yet (prepare_light_sample), and what it
+// contributes when the ray arrives (finish_light_sample).
+struct ShadowQuery {
+  Ray ray;
+  vec3 f_li{0.0f};        // f cos Li, before the transmittance and the weight / pdf
+  vec3 wi{0.0f};          // towards the light, in the shading frame (the MIS weight's BSDF pdf)
+  float pdf = 0.0f;       // of the light sample, pick included
+  bool weighted = false;  // weighed against BSDF sampling
+  bool pending = false;   // false: no sample, it contributes nothing
+};
+
+// The first half of one light's sample at the point (direct_from_light): the direction,
+// f cos Li and the shadow ray, everything but the trace. `pmf` is the probability the light
+// was chosen (1 for a light sampled at every vertex). The path tracer does the BSDF's own
+// sample between the two halves: the light samplers end in chains of dependent square roots
+// and divisions that the shadow ray's walk waits on, and work placed before that walk runs
+// while they do.
+TESSERA_HD inline bool prepare_light_sample(const SceneView& scene, const SurfaceInteraction& si,
+                                            const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                                            const LightSource& light, float pmf,
+                                            const BounceSamples& u, LightStrategy strategy,
+                                            const vec3& front_origin, std::uint32_t& rays,
+                                            ShadowQuery& query) {
+  query.pending = false;
   // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
-  if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
+  if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return false;
   LightSample ls;
   if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls, si.geometric_normal))
-    return vec3(0.0f);
+    return false;
   // Shading normals must not let light through the geometric surface: the light must be on
   // the side the shading frame puts it, and behind the surface only for a BSDF that
   // transmits (rough glass).
   const float side = glm::dot(ls.wi, si.geometric_normal);
-  if (side <= 0.0f && !bsdf.has_glossy_transmission()) return vec3(0.0f);
+  if (side <= 0.0f && !bsdf.has_glossy_transmission()) return false;
   const vec3 wi = frame.to_local(ls.wi);
-  if ((wi.z > 0.0f) != (side > 0.0f)) return vec3(0.0f);
+  if ((wi.z > 0.0f) != (side > 0.0f)) return false;
   const vec3 f = bsdf.eval(wo, wi) * std::fabs(wi.z);
-  if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return vec3(0.0f);
+  if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return false;
   const float pdf = pmf * ls.pdf;
-  if (!(pdf > 0.0f)) return vec3(0.0f);
+  if (!(pdf > 0.0f)) return false;
   ++rays;
   const vec3 origin = side > 0.0f ? front_origin
                                   : offset_ray_origin(si.position, -si.geometric_normal,
@@ -243,22 +259,72 @@ TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteracti
   // sphere light: tests/unit/render/render_accuracy_test.cpp).
   const vec3 to_light = si.position + ls.distance * ls.wi - origin;
   const float length = glm::length(to_light);
-  const Ray shadow{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)};
+  query.ray = Ray{origin, to_light / length, 0.0f, length * (1.0f - 1e-4f)};
+  query.f_li = f * ls.radiance;
+  query.wi = wi;
+  query.pdf = pdf;
+  query.weighted = strategy == LightStrategy::kMis && light.hit_by_rays;
+  query.pending = true;
+  return true;
+}
+
+// The second half: traces the shadow ray and returns f cos Li / pdf, weighted against BSDF
+// sampling when the query says so; 0 for no sample.
+template <unsigned kFilmShapes, typename T>
+TESSERA_HD vec3 finish_light_sample(const SceneView& scene, const vec3& wo, const Bsdf& bsdf,
+                                    const T& tracer, const ShadowQuery& query) {
+  if (!query.pending) return vec3(0.0f);
   vec3 transmittance(1.0f);
   if constexpr (kFilmShapes != 0) {
     if (scene.thin_films) {
-      transmittance = film_transmittance<kFilmShapes>(scene, tracer, shadow);
+      transmittance = film_transmittance<kFilmShapes>(scene, tracer, query.ray);
       if (!(max_component(transmittance) > 0.0f)) return vec3(0.0f);
-    } else if (tracer.occluded(shadow)) {
+    } else if (tracer.occluded(query.ray)) {
       return vec3(0.0f);
     }
   } else {
-    if (tracer.occluded(shadow)) return vec3(0.0f);
+    if (tracer.occluded(query.ray)) return vec3(0.0f);
   }
-  const float weight = strategy == LightStrategy::kMis && light.hit_by_rays
-                           ? power_heuristic(pdf, bsdf.pdf(wo, wi))
-                           : 1.0f;
-  return f * ls.radiance * transmittance * (weight / pdf);
+  const float weight = query.weighted ? power_heuristic(query.pdf, bsdf.pdf(wo, query.wi)) : 1.0f;
+  return query.f_li * transmittance * (weight / query.pdf);
+}
+
+// One light's sample at the point for estimate_direct, `pmf` the probability it was chosen
+// (1 for a light sampled at every vertex): both halves at once.
+template <unsigned kFilmShapes, typename T>
+TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteraction& si,
+                                  const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                                  const LightSource& light, float pmf, const BounceSamples& u,
+                                  LightStrategy strategy, const T& tracer, const vec3& front_origin,
+                                  std::uint32_t& rays) {
+  ShadowQuery query;
+  if (!prepare_light_sample(scene, si, frame, wo, bsdf, light, pmf, u, strategy, front_origin, rays,
+                            query))
+    return vec3(0.0f);
+  return finish_light_sample<kFilmShapes>(scene, wo, bsdf, tracer, query);
+}
+
+// Next-event estimation at a surface point up to the picked light's shadow ray: each light
+// sampled at every vertex (a few delta lights) in full, then one light picked (light tree
+// or power) and its sample prepared in `picked` (finish_light_sample traces it). Returns
+// the every-vertex lights' part. Arguments as estimate_direct's.
+template <unsigned kFilmShapes, typename T>
+TESSERA_HD vec3 begin_direct(const SceneView& scene, const SurfaceInteraction& si,
+                             const Frame& frame, const vec3& wo, const Bsdf& bsdf,
+                             const BounceSamples& u, LightStrategy strategy, const T& tracer,
+                             const vec3& front_origin, std::uint32_t& rays, ShadowQuery& picked) {
+  picked.pending = false;
+  vec3 direct(0.0f);
+  for (std::uint32_t i = 0; i < scene.every_vertex_count; ++i)
+    direct += direct_from_light<kFilmShapes>(scene, si, frame, wo, bsdf,
+                                             scene.lights[scene.every_vertex_lights[i]], 1.0f, u,
+                                             strategy, tracer, front_origin, rays);
+  if (!scene.pick_lights) return direct;
+  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
+  if (pick.pmf > 0.0f)
+    prepare_light_sample(scene, si, frame, wo, bsdf, scene.lights[pick.index], pick.pmf, u,
+                         strategy, front_origin, rays, picked);
+  return direct;
 }
 
 // Next-event estimation at a surface point: each light sampled at every vertex (a few delta
@@ -275,17 +341,11 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
                                 const Frame& frame, const vec3& wo, const Bsdf& bsdf,
                                 const BounceSamples& u, LightStrategy strategy, const T& tracer,
                                 const vec3& front_origin, std::uint32_t& rays) {
-  vec3 direct(0.0f);
-  for (std::uint32_t i = 0; i < scene.every_vertex_count; ++i)
-    direct += direct_from_light<kFilmShapes>(scene, si, frame, wo, bsdf,
-                                             scene.lights[scene.every_vertex_lights[i]], 1.0f, u,
-                                             strategy, tracer, front_origin, rays);
-  if (!scene.pick_lights) return direct;
-  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
-  if (!(pick.pmf > 0.0f)) return direct;
-  return direct + direct_from_light<kFilmShapes>(scene, si, frame, wo, bsdf,
-                                                 scene.lights[pick.index], pick.pmf, u, strategy,
-                                                 tracer, front_origin, rays);
+  ShadowQuery picked;
+  const vec3 direct = begin_direct<kFilmShapes>(scene, si, frame, wo, bsdf, u, strategy, tracer,
+                                                front_origin, rays, picked);
+  if (!picked.pending) return direct;
+  return direct + finish_light_sample<kFilmShapes>(scene, wo, bsdf, tracer, picked);
 }
 
 // The Lambertian response (unit albedo) to one light sample at `si`, for the shadow
@@ -400,17 +460,23 @@ struct PathHit {
     // light skips a third of its samples' cost, and its image is the same.
     if ((sample_lights && scene.light_count > 1) || bsdf.kind != BsdfKind::kDiffuse)
       BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+    // Next-event estimation in two halves with the BSDF's sample between them, so that
+    // it runs while the light sample's square roots and divisions are still in flight
+    // (prepare_light_sample); the picked light's shadow ray is traced after it.
+    vec3 direct(0.0f);
+    ShadowQuery picked;
     if (sample_lights) {
       BounceSamples::draw(rng, payload.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
-      payload.radiance +=
-          clamp_indirect(payload.throughput * estimate_direct<kFeatures.shapes>(
-                                                  scene, si, frame, wo, bsdf, u, strategy, tracer,
-                                                  front_origin, payload.rays),
-                         clamp, bounces >= 1);
+      direct = begin_direct<kFeatures.shapes>(scene, si, frame, wo, bsdf, u, strategy, tracer,
+                                              front_origin, payload.rays, picked);
     }
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
-
     const BsdfSample bs = bsdf.sample(wo, u.lobe, u.bsdf_u1, u.bsdf_u2);
+    if (sample_lights) {
+      if (picked.pending)
+        direct += finish_light_sample<kFeatures.shapes>(scene, wo, bsdf, tracer, picked);
+      payload.radiance += clamp_indirect(payload.throughput * direct, clamp, bounces >= 1);
+    }
     if (!bs.valid()) return;
     const vec3 direction = frame.to_world(bs.wi);
     // A reflection must leave on the side the path came from, a transmission on the other;
