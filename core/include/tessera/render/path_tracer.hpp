@@ -225,7 +225,7 @@ struct ShadowQuery {
 // sample between the two halves: the light samplers end in chains of dependent square roots
 // and divisions that the shadow ray's walk waits on, and work placed before that walk runs
 // while they do.
-TESSERA_HD inline bool prepare_light_sample(const SceneView& scene, const SurfaceInteraction& si,
+TESSERA_HD inline void prepare_light_sample(const SceneView& scene, const SurfaceInteraction& si,
                                             const Frame& frame, const vec3& wo, const Bsdf& bsdf,
                                             const LightSource& light, float pmf,
                                             const BounceSamples& u, LightStrategy strategy,
@@ -233,21 +233,21 @@ TESSERA_HD inline bool prepare_light_sample(const SceneView& scene, const Surfac
                                             ShadowQuery& query) {
   query.pending = false;
   // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
-  if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return false;
+  if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return;
   LightSample ls;
   if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls, si.geometric_normal))
-    return false;
+    return;
   // Shading normals must not let light through the geometric surface: the light must be on
   // the side the shading frame puts it, and behind the surface only for a BSDF that
   // transmits (rough glass).
   const float side = glm::dot(ls.wi, si.geometric_normal);
-  if (side <= 0.0f && !bsdf.has_glossy_transmission()) return false;
+  if (side <= 0.0f && !bsdf.has_glossy_transmission()) return;
   const vec3 wi = frame.to_local(ls.wi);
-  if ((wi.z > 0.0f) != (side > 0.0f)) return false;
+  if ((wi.z > 0.0f) != (side > 0.0f)) return;
   const vec3 f = bsdf.eval(wo, wi) * std::fabs(wi.z);
-  if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return false;
+  if (!(f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) return;
   const float pdf = pmf * ls.pdf;
-  if (!(pdf > 0.0f)) return false;
+  if (!(pdf > 0.0f)) return;
   ++rays;
   const vec3 origin = side > 0.0f ? front_origin
                                   : offset_ray_origin(si.position, -si.geometric_normal,
@@ -265,7 +265,6 @@ TESSERA_HD inline bool prepare_light_sample(const SceneView& scene, const Surfac
   query.pdf = pdf;
   query.weighted = strategy == LightStrategy::kMis && light.hit_by_rays;
   query.pending = true;
-  return true;
 }
 
 // The second half: traces the shadow ray and returns f cos Li / pdf, weighted against BSDF
@@ -298,9 +297,8 @@ TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteracti
                                   LightStrategy strategy, const T& tracer, const vec3& front_origin,
                                   std::uint32_t& rays) {
   ShadowQuery query;
-  if (!prepare_light_sample(scene, si, frame, wo, bsdf, light, pmf, u, strategy, front_origin, rays,
-                            query))
-    return vec3(0.0f);
+  prepare_light_sample(scene, si, frame, wo, bsdf, light, pmf, u, strategy, front_origin, rays,
+                       query);
   return finish_light_sample<kFilmShapes>(scene, wo, bsdf, tracer, query);
 }
 
@@ -344,7 +342,6 @@ TESSERA_HD vec3 estimate_direct(const SceneView& scene, const SurfaceInteraction
   ShadowQuery picked;
   const vec3 direct = begin_direct<kFilmShapes>(scene, si, frame, wo, bsdf, u, strategy, tracer,
                                                 front_origin, rays, picked);
-  if (!picked.pending) return direct;
   return direct + finish_light_sample<kFilmShapes>(scene, wo, bsdf, tracer, picked);
 }
 
@@ -473,8 +470,7 @@ struct PathHit {
     BounceSamples::draw(rng, payload.depth, BouncePair::kBsdfDirection, u.bsdf_u1, u.bsdf_u2);
     const BsdfSample bs = bsdf.sample(wo, u.lobe, u.bsdf_u1, u.bsdf_u2);
     if (sample_lights) {
-      if (picked.pending)
-        direct += finish_light_sample<kFeatures.shapes>(scene, wo, bsdf, tracer, picked);
+      direct += finish_light_sample<kFeatures.shapes>(scene, wo, bsdf, tracer, picked);
       payload.radiance += clamp_indirect(payload.throughput * direct, clamp, bounces >= 1);
     }
     if (!bs.valid()) return;
