@@ -271,6 +271,34 @@ TEST(Sobol, JoinedPairsFormA4DNetWithTheirPartner) {
       }
 }
 
+TEST(Sobol, AKeptShuffleGivesTheSameValuesAsAFreshOne) {
+  // next_2d_kept keeps its pair's index shuffle for next_2d_joined. The values must be those
+  // next_2d and a joined pair formed from scratch give, whether the kept pair is the partner
+  // (the shuffle is reused) or another pair (it must not be).
+  for (const Pixel& p : kPixels)
+    for (std::uint32_t partner : {0U, 2U, 8U, 20U})
+      for (std::uint32_t i = 0; i < 256; ++i) {
+        SampleStream fresh(p.seed, p.x, p.y, i, SamplerKind::kSobol);
+        SampleStream kept = fresh, other = fresh;
+        float f[4], k[4], o[4];
+        fresh.set_dimension(partner);
+        fresh.next_2d(f[0], f[1]);
+        fresh.set_dimension(partner + 4);
+        fresh.next_2d_joined(partner, f[2], f[3]);
+        kept.set_dimension(partner);
+        kept.next_2d_kept(k[0], k[1]);
+        kept.set_dimension(partner + 4);
+        kept.next_2d_joined(partner, k[2], k[3]);
+        other.set_dimension(partner + 2);
+        other.next_2d_kept(o[0], o[1]);
+        other.set_dimension(partner + 4);
+        other.next_2d_joined(partner, o[2], o[3]);
+        for (int d = 0; d < 4; ++d) EXPECT_EQ(k[d], f[d]) << "sample " << i << " dimension " << d;
+        EXPECT_EQ(o[2], f[2]) << "sample " << i;
+        EXPECT_EQ(o[3], f[3]) << "sample " << i;
+      }
+}
+
 TEST(Sobol, JoinedPairsAreStratifiedOnTheirOwn) {
   // The joined pair alone (Sobol dimensions 2 and 3) is a (1, k, 2)-net: every elementary
   // interval of area 2^(1 - k) holds two points, and each coordinate is a (0, k, 1)-net.

@@ -63,16 +63,35 @@ class SampleStream {
     b = next();
   }
 
+  // As next_2d, and for Sobol keeps the pair's index shuffle, so that the pair joined to it
+  // later (next_2d_joined) starts from it instead of forming it again: the pairs that lead
+  // to a vertex (the camera's position in the pixel, a BSDF direction) draw with this.
+  TESSERA_HD void next_2d_kept(float& a, float& b) {
+    dimension_ += dimension_ & 1U;
+    if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
+    kept_pair_ = dimension_ >> 1;
+    kept_ = sobol_shuffle(key_, mirrored_index_, kept_pair_);
+    std::uint32_t x = 0;
+    std::uint32_t y = 0;
+    sobol_pair_from_shuffle(kept_, x, y);
+    take_pair(x, y, a, b);
+  }
+
   // The next pair (as next_2d) joined to the pair that starts at even dimension `partner`:
   // for Sobol, dimensions 2 and 3 of the 4D set whose first two are that pair, so the two
-  // are stratified jointly (sobol_joined_pair_mirrored). A pair has at most one pair joined
-  // to it. The independent sampler draws it as next_2d does.
+  // are stratified jointly (sobol_joined_from_shuffle). A pair has at most one pair joined
+  // to it. The partner's shuffle is reused when next_2d_kept drew it last (one hash, one
+  // permutation and one mirror fewer on the light sample's chain); the values are the same
+  // either way. The independent sampler draws it as next_2d does.
   TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     dimension_ += dimension_ & 1U;
+    const std::uint32_t partner_pair = partner >> 1;
+    const SobolShuffle shuffle =
+        kept_pair_ == partner_pair ? kept_ : sobol_shuffle(key_, mirrored_index_, partner_pair);
     std::uint32_t x = 0;
     std::uint32_t y = 0;
-    sobol_joined_pair_mirrored(key_, mirrored_index_, partner >> 1, x, y);
+    sobol_joined_from_shuffle(shuffle, x, y);
     take_pair(x, y, a, b);
   }
 
@@ -100,6 +119,9 @@ class SampleStream {
   std::uint32_t index_ = 0;  // the sample index
   std::uint32_t mirrored_index_ = 0;  // Sobol: its bits mirrored, formed once for every pair
   std::uint32_t dimension_ = 0;
+  // Sobol: the shuffle next_2d_kept drew last, and its pair (none: ~0).
+  SobolShuffle kept_;
+  std::uint32_t kept_pair_ = ~0U;
   SamplerKind kind_ = SamplerKind::kIndependent;
 };
 

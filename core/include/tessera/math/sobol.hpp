@@ -140,27 +140,46 @@ TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t 
 #endif
 }
 
-// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions,
-// from the sample index with its bits mirrored (reverse_bits), which a sample stream forms
-// once for all its pairs. The shuffle and the two coordinate scrambles take different
-// seeds: scrambling the index and a coordinate with the same one would tie them together.
-TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key,
-                                                         std::uint32_t mirrored_sample_index,
-                                                         std::uint32_t pair, std::uint32_t& x,
-                                                         std::uint32_t& y) {
+// The per-pixel, per-pair index shuffle that both a pair (sobol_pair_from_shuffle) and the
+// pair joined to it (sobol_joined_from_shuffle) start from: the pair's seed and the
+// shuffled 16-bit Sobol index, from the sample index with its bits mirrored (reverse_bits),
+// which a sample stream forms once for all its pairs.
+struct SobolShuffle {
+  std::uint32_t pair_seed = 0;
+  std::uint32_t index = 0;
+};
+
+TESSERA_HD TESSERA_FORCE_INLINE SobolShuffle sobol_shuffle(std::uint32_t pixel_key,
+                                                           std::uint32_t mirrored_sample_index,
+                                                           std::uint32_t pair) {
   const std::uint32_t pair_seed = hash_combine(pixel_key, pair);
   // Sample indices stay below 2^16 (SceneLimits::max_samples_per_pixel). The scramble's
   // low 16 bits depend only on the index's low 16 bits, so they are a nested uniform
   // shuffle of [0, 2^16) on their own; keeping only them lets 16-bit tables give the point.
   // nested_uniform_scramble(index) is reverse(permutation(mirrored index)).
-  const std::uint32_t index =
-      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask;
+  return SobolShuffle{
+      pair_seed,
+      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask};
+}
+
+// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions,
+// from the pair's shuffle. The shuffle and the two coordinate scrambles take different
+// seeds: scrambling the index and a coordinate with the same one would tie them together.
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_from_shuffle(const SobolShuffle& shuffle,
+                                                             std::uint32_t& x, std::uint32_t& y) {
   // nested_uniform_scramble(v) is reverse(permutation(reverse(v))): dimension 0 is the
   // mirrored index, so its scramble is reverse(permutation(index)), and dimension 1 is
   // produced mirrored, so neither needs the mirror taken twice.
-  x = reverse_bits(laine_karras_permutation(index, hash_combine(pair_seed, 1U)));
-  y = reverse_bits(
-      laine_karras_permutation(sobol_dimension1_mirrored(index), hash_combine(pair_seed, 2U)));
+  x = reverse_bits(laine_karras_permutation(shuffle.index, hash_combine(shuffle.pair_seed, 1U)));
+  y = reverse_bits(laine_karras_permutation(sobol_dimension1_mirrored(shuffle.index),
+                                            hash_combine(shuffle.pair_seed, 2U)));
+}
+
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key,
+                                                         std::uint32_t mirrored_sample_index,
+                                                         std::uint32_t pair, std::uint32_t& x,
+                                                         std::uint32_t& y) {
+  sobol_pair_from_shuffle(sobol_shuffle(pixel_key, mirrored_sample_index, pair), x, y);
 }
 
 // Sobol dimensions 2 and 3 of `index`, unscrambled, as 32-bit binary fractions. Their
@@ -231,22 +250,24 @@ TESSERA_HD TESSERA_INLINE void sobol_dimensions23_mirrored(std::uint32_t index16
 #endif
 }
 
-// Dimensions 2 and 3 of the 4D Sobol set whose dimensions 0 and 1 are pair `partner`
-// (sobol_pair_mirrored): the same index shuffle, other scrambles. The two pairs are then
-// stratified jointly, not only each on its own: a direction sampled at one vertex and the
-// point on a light sampled at the vertex it leads to cover their 4D domain evenly.
+// Dimensions 2 and 3 of the 4D Sobol set whose dimensions 0 and 1 are the pair with this
+// shuffle (sobol_pair_from_shuffle): the same index shuffle, other scrambles. The two pairs
+// are then stratified jointly, not only each on its own: a direction sampled at one vertex
+// and the point on a light sampled at the vertex it leads to cover their 4D domain evenly.
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_from_shuffle(const SobolShuffle& shuffle,
+                                                               std::uint32_t& x, std::uint32_t& y) {
+  std::uint32_t mx = 0, my = 0;
+  sobol_dimensions23_mirrored(shuffle.index, mx, my);
+  x = reverse_bits(laine_karras_permutation(mx, hash_combine(shuffle.pair_seed, 3U)));
+  y = reverse_bits(laine_karras_permutation(my, hash_combine(shuffle.pair_seed, 4U)));
+}
+
 TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_pair_mirrored(std::uint32_t pixel_key,
                                                                 std::uint32_t mirrored_sample_index,
                                                                 std::uint32_t partner,
                                                                 std::uint32_t& x,
                                                                 std::uint32_t& y) {
-  const std::uint32_t pair_seed = hash_combine(pixel_key, partner);
-  const std::uint32_t index =
-      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask;
-  std::uint32_t mx = 0, my = 0;
-  sobol_dimensions23_mirrored(index, mx, my);
-  x = reverse_bits(laine_karras_permutation(mx, hash_combine(pair_seed, 3U)));
-  y = reverse_bits(laine_karras_permutation(my, hash_combine(pair_seed, 4U)));
+  sobol_joined_from_shuffle(sobol_shuffle(pixel_key, mirrored_sample_index, partner), x, y);
 }
 
 // The same from the sample index as it is.

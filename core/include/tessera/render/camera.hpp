@@ -104,7 +104,7 @@ struct Camera {
   // stream's first pair (drawn from the pixel filter), its lens point from kLensDimension.
   TESSERA_HD Ray generate_sample(std::uint32_t x, std::uint32_t y, SampleStream& samples) const {
     float jx, jy;
-    samples.next_2d(jx, jy);
+    samples.next_2d_kept(jx, jy);
     const float px = static_cast<float>(x) + filter.position(jx);
     const float py = static_cast<float>(y) + filter.position(jy);
     if (!(lens_radius > 0.0f)) return generate(px, py);

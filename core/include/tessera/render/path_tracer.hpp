@@ -152,6 +152,7 @@ struct BounceSamples {
                               float& b) {
     rng.set_dimension(kCameraDimensions + depth * kBounceDimensions +
                       2 * static_cast<std::uint32_t>(pair));
+    if (pair == BouncePair::kBsdfDirection) return rng.next_2d_kept(a, b);
     if (pair != BouncePair::kLightPoint) return rng.next_2d(a, b);
     rng.next_2d_joined(depth == 0 ? 0u
                                   : kCameraDimensions + (depth - 1) * kBounceDimensions +
