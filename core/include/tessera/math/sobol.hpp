@@ -262,14 +262,6 @@ TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_from_shuffle(const SobolShuffl
   y = reverse_bits(laine_karras_permutation(my, hash_combine(shuffle.pair_seed, 4U)));
 }
 
-TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_pair_mirrored(std::uint32_t pixel_key,
-                                                                std::uint32_t mirrored_sample_index,
-                                                                std::uint32_t partner,
-                                                                std::uint32_t& x,
-                                                                std::uint32_t& y) {
-  sobol_joined_from_shuffle(sobol_shuffle(pixel_key, mirrored_sample_index, partner), x, y);
-}
-
 // The same from the sample index as it is.
 TESSERA_HD TESSERA_INLINE void sobol_pair(std::uint32_t pixel_key, std::uint32_t sample_index,
                                           std::uint32_t pair, std::uint32_t& x, std::uint32_t& y) {
