@@ -53,12 +53,8 @@ class SampleStream {
   // bounce the same dimension numbers.
   TESSERA_HD void next_2d(float& a, float& b) {
     dimension_ += dimension_ & 1U;
-    if (kind_ == SamplerKind::kSobol) {
-      std::uint32_t x = 0;
-      std::uint32_t y = 0;
-      sobol_pair_mirrored(key_, mirrored_index_, dimension_ >> 1, x, y);
-      return take_pair(x, y, a, b);
-    }
+    if (kind_ == SamplerKind::kSobol)
+      return take_pair(sobol_shuffle(key_, mirrored_index_, dimension_ >> 1), a, b);
     a = next();
     b = next();
   }
@@ -71,10 +67,7 @@ class SampleStream {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     kept_pair_ = dimension_ >> 1;
     kept_ = sobol_shuffle(key_, mirrored_index_, kept_pair_);
-    std::uint32_t x = 0;
-    std::uint32_t y = 0;
-    sobol_pair_from_shuffle(kept_, x, y);
-    take_pair(x, y, a, b);
+    take_pair(kept_, a, b);
   }
 
   // The next pair (as next_2d) joined to the pair that starts at even dimension `partner`:
@@ -92,7 +85,7 @@ class SampleStream {
     std::uint32_t x = 0;
     std::uint32_t y = 0;
     sobol_joined_from_shuffle(shuffle, x, y);
-    take_pair(x, y, a, b);
+    take_values(x, y, a, b);
   }
 
   // White noise for dimension `dimension`, whatever the kind: for decisions stratification
@@ -109,10 +102,17 @@ class SampleStream {
 
  private:
   // A Sobol pair's two binary fractions as the values of the pair's two dimensions.
-  TESSERA_HD void take_pair(std::uint32_t x, std::uint32_t y, float& a, float& b) {
+  TESSERA_HD void take_values(std::uint32_t x, std::uint32_t y, float& a, float& b) {
     dimension_ += 2;
     a = uint_to_unit_float(x);
     b = uint_to_unit_float(y);
+  }
+  // The Sobol pair that starts from `shuffle` (sobol_pair_from_shuffle), taken as above.
+  TESSERA_HD void take_pair(const SobolShuffle& shuffle, float& a, float& b) {
+    std::uint32_t x = 0;
+    std::uint32_t y = 0;
+    sobol_pair_from_shuffle(shuffle, x, y);
+    take_values(x, y, a, b);
   }
 
   std::uint32_t key_ = 0;    // independent: hash of seed, pixel, sample; Sobol: of seed, pixel
