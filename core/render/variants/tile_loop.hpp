@@ -52,9 +52,10 @@ TileStats render_camera_pipeline(const SceneView& scene, const RenderSettings& s
                                  typename Config::Hit hit, typename Config::Miss miss) {
   TileStats stats;
   const PixelSampling sampling = pixel_sampling(settings, film);
+  SobolSeedMemo sobol_memo;  // the tile's pixels run one after another on this thread
   const typename Config::RayGeneration rays{
-      scene.camera, settings.seed,   tile, sampling.sample_weight(), film,
-      &stats.rays,  settings.sampler};
+      scene.camera, settings.seed,    tile,       sampling.sample_weight(), film,
+      &stats.rays,  settings.sampler, &sobol_memo};
   const Pipeline<Config> pipeline(rays, make_tracer<Config::Intersection::kShapeMask>(scene), hit,
                                   miss);
   run_tile(pipeline, tile, sampling, film);

@@ -60,6 +60,19 @@ TEST(Sobol, ReverseBitsMirrors) {
   EXPECT_EQ(reverse_bits(0x12345678U), 0x1e6a2c48U);
 }
 
+TEST(Sobol, PartialMirrorsAreTheFullMirrorsBits) {
+  // The table mirrors the sampler uses where it keeps 16 or 24 bits: every bit of every
+  // byte position (single bits, all ones, hashed values).
+  std::vector<std::uint32_t> values = {0U, ~0U};
+  for (std::uint32_t bit = 0; bit < 32; ++bit) values.push_back(1U << bit);
+  for (std::uint32_t i = 0; i < 4096; ++i) values.push_back(mix32(i));
+  for (std::uint32_t x : values) {
+    EXPECT_EQ(reverse_high_16_bits(x), reverse_bits(x) & 0xffffU) << x;
+    EXPECT_EQ(reverse_low_24_bits(x), reverse_bits(x) >> 8) << x;
+    EXPECT_EQ(unit_float_from_mirrored(x), uint_to_unit_float(reverse_bits(x))) << x;
+  }
+}
+
 TEST(Sobol, NestedUniformScrambleKeepsPrefixesAndPermutes) {
   for (std::uint32_t seed : {0U, 1U, 0x9e3779b9U, 0xffffffffU}) {
     // Values sharing their first k binary digits share them after the scramble...

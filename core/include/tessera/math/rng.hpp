@@ -5,6 +5,7 @@
 #include "tessera/math/host_device.hpp"
 #include "tessera/math/sampler_kind.hpp"
 #include "tessera/math/sobol.hpp"
+#include "tessera/math/sobol_seed_memo.hpp"
 
 namespace tessera {
 
@@ -15,14 +16,18 @@ namespace tessera {
 class SampleStream {
  public:
   // Four arguments: the independent sampler, whose values are those this class gave before
-  // it had kinds.
+  // it had kinds. With Sobol, `memo` (null: none) keeps the pixel's seeds across its samples
+  // (SobolSeedMemo): the values are the same, with fewer hashes; the stream must not outlive
+  // it, and one memo serves one thread.
   TESSERA_HD SampleStream(std::uint64_t seed, std::uint32_t pixel_x, std::uint32_t pixel_y,
-                          std::uint32_t sample_index,
-                          SamplerKind kind = SamplerKind::kIndependent) {
+                          std::uint32_t sample_index, SamplerKind kind = SamplerKind::kIndependent,
+                          SobolSeedMemo* memo = nullptr) {
     kind_ = kind;
     index_ = sample_index;
     if (kind == SamplerKind::kSobol) {
-      key_ = sobol_pixel_key(seed, pixel_x, pixel_y);
+      memo_ = memo;
+      key_ = memo != nullptr ? memo->pixel_key(seed, pixel_x, pixel_y)
+                             : sobol_pixel_key(seed, pixel_x, pixel_y);
       mirrored_index_ = reverse_bits(sample_index);
       return;
     }
@@ -41,8 +46,10 @@ class SampleStream {
     if (kind_ == SamplerKind::kSobol) {
       std::uint32_t x = 0;
       std::uint32_t y = 0;
-      sobol_pair_mirrored(key_, mirrored_index_, d >> 1, x, y);
-      return uint_to_unit_float((d & 1U) != 0 ? y : x);
+      const SobolPairSeeds seeds = pair_seeds(d >> 1);
+      sobol_pair_from_index_mirrored(sobol_shuffled_index(seeds.shuffle, mirrored_index_), seeds.x,
+                                     seeds.y, x, y);
+      return unit_float_from_mirrored((d & 1U) != 0 ? y : x);
     }
     return uint_to_unit_float(hash_combine(key_, d));
   }
@@ -53,39 +60,56 @@ class SampleStream {
   // bounce the same dimension numbers.
   TESSERA_HD void next_2d(float& a, float& b) {
     dimension_ += dimension_ & 1U;
-    if (kind_ == SamplerKind::kSobol)
-      return take_pair(sobol_shuffle(key_, mirrored_index_, dimension_ >> 1), a, b);
+    if (kind_ == SamplerKind::kSobol) {
+      const SobolPairSeeds seeds = pair_seeds(dimension_ >> 1);
+      return take_pair(sobol_shuffled_index(seeds.shuffle, mirrored_index_), seeds, a, b);
+    }
     a = next();
     b = next();
   }
 
-  // As next_2d, and for Sobol keeps the pair's index shuffle, so that the pair joined to it
-  // later (next_2d_joined) starts from it instead of forming it again: the pairs that lead
-  // to a vertex (the camera's position in the pixel, a BSDF direction) draw with this.
+  // As next_2d, and for Sobol keeps the pair's shuffled index and shuffle seed, so that the
+  // pair joined to it later (next_2d_joined) starts from them instead of forming them again:
+  // the pairs that lead to a vertex (the camera's position in the pixel, a BSDF direction)
+  // draw with this.
   TESSERA_HD void next_2d_kept(float& a, float& b) {
     dimension_ += dimension_ & 1U;
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     kept_pair_ = dimension_ >> 1;
-    kept_ = sobol_shuffle(key_, mirrored_index_, kept_pair_);
-    take_pair(kept_, a, b);
+    const SobolPairSeeds seeds = pair_seeds(kept_pair_);
+    kept_shuffle_seed_ = seeds.shuffle;
+    kept_index_ = sobol_shuffled_index(seeds.shuffle, mirrored_index_);
+    take_pair(kept_index_, seeds, a, b);
   }
 
   // The next pair (as next_2d) joined to the pair that starts at even dimension `partner`:
   // for Sobol, dimensions 2 and 3 of the 4D set whose first two are that pair, so the two
-  // are stratified jointly (sobol_joined_from_shuffle). A pair has at most one pair joined
-  // to it. The partner's shuffle is reused when next_2d_kept drew it last (one hash, one
+  // are stratified jointly (sobol_joined_from_index_mirrored). A pair has at most one pair joined
+  // to it. The partner's shuffled index is reused when next_2d_kept drew it last (one
   // permutation and one mirror fewer on the light sample's chain); the values are the same
   // either way. The independent sampler draws it as next_2d does.
   TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     dimension_ += dimension_ & 1U;
     const std::uint32_t partner_pair = partner >> 1;
-    const SobolShuffle shuffle =
-        kept_pair_ == partner_pair ? kept_ : sobol_shuffle(key_, mirrored_index_, partner_pair);
+    const bool kept = kept_pair_ == partner_pair;
+    std::uint32_t shuffle_seed = 0, x_seed = 0, y_seed = 0;
+    if (memo_ != nullptr && partner_pair < SobolSeedMemo::kPairs) {
+      const SobolPairSeeds& seeds = memo_->seeds(partner_pair);
+      shuffle_seed = seeds.shuffle;
+      x_seed = seeds.joined_x;
+      y_seed = seeds.joined_y;
+    } else {
+      shuffle_seed = kept ? kept_shuffle_seed_ : hash_combine(key_, partner_pair);
+      x_seed = sobol_scramble_seed(shuffle_seed, 3U);
+      y_seed = sobol_scramble_seed(shuffle_seed, 4U);
+    }
+    const std::uint32_t index =
+        kept ? kept_index_ : sobol_shuffled_index(shuffle_seed, mirrored_index_);
     std::uint32_t x = 0;
     std::uint32_t y = 0;
-    sobol_joined_from_shuffle(shuffle, x, y);
-    take_values(x, y, a, b);
+    sobol_joined_from_index_mirrored(index, x_seed, y_seed, x, y);
+    take_mirrored(x, y, a, b);
   }
 
   // White noise for dimension `dimension`, whatever the kind: for decisions stratification
@@ -101,27 +125,36 @@ class SampleStream {
   TESSERA_HD SamplerKind kind() const { return kind_; }
 
  private:
-  // A Sobol pair's two binary fractions as the values of the pair's two dimensions.
-  TESSERA_HD void take_values(std::uint32_t x, std::uint32_t y, float& a, float& b) {
+  // A Sobol pair's two binary fractions, given with their bits mirrored, as the values of the
+  // pair's two dimensions.
+  TESSERA_HD void take_mirrored(std::uint32_t mx, std::uint32_t my, float& a, float& b) {
     dimension_ += 2;
-    a = uint_to_unit_float(x);
-    b = uint_to_unit_float(y);
+    a = unit_float_from_mirrored(mx);
+    b = unit_float_from_mirrored(my);
   }
-  // The Sobol pair that starts from `shuffle` (sobol_pair_from_shuffle), taken as above.
-  TESSERA_HD void take_pair(const SobolShuffle& shuffle, float& a, float& b) {
+  // The Sobol pair with this shuffled index and seeds (sobol_pair_from_index_mirrored), taken
+  // as above.
+  TESSERA_HD void take_pair(std::uint32_t index, const SobolPairSeeds& seeds, float& a, float& b) {
     std::uint32_t x = 0;
     std::uint32_t y = 0;
-    sobol_pair_from_shuffle(shuffle, x, y);
-    take_values(x, y, a, b);
+    sobol_pair_from_index_mirrored(index, seeds.x, seeds.y, x, y);
+    take_mirrored(x, y, a, b);
+  }
+  // Sobol: pair `pair`'s seeds, from the memo where there is one and it holds that many pairs.
+  TESSERA_HD TESSERA_FORCE_INLINE SobolPairSeeds pair_seeds(std::uint32_t pair) const {
+    if (memo_ != nullptr && pair < SobolSeedMemo::kPairs) return memo_->seeds(pair);
+    return sobol_pair_seeds(key_, pair);
   }
 
   std::uint32_t key_ = 0;    // independent: hash of seed, pixel, sample; Sobol: of seed, pixel
   std::uint32_t index_ = 0;  // the sample index
   std::uint32_t mirrored_index_ = 0;  // Sobol: its bits mirrored, formed once for every pair
   std::uint32_t dimension_ = 0;
-  // Sobol: the shuffle next_2d_kept drew last, and its pair (none: ~0).
-  SobolShuffle kept_;
+  SobolSeedMemo* memo_ = nullptr;  // Sobol: the pixel's seeds, if the caller keeps them
+  // Sobol: the pair next_2d_kept drew last (none: ~0), its shuffle seed and shuffled index.
   std::uint32_t kept_pair_ = ~0U;
+  std::uint32_t kept_shuffle_seed_ = 0;
+  std::uint32_t kept_index_ = 0;
   SamplerKind kind_ = SamplerKind::kIndependent;
 };
 

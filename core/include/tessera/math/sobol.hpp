@@ -44,6 +44,50 @@ TESSERA_HD TESSERA_FORCE_INLINE constexpr std::uint32_t reverse_bits(std::uint32
   return x;
 }
 
+// Partial mirrors for the values that keep only some of their bits: on the host by a table
+// of mirrored bytes (two or three look-ups where reverse_bits is sixteen shifts, masks and
+// ors; the mirrors were a twentieth of a render's instructions), on the device by __brev.
+#if !defined(__CUDA_ARCH__)
+struct MirroredBytes {
+  std::uint8_t of[256];
+};
+constexpr MirroredBytes make_mirrored_bytes() {
+  MirroredBytes t{};
+  for (std::uint32_t byte = 0; byte < 256; ++byte)
+    t.of[byte] = static_cast<std::uint8_t>(reverse_bits(byte) >> 24);
+  return t;
+}
+inline constexpr MirroredBytes kMirroredBytes = make_mirrored_bytes();
+#endif
+
+// reverse_bits(x) & 0xffff: x's high 16 bits mirrored.
+TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t reverse_high_16_bits(std::uint32_t x) {
+#if defined(__CUDA_ARCH__)
+  return __brev(x) & 0xffffU;
+#else
+  return static_cast<std::uint32_t>(kMirroredBytes.of[x >> 24]) |
+         (static_cast<std::uint32_t>(kMirroredBytes.of[(x >> 16) & 0xffU]) << 8);
+#endif
+}
+
+// reverse_bits(x) >> 8: x's low 24 bits mirrored, the 24 bits a float in [0, 1) keeps of a
+// binary fraction (uint_to_unit_float).
+TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t reverse_low_24_bits(std::uint32_t x) {
+#if defined(__CUDA_ARCH__)
+  return __brev(x) >> 8;
+#else
+  return (static_cast<std::uint32_t>(kMirroredBytes.of[x & 0xffU]) << 16) |
+         (static_cast<std::uint32_t>(kMirroredBytes.of[(x >> 8) & 0xffU]) << 8) |
+         static_cast<std::uint32_t>(kMirroredBytes.of[(x >> 16) & 0xffU]);
+#endif
+}
+
+// A binary fraction's value in [0, 1) from the mirror of its bits (as the scrambles below
+// produce it): uint_to_unit_float(reverse_bits(mirrored)), the same float.
+TESSERA_HD TESSERA_FORCE_INLINE float unit_float_from_mirrored(std::uint32_t mirrored) {
+  return static_cast<float>(reverse_low_24_bits(mirrored)) * (1.0f / 16777216.0f);
+}
+
 // Column `bit` of the generator matrix of Sobol dimension 0 or 1, as a 32-bit binary
 // fraction (the most significant bit is 1/2): a point is the XOR of the columns of the
 // index's set bits. Dimension 0 is the identity (van der Corput: the index's bits
@@ -140,46 +184,69 @@ TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t 
 #endif
 }
 
-// The per-pixel, per-pair index shuffle that both a pair (sobol_pair_from_shuffle) and the
-// pair joined to it (sobol_joined_from_shuffle) start from: the pair's seed and the
-// shuffled 16-bit Sobol index, from the sample index with its bits mirrored (reverse_bits),
-// which a sample stream forms once for all its pairs.
-struct SobolShuffle {
-  std::uint32_t pair_seed = 0;
-  std::uint32_t index = 0;
+// The seeds a pair's values start from: the index shuffle's, the two coordinate scrambles'
+// and the two scrambles of the pair joined to it (sobol_joined_from_index_mirrored). They depend on
+// the pixel key and the pair, not on the sample index, so a pixel's samples can share them
+// (SobolSeedMemo). The shuffle and the coordinate scrambles take different seeds:
+// scrambling the index and a coordinate with the same one would tie them together.
+struct SobolPairSeeds {
+  std::uint32_t shuffle = 0;
+  std::uint32_t x = 0, y = 0;
+  std::uint32_t joined_x = 0, joined_y = 0;
 };
 
-TESSERA_HD TESSERA_FORCE_INLINE SobolShuffle sobol_shuffle(std::uint32_t pixel_key,
-                                                           std::uint32_t mirrored_sample_index,
-                                                           std::uint32_t pair) {
-  const std::uint32_t pair_seed = hash_combine(pixel_key, pair);
+// Scramble seed `which` (1, 2: the pair's coordinates; 3, 4: the joined pair's) of the pair
+// whose shuffle seed is `shuffle_seed`.
+TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t sobol_scramble_seed(std::uint32_t shuffle_seed,
+                                                                  std::uint32_t which) {
+  return hash_combine(shuffle_seed, which);
+}
+
+TESSERA_HD TESSERA_FORCE_INLINE SobolPairSeeds sobol_pair_seeds(std::uint32_t pixel_key,
+                                                                std::uint32_t pair) {
+  const std::uint32_t shuffle = hash_combine(pixel_key, pair);
+  return SobolPairSeeds{shuffle, sobol_scramble_seed(shuffle, 1U), sobol_scramble_seed(shuffle, 2U),
+                        sobol_scramble_seed(shuffle, 3U), sobol_scramble_seed(shuffle, 4U)};
+}
+
+// The per-pixel, per-pair shuffle of the sample index that both a pair
+// (sobol_pair_from_index_mirrored) and the pair joined to it (sobol_joined_from_index_mirrored)
+// start from: the
+// shuffled 16-bit Sobol index, from the sample index with its bits mirrored (reverse_bits),
+// which a sample stream forms once for all its pairs.
+TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t sobol_shuffled_index(
+    std::uint32_t shuffle_seed, std::uint32_t mirrored_sample_index) {
   // Sample indices stay below 2^16 (SceneLimits::max_samples_per_pixel). The scramble's
   // low 16 bits depend only on the index's low 16 bits, so they are a nested uniform
   // shuffle of [0, 2^16) on their own; keeping only them lets 16-bit tables give the point.
   // nested_uniform_scramble(index) is reverse(permutation(mirrored index)).
-  return SobolShuffle{
-      pair_seed,
-      reverse_bits(laine_karras_permutation(mirrored_sample_index, pair_seed)) & kSobolIndexMask};
+  return reverse_high_16_bits(laine_karras_permutation(mirrored_sample_index, shuffle_seed));
 }
 
-// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions,
-// from the pair's shuffle. The shuffle and the two coordinate scrambles take different
-// seeds: scrambling the index and a coordinate with the same one would tie them together.
-TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_from_shuffle(const SobolShuffle& shuffle,
-                                                             std::uint32_t& x, std::uint32_t& y) {
+// Dimensions 2 * pair and 2 * pair + 1 of one pixel's sample, as 32-bit binary fractions
+// with their bits mirrored (reverse_bits gives the fractions; unit_float_from_mirrored the
+// floats), from the pair's shuffled index and its coordinate seeds (SobolPairSeeds::x, y).
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_from_index_mirrored(std::uint32_t index,
+                                                                    std::uint32_t x_seed,
+                                                                    std::uint32_t y_seed,
+                                                                    std::uint32_t& mx,
+                                                                    std::uint32_t& my) {
   // nested_uniform_scramble(v) is reverse(permutation(reverse(v))): dimension 0 is the
-  // mirrored index, so its scramble is reverse(permutation(index)), and dimension 1 is
-  // produced mirrored, so neither needs the mirror taken twice.
-  x = reverse_bits(laine_karras_permutation(shuffle.index, hash_combine(shuffle.pair_seed, 1U)));
-  y = reverse_bits(laine_karras_permutation(sobol_dimension1_mirrored(shuffle.index),
-                                            hash_combine(shuffle.pair_seed, 2U)));
+  // mirrored index, so its scramble's mirror is permutation(index), and dimension 1 is
+  // produced mirrored, so neither needs a mirror before the permutation.
+  mx = laine_karras_permutation(index, x_seed);
+  my = laine_karras_permutation(sobol_dimension1_mirrored(index), y_seed);
 }
 
 TESSERA_HD TESSERA_FORCE_INLINE void sobol_pair_mirrored(std::uint32_t pixel_key,
                                                          std::uint32_t mirrored_sample_index,
                                                          std::uint32_t pair, std::uint32_t& x,
                                                          std::uint32_t& y) {
-  sobol_pair_from_shuffle(sobol_shuffle(pixel_key, mirrored_sample_index, pair), x, y);
+  const SobolPairSeeds seeds = sobol_pair_seeds(pixel_key, pair);
+  sobol_pair_from_index_mirrored(sobol_shuffled_index(seeds.shuffle, mirrored_sample_index),
+                                 seeds.x, seeds.y, x, y);
+  x = reverse_bits(x);
+  y = reverse_bits(y);
 }
 
 // Sobol dimensions 2 and 3 of `index`, unscrambled, as 32-bit binary fractions. Their
@@ -251,15 +318,20 @@ TESSERA_HD TESSERA_INLINE void sobol_dimensions23_mirrored(std::uint32_t index16
 }
 
 // Dimensions 2 and 3 of the 4D Sobol set whose dimensions 0 and 1 are the pair with this
-// shuffle (sobol_pair_from_shuffle): the same index shuffle, other scrambles. The two pairs
-// are then stratified jointly, not only each on its own: a direction sampled at one vertex
-// and the point on a light sampled at the vertex it leads to cover their 4D domain evenly.
-TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_from_shuffle(const SobolShuffle& shuffle,
-                                                               std::uint32_t& x, std::uint32_t& y) {
-  std::uint32_t mx = 0, my = 0;
-  sobol_dimensions23_mirrored(shuffle.index, mx, my);
-  x = reverse_bits(laine_karras_permutation(mx, hash_combine(shuffle.pair_seed, 3U)));
-  y = reverse_bits(laine_karras_permutation(my, hash_combine(shuffle.pair_seed, 4U)));
+// shuffled index (sobol_pair_from_index_mirrored): the same index, other scrambles (the partner's
+// SobolPairSeeds::joined_x and joined_y). The two pairs are then stratified jointly, not
+// only each on its own: a direction sampled at one vertex and the point on a light sampled
+// at the vertex it leads to cover their 4D domain evenly.
+// Mirrored, as sobol_pair_from_index_mirrored's.
+TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_from_index_mirrored(std::uint32_t index,
+                                                                      std::uint32_t x_seed,
+                                                                      std::uint32_t y_seed,
+                                                                      std::uint32_t& mx,
+                                                                      std::uint32_t& my) {
+  std::uint32_t dx = 0, dy = 0;
+  sobol_dimensions23_mirrored(index, dx, dy);
+  mx = laine_karras_permutation(dx, x_seed);
+  my = laine_karras_permutation(dy, y_seed);
 }
 
 // The same from the sample index as it is.

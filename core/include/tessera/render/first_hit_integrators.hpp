@@ -52,10 +52,11 @@ struct FirstHitRayGeneration {
   FilmPlanes film;
   std::uint64_t* ray_count;
   SamplerKind sampler = SamplerKind::kIndependent;
+  SobolSeedMemo* sobol_memo = nullptr;  // as PathRayGeneration's
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                           Payload& payload) const {
-    payload.samples = SampleStream(seed, x, y, sample, sampler);
+    payload.samples = SampleStream(seed, x, y, sample, sampler, sobol_memo);
     return camera.generate_sample(x, y, payload.samples);
   }
   TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t,

@@ -63,10 +63,12 @@ struct PathRayGeneration {
   FilmPlanes film;
   std::uint64_t* ray_count;  // per tile, so one writer
   SamplerKind sampler = SamplerKind::kIndependent;
+  // The tile loop's memo of each pixel's Sobol seeds (SobolSeedMemo); null: none (the GPU).
+  SobolSeedMemo* sobol_memo = nullptr;
 
   TESSERA_HD void init_payload(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                                Payload& payload) const {
-    payload.samples = SampleStream(seed, x, y, sample, sampler);
+    payload.samples = SampleStream(seed, x, y, sample, sampler, sobol_memo);
   }
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t, Payload& payload) const {
