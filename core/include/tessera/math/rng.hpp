@@ -100,7 +100,7 @@ class SampleStream {
       x_seed = seeds.joined_x;
       y_seed = seeds.joined_y;
     } else {
-      shuffle_seed = kept ? kept_shuffle_seed_ : hash_combine(key_, partner_pair);
+      shuffle_seed = kept ? kept_shuffle_seed_ : sobol_pair_seeds(key_, partner_pair).shuffle;
       x_seed = sobol_scramble_seed(shuffle_seed, 3U);
       y_seed = sobol_scramble_seed(shuffle_seed, 4U);
     }
