@@ -68,47 +68,35 @@ class SampleStream {
     b = next();
   }
 
-  // As next_2d, and for Sobol keeps the pair's shuffled index and shuffle seed, so that the
-  // pair joined to it later (next_2d_joined) starts from them instead of forming them again:
-  // the pairs that lead to a vertex (the camera's position in the pixel, a BSDF direction)
-  // draw with this.
+  // As next_2d, and for Sobol keeps the pair's shuffled index, so that the pair joined to it
+  // later (next_2d_joined) starts from it instead of forming it again: the pairs that lead
+  // to a vertex (the camera's position in the pixel, a BSDF direction) draw with this.
   TESSERA_HD void next_2d_kept(float& a, float& b) {
     dimension_ += dimension_ & 1U;
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     kept_pair_ = dimension_ >> 1;
     const SobolPairSeeds seeds = pair_seeds(kept_pair_);
-    kept_shuffle_seed_ = seeds.shuffle;
     kept_index_ = sobol_shuffled_index(seeds.shuffle, mirrored_index_);
     take_pair(kept_index_, seeds, a, b);
   }
 
   // The next pair (as next_2d) joined to the pair that starts at even dimension `partner`:
   // for Sobol, dimensions 2 and 3 of the 4D set whose first two are that pair, so the two
-  // are stratified jointly (sobol_joined_from_index_mirrored). A pair has at most one pair joined
-  // to it. The partner's shuffled index is reused when next_2d_kept drew it last (one
-  // permutation and one mirror fewer on the light sample's chain); the values are the same
-  // either way. The independent sampler draws it as next_2d does.
+  // are stratified jointly (sobol_joined_from_index_mirrored). A pair has at most one pair
+  // joined to it. The partner's shuffled index is reused when next_2d_kept drew it last (one
+  // permutation and one mirror fewer on the light sample's chain), and its seeds come from
+  // the memo where there is one; the values are the same either way. The independent sampler draws it as next_2d does.
   TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     dimension_ += dimension_ & 1U;
     const std::uint32_t partner_pair = partner >> 1;
-    const bool kept = kept_pair_ == partner_pair;
-    std::uint32_t shuffle_seed = 0, x_seed = 0, y_seed = 0;
-    if (memo_ != nullptr && partner_pair < SobolSeedMemo::kPairs) {
-      const SobolPairSeeds& seeds = memo_->seeds(partner_pair);
-      shuffle_seed = seeds.shuffle;
-      x_seed = seeds.joined_x;
-      y_seed = seeds.joined_y;
-    } else {
-      shuffle_seed = kept ? kept_shuffle_seed_ : sobol_pair_seeds(key_, partner_pair).shuffle;
-      x_seed = sobol_scramble_seed(shuffle_seed, 3U);
-      y_seed = sobol_scramble_seed(shuffle_seed, 4U);
-    }
-    const std::uint32_t index =
-        kept ? kept_index_ : sobol_shuffled_index(shuffle_seed, mirrored_index_);
+    const SobolPairSeeds seeds = pair_seeds(partner_pair);
+    const std::uint32_t index = kept_pair_ == partner_pair
+                                    ? kept_index_
+                                    : sobol_shuffled_index(seeds.shuffle, mirrored_index_);
     std::uint32_t x = 0;
     std::uint32_t y = 0;
-    sobol_joined_from_index_mirrored(index, x_seed, y_seed, x, y);
+    sobol_joined_from_index_mirrored(index, seeds.joined_x, seeds.joined_y, x, y);
     take_mirrored(x, y, a, b);
   }
 
@@ -151,9 +139,8 @@ class SampleStream {
   std::uint32_t mirrored_index_ = 0;  // Sobol: its bits mirrored, formed once for every pair
   std::uint32_t dimension_ = 0;
   SobolSeedMemo* memo_ = nullptr;  // Sobol: the pixel's seeds, if the caller keeps them
-  // Sobol: the pair next_2d_kept drew last (none: ~0), its shuffle seed and shuffled index.
+  // Sobol: the pair next_2d_kept drew last (none: ~0) and its shuffled index.
   std::uint32_t kept_pair_ = ~0U;
-  std::uint32_t kept_shuffle_seed_ = 0;
   std::uint32_t kept_index_ = 0;
   SamplerKind kind_ = SamplerKind::kIndependent;
 };

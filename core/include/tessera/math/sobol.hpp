@@ -185,9 +185,9 @@ TESSERA_HD TESSERA_INLINE std::uint32_t sobol_dimension1_mirrored(std::uint32_t 
 }
 
 // The seeds a pair's values start from: the index shuffle's, the two coordinate scrambles'
-// and the two scrambles of the pair joined to it (sobol_joined_from_index_mirrored). They depend on
-// the pixel key and the pair, not on the sample index, so a pixel's samples can share them
-// (SobolSeedMemo). The shuffle and the coordinate scrambles take different seeds:
+// and the two scrambles of the pair joined to it (sobol_joined_from_index_mirrored). They
+// depend on the pixel key and the pair, not on the sample index, so a pixel's samples can
+// share them (SobolSeedMemo). The shuffle and the coordinate scrambles take different seeds:
 // scrambling the index and a coordinate with the same one would tie them together.
 struct SobolPairSeeds {
   std::uint32_t shuffle = 0;
@@ -195,25 +195,17 @@ struct SobolPairSeeds {
   std::uint32_t joined_x = 0, joined_y = 0;
 };
 
-// Scramble seed `which` (1, 2: the pair's coordinates; 3, 4: the joined pair's) of the pair
-// whose shuffle seed is `shuffle_seed`.
-TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t sobol_scramble_seed(std::uint32_t shuffle_seed,
-                                                                  std::uint32_t which) {
-  return hash_combine(shuffle_seed, which);
-}
-
 TESSERA_HD TESSERA_FORCE_INLINE SobolPairSeeds sobol_pair_seeds(std::uint32_t pixel_key,
                                                                 std::uint32_t pair) {
   const std::uint32_t shuffle = hash_combine(pixel_key, pair);
-  return SobolPairSeeds{shuffle, sobol_scramble_seed(shuffle, 1U), sobol_scramble_seed(shuffle, 2U),
-                        sobol_scramble_seed(shuffle, 3U), sobol_scramble_seed(shuffle, 4U)};
+  return SobolPairSeeds{shuffle, hash_combine(shuffle, 1U), hash_combine(shuffle, 2U),
+                        hash_combine(shuffle, 3U), hash_combine(shuffle, 4U)};
 }
 
 // The per-pixel, per-pair shuffle of the sample index that both a pair
 // (sobol_pair_from_index_mirrored) and the pair joined to it (sobol_joined_from_index_mirrored)
-// start from: the
-// shuffled 16-bit Sobol index, from the sample index with its bits mirrored (reverse_bits),
-// which a sample stream forms once for all its pairs.
+// start from: the shuffled 16-bit Sobol index, from the sample index with its bits mirrored
+// (reverse_bits), which a sample stream forms once for all its pairs.
 TESSERA_HD TESSERA_FORCE_INLINE std::uint32_t sobol_shuffled_index(
     std::uint32_t shuffle_seed, std::uint32_t mirrored_sample_index) {
   // Sample indices stay below 2^16 (SceneLimits::max_samples_per_pixel). The scramble's
@@ -318,11 +310,10 @@ TESSERA_HD TESSERA_INLINE void sobol_dimensions23_mirrored(std::uint32_t index16
 }
 
 // Dimensions 2 and 3 of the 4D Sobol set whose dimensions 0 and 1 are the pair with this
-// shuffled index (sobol_pair_from_index_mirrored): the same index, other scrambles (the partner's
-// SobolPairSeeds::joined_x and joined_y). The two pairs are then stratified jointly, not
-// only each on its own: a direction sampled at one vertex and the point on a light sampled
-// at the vertex it leads to cover their 4D domain evenly.
-// Mirrored, as sobol_pair_from_index_mirrored's.
+// shuffled index (sobol_pair_from_index_mirrored), mirrored as that pair's are: the same index,
+// other scrambles (the partner's SobolPairSeeds::joined_x and joined_y). The two pairs are
+// then stratified jointly, not only each on its own: a direction sampled at one vertex and
+// the point on a light sampled at the vertex it leads to cover their 4D domain evenly.
 TESSERA_HD TESSERA_FORCE_INLINE void sobol_joined_from_index_mirrored(std::uint32_t index,
                                                                       std::uint32_t x_seed,
                                                                       std::uint32_t y_seed,
