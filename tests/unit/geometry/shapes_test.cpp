@@ -74,6 +74,88 @@ TEST(Sphere, RayStartingOnTheSurfaceDoesNotFindItAgain) {
   EXPECT_FLOAT_EQ(hit.t, 2.0f);
 }
 
+// The start-surface check forms the origin's distance to the sphere only when |f|^2 - r^2
+// allows it to be within the band; these rays start on surfaces of radii over six decades,
+// far from the world origin (so the float origin is rounded off the surface), or just off
+// the surface, where the near root must be kept.
+TEST(Sphere, RaysFromOnAndNearTheSurfaceAcrossScales) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  const auto random_direction = [&] {
+    for (;;) {
+      const vec3 v(unit(rng), unit(rng), unit(rng));
+      const float l2 = glm::dot(v, v);
+      if (l2 > 1e-4f && l2 <= 1.0f) return v / std::sqrt(l2);
+    }
+  };
+  int checked = 0;
+  for (const float radius : {1e-3f, 0.37f, 1.0f, 52.0f, 1e3f}) {
+    for (const float shift : {0.0f, 3.0f, 1e3f}) {
+      const Sphere s{vec3(shift * radius, -0.5f * shift * radius, 0.25f * radius), radius, 0};
+      for (int i = 0; i < 200; ++i) {
+        const vec3 n = random_direction();
+        // Rounded once from the double point, as surface_at places hit points: within the
+        // float origin's own rounding of the surface.
+        const vec3 on(dvec3(s.center) + static_cast<double>(radius) * glm::normalize(dvec3(n)));
+        const vec3 d = random_direction();
+        if (std::fabs(glm::dot(d, n)) < 0.2f) continue;  // grazing rays say little here
+        HitRecord hit;
+        const float rounding = 1.2e-7f * max_abs(on) / std::fabs(glm::dot(d, n));
+        if (glm::dot(d, n) > 0.0f) {
+          EXPECT_FALSE(intersect(s, ray(on, d), kInfinity, hit, 0u))
+              << "r " << radius << " shift " << shift << " t " << hit.t;
+        } else {
+          ASSERT_TRUE(intersect(s, ray(on, d), kInfinity, hit, 0u));
+          // The chord's length from the start point: -2 (d . n) r, give or take the float
+          // origin's rounding (sqrt(3)/2 ulp of its largest component) along the chord.
+          EXPECT_NEAR(hit.t, -2.0f * glm::dot(d, n) * radius, 1e-5f * radius + rounding)
+              << "r " << radius << " shift " << shift;
+        }
+        // Starting 1e-3 radii outside and heading in: the near root, kept.
+        if (glm::dot(d, n) < 0.0f) {
+          const vec3 near_start = s.center + 1.001f * radius * n;
+          ASSERT_TRUE(intersect(s, ray(near_start, d), kInfinity, hit, 0u));
+          const dvec3 f = dvec3(near_start) - dvec3(s.center);
+          const double b = -glm::dot(f, dvec3(d));
+          const double c = glm::dot(f, f) - static_cast<double>(radius) * radius;
+          const double expected = c / (b + std::sqrt(b * b - c));  // the near root, stably
+          EXPECT_NEAR(hit.t, expected, 1e-5 * expected + rounding)
+              << "r " << radius << " shift " << shift;
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 2000);
+}
+
+// uv is the hit point's spherical angles: u = (atan2(-z, x) + pi) / 2 pi, v = theta / pi
+// from -y, here against the double formulas over the whole sphere, poles included.
+TEST(Sphere, UvAreTheHitPointsSphericalAngles) {
+  const Sphere s{vec3(1.0f, 2.0f, -3.0f), 1.5f, 0};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (int i = 0; i < 4000; ++i) {
+    vec3 target(unit(rng), unit(rng), unit(rng));
+    if (i % 10 == 0)
+      target = vec3(1e-4f * unit(rng), i % 20 == 0 ? 1.0f : -1.0f, 1e-4f * unit(rng));
+    const vec3 origin = s.center + 4.0f * glm::normalize(target);
+    const Ray r = ray(origin, s.center - origin);
+    HitRecord hit;
+    ASSERT_TRUE(intersect(s, r, kInfinity, hit, 0u));
+    const SurfaceInteraction si = surface_at(s, r, hit);
+    const dvec3 p = glm::normalize(dvec3(si.position) - dvec3(s.center));
+    const double theta = std::acos(glm::clamp(-p.y, -1.0, 1.0));
+    const double phi = std::atan2(-p.z, p.x) + 3.14159265358979323846;
+    EXPECT_NEAR(si.uv.y, theta / 3.14159265358979323846, 2e-6) << i;
+    // u wraps at the seam (-z = 0 behind x < 0); near the poles it is ill-conditioned.
+    const double du = std::fabs(si.uv.x - phi / (2.0 * 3.14159265358979323846));
+    if (std::fabs(p.y) < 0.999) {
+      EXPECT_LT(std::min(du, 1.0 - du), 2e-6) << i;
+    }
+  }
+}
+
 TEST(Plane, HitUvAndParallelMiss) {
   const Plane p = Plane::make(vec3(0.0f, 1.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), 2);
   HitRecord hit;

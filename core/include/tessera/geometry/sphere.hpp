@@ -5,6 +5,7 @@
 #include "tessera/geometry/aabb.hpp"
 #include "tessera/geometry/local_frame.hpp"
 #include "tessera/geometry/surface.hpp"
+#include "tessera/math/fast_trig.hpp"
 
 namespace tessera {
 
@@ -25,12 +26,16 @@ namespace detail {
 // "Precision Improvements for Ray/Sphere Intersection" (Ray Tracing Gems ch. 7): the
 // discriminant is r^2 minus the squared distance from the centre to the ray line (never
 // b^2 - 4ac of two huge nearly equal terms), the larger-magnitude root is q / a with
-// q = -(b + sign(b) sqrt(disc)) / 2 and the other is c / q, with c = (|f| - r)(|f| + r).
+// q = -(b + sign(b) sqrt(disc)) / 2 and the other is c / q, with c = |f|^2 - r^2.
 // Evaluated in double from the float inputs: in float the distance to the line of an
 // origin 1e6 radii away is itself uncertain by ~1e6 * 6e-8 radii, which flips hit or miss
 // for rays within 6% of the silhouette; in double that band is below 1e-9.
+// Squared lengths, not lengths: a miss then costs no square root and a hit one (double
+// square roots are among the slowest instructions, and shadow rays test every sphere whose
+// box they cross). The origin's distance to the surface, a root of its own, is formed only
+// when the origin may lie on the surface, which |c| = ||f| - r| (|f| + r) bounds.
 TESSERA_HD TESSERA_FORCE_INLINE HitCandidates<2> sphere_candidates(const Sphere& s,
-                                                             const PreciseRay& ray) {
+                                                                   const PreciseRay& ray) {
   HitCandidates<2> out;
   const LocalRay local{ray.origin - dvec3(s.center), ray.direction};
   const dvec3& d = local.direction;
@@ -41,22 +46,26 @@ TESSERA_HD TESSERA_FORCE_INLINE HitCandidates<2> sphere_candidates(const Sphere&
   // A zero radius is a point, not a surface: a ray through the centre would otherwise find
   // the double root there (and a made-up normal).
   if (!(std::fabs(r) > 0.0)) return out;
+  const double r2 = r * r;
   const double b_half = -glm::dot(f, d);  // b = -2 b_half
   const dvec3 perpendicular = f + (b_half / a) * d;
-  const double distance = glm::length(perpendicular);
-  const double reduced_disc = (r - distance) * (r + distance);  // disc / (4 a)
+  const double reduced_disc = r2 - glm::dot(perpendicular, perpendicular);  // disc / (4 a)
   if (!(reduced_disc >= 0.0)) return out;
-  const double f_length = glm::length(f);
-  const double c = (f_length - r) * (f_length + r);
+  const double c = glm::dot(f, f) - r2;
   const double root = std::sqrt(a * reduced_disc);
   const double q = b_half + (b_half >= 0.0 ? root : -root);  // -(b + sign(b) sqrt(disc)) / 2
   const double t_far = q / a;
   const double t_near = q != 0.0 ? c / q : 0.0;
   const double band = ray.origin_error + 1e-15 * r;
+  // ||f| - r| <= band implies |c| <= band (2 |r| + band); the last term covers c's rounding.
+  const bool may_start_on_surface =
+      std::fabs(c) <= band * (2.0 * std::fabs(r) + band) * (1.0 + 1e-6) + 1e-15 * r2;
+  const double origin_distance = may_start_on_surface ? std::sqrt(glm::dot(f, f)) - r : 0.0;
   const auto signed_distance = [r](const dvec3& p) { return glm::length(p) - r; };
   const double roots[2] = {glm::min(t_near, t_far), glm::max(t_near, t_far)};
   for (int i = 0; i < 2; ++i)
-    if (!is_start_surface_root(signed_distance, f_length - r, local, roots[i], band))
+    if (!may_start_on_surface ||
+        !is_start_surface_root(signed_distance, origin_distance, local, roots[i], band))
       out.add(roots[i], 0);
   return out;
 }
@@ -97,8 +106,12 @@ TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Sphere& s, const P
   const vec3 outward(outward_d);
   si.position = vec3(dvec3(s.center) + static_cast<double>(s.radius) * outward_d);
   set_face_normal(si, vec3(ray.direction), outward);
-  const float theta = std::acos(glm::clamp(-outward.y, -1.0f, 1.0f));
-  const float phi = std::atan2(-outward.z, outward.x) + kPi;
+  // Inline arctangents (a few float ulps) instead of libm's out-of-line acosf and atan2f:
+  // every sphere hit forms its uv, textured or not. theta from the arctangent, not acos(-y),
+  // also keeps its precision at the poles.
+  const float theta =
+      fast_atan2(std::sqrt(outward.x * outward.x + outward.z * outward.z), -outward.y);
+  const float phi = fast_atan2(-outward.z, outward.x) + kPi;
   si.uv = vec2(phi / (2.0f * kPi), theta / kPi);
   si.material = s.material;
   return si;
