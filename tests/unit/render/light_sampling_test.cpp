@@ -48,6 +48,10 @@ std::vector<LightCase> light_cases() {
       {"SphereFar", Shape::kSphere, {3, -4, 99.9}, o, o, o, 1.0},
       {"SphereNear", Shape::kSphere, {0.5, 1.0, 2.5}, o, o, o, 1.0},
       {"SphereVeryNear", Shape::kSphere, {0.0, 0.6 * 1.001, 0.8 * 1.001}, o, o, o, 1.0},
+      // 1.5 and 1.42 radii away: just past where the sampler's float distance takes over
+      // from the intersector (sqrt 2 radii), at the widest cones it serves.
+      {"SphereOneAndAHalf", Shape::kSphere, {0.0, 0.9, 1.2}, o, o, o, 1.0},
+      {"SphereJustPastRootTwo", Shape::kSphere, {0.0, 0.6 * 1.42, 0.8 * 1.42}, o, o, o, 1.0},
       {"SphereInside", Shape::kSphere, {0.3, 0.2, -0.4}, o, o, o, 1.0},
       // 1 / 30^2 sr: the spherical rectangle.
       {"RectangleFar", Shape::kQuad, {0.2, 0.1, 30.0}, square_corner, x, y},

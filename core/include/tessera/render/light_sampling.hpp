@@ -245,17 +245,26 @@ TESSERA_HD inline bool sample_emitter(const Sphere& s, float area, const vec3& r
   fast_sincos_turns(u2, sin_phi, cos_phi);
   const Frame frame = Frame::from_normal(to_center / dc);
   out.wi = frame.to_world(vec3(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta));
-  // Distance to the near intersection along wi, found by the sphere's own intersector
-  // (double, without cancellation), so the shadow ray stops where a ray along wi meets
-  // the sphere. dc cos - sqrt(r^2 - dc^2 sin^2) cancels near the silhouette: 1.001 radii
-  // away it overshot by 2e-4 of the distance, more than the shadow ray's 1e-4 margin,
-  // and the light shadowed itself (tests/unit/render/light_sampling_test.cpp). A float
-  // wi that just misses keeps that estimate.
+  // Distance to the near intersection along wi, where the shadow ray must stop. In float
+  // from the sampled angle, without cancellation: r^2 - dc^2 sin^2 = dc^2 (cos - cos_max)
+  // (cos + cos_max) with cos - cos_max = one_minus_cos_max (1 - u1), and the near root as
+  // (dc^2 - r^2) / (dc cos + sqrt(...)). That is the distance along the exact sampled
+  // direction; the shadow ray follows the float wi, and near the silhouette (the square
+  // root small against r) the distance swings with the direction's last bits, and near
+  // the sphere dc^2 - r^2 cancels. There the sphere's own intersector (double) finds where
+  // a ray along wi meets it: the dc cos - sqrt form 1.001 radii away overshot by 2e-4 of
+  // the distance, more than the shadow ray's 1e-4 margin, and the light shadowed itself
+  // (tests/unit/render/light_sampling_test.cpp). The float form keeps the intersector, a
+  // double-precision solve, off most samples' dependency chain.
+  const float cos_max = 1.0f - one_minus_cos_max;
+  const float chord2 = dc2 * (one_minus_cos_max * (1.0f - u1)) * (cos_theta + cos_max);
   HitRecord hit;
-  if (intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, 0))
+  if (dc2 > 2.0f * r2 && chord2 >= 1e-2f * r2)
+    out.distance = (dc2 - r2) / (dc * cos_theta + std::sqrt(chord2));
+  else if (intersect(s, Ray{ref, out.wi, 0.0f, kInfinity}, kInfinity, hit, 0))
     out.distance = hit.t;
-  else
-    out.distance = dc * cos_theta - std::sqrt(glm::max(0.0f, r2 - dc2 * sin2));
+  else  // a float wi that just misses: the estimate along the sampled direction
+    out.distance = (dc2 - r2) / (dc * cos_theta + std::sqrt(glm::max(0.0f, chord2)));
   out.pdf = 1.0f / (2.0f * kPi * one_minus_cos_max);
   return out.distance > 0.0f && out.pdf > 0.0f && std::isfinite(out.pdf);
 }
