@@ -129,6 +129,41 @@ TEST(Sphere, RaysFromOnAndNearTheSurfaceAcrossScales) {
   EXPECT_GT(checked, 2000);
 }
 
+// surface_at places the point from the double root the hit keeps (root_of_hit), not from
+// the float t: from 1e5 radii away the float t alone is off by about 6e-3 radii along the
+// ray, which tilts the normal of a hit away from the ray's axis by as much.
+TEST(Sphere, FarAwayHitsPlaceThePointFromTheDoubleRoot) {
+  const Sphere s{vec3(0.0f), 1.0f, 0};
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (int i = 0; i < 500; ++i) {
+    const vec3 origin(-1e5f, 0.0f, 0.0f);
+    vec3 target(0.0f, 0.9f * unit(rng), 0.9f * unit(rng));
+    if (target.y * target.y + target.z * target.z > 0.81f) continue;  // within 0.9 radii
+    const Ray r = ray(origin, glm::normalize(target - origin));
+    HitRecord hit;
+    ASSERT_TRUE(intersect(s, r, kInfinity, hit, 0u));
+    // The exact near root of the float ray, in double (Haines' form: no cancellation).
+    const dvec3 o(r.origin), d(r.direction);
+    const double b_half = -glm::dot(o, d) / glm::dot(d, d);
+    const dvec3 perpendicular = o + b_half * d;
+    const double root =
+        b_half - std::sqrt((1.0 - glm::dot(perpendicular, perpendicular)) / glm::dot(d, d));
+    const dvec3 normal = glm::normalize(o + root * d);
+    const SurfaceInteraction si = surface_at(s, r, hit);
+    expect_vec_near(si.geometric_normal, vec3(normal), 1e-5f);
+    expect_vec_near(si.position, vec3(normal), 1e-5f);
+  }
+  // A hit made by hand (no remainder kept) still gives a point on the sphere.
+  HitRecord made;
+  made.t = 99999.0f;
+  made.u = 0.25f;
+  made.primitive = 0;
+  const SurfaceInteraction si =
+      surface_at(s, ray(vec3(-1e5f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f)), made);
+  EXPECT_NEAR(glm::length(si.position), 1.0f, 1e-6f);
+}
+
 // uv is the hit point's spherical angles: u = (atan2(-z, x) + pi) / 2 pi, v = theta / pi
 // from -y, here against the double formulas over the whole sphere, poles included.
 TEST(Sphere, UvAreTheHitPointsSphericalAngles) {

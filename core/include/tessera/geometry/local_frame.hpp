@@ -145,22 +145,27 @@ struct HitCandidates {
     }
   }
 
-  // Closest accepted root; the part goes to hit.v (as a small integer), hit.u is 0.
+  // Closest accepted root; the part goes to hit.v (as a small integer), and hit.u holds the
+  // double root's remainder past the float t (root - t, a float that keeps it to about 1e-15
+  // of t), so a surface_at can place the point from the root without solving again
+  // (root_of_hit).
   TESSERA_HD bool closest(float t_min, float t_max, HitRecord& hit, std::uint32_t primitive) const {
     bool found = false;
     float best = t_max;
+    double best_root = 0.0;
     std::uint32_t best_part = 0;
     for (int i = 0; i < count; ++i) {
       float tf;
       if (accept_root(t[i], t_min, best, tf)) {
         best = tf;
+        best_root = t[i];
         best_part = part[i];
         found = true;
       }
     }
     if (!found) return false;
     hit.t = best;
-    hit.u = 0.0f;
+    hit.u = static_cast<float>(best_root - static_cast<double>(best));
     hit.v = static_cast<float>(best_part);
     hit.primitive = primitive;
     return true;
@@ -174,7 +179,7 @@ struct HitCandidates {
       if (accept_root(t[i], t_min, t_max, tf)) {
         HitRecord h;
         h.t = tf;
-        h.u = 0.0f;
+        h.u = static_cast<float>(t[i] - static_cast<double>(tf));
         h.v = static_cast<float>(part[i]);
         h.primitive = primitive;
         n = insert_hit_sorted(hits, n, max_hits, h);
@@ -201,6 +206,14 @@ struct HitCandidates {
                                                                                       : t_float;
   }
 };
+
+// The double root a HitCandidates hit came from: its float t plus the remainder closest()
+// and all() keep in hit.u. A remainder is under one float ulp of t; anything larger is not
+// one (a hit made by hand), and the float t stands.
+TESSERA_HD TESSERA_INLINE double root_of_hit(const HitRecord& hit) {
+  const double t = hit.t, remainder = hit.u;
+  return std::fabs(remainder) <= 1.2e-7 * std::fabs(t) ? t + remainder : t;
+}
 
 TESSERA_HD TESSERA_INLINE float angle_fraction(double y, double x) {
   constexpr double kTwoPi = 6.283185307179586476925;

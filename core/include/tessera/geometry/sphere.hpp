@@ -97,9 +97,9 @@ TESSERA_HD TESSERA_INLINE int intersect_all(const Sphere& s, const Ray& ray, flo
 TESSERA_HD TESSERA_INLINE SurfaceInteraction surface_at(const Sphere& s, const PreciseRay& ray,
                                                         const HitRecord& hit) {
   SurfaceInteraction si;
-  // The point from the double root the float t came from: far from the origin the float t
-  // alone places the point off the surface by many ulps.
-  const double t = detail::sphere_candidates(s, ray).nearest(hit.t, 0);
+  // The point from the double root the float t came from (kept with the hit: root_of_hit):
+  // far from the origin the float t alone places the point off the surface by many ulps.
+  const double t = root_of_hit(hit);
   const dvec3 local = ray.origin + t * ray.direction - dvec3(s.center);
   const double length = glm::length(local);
   const dvec3 outward_d = length > 0.0 ? local / length : dvec3(0.0, 1.0, 0.0);
