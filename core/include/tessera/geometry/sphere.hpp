@@ -51,7 +51,8 @@ TESSERA_HD TESSERA_FORCE_INLINE HitCandidates<2> sphere_candidates(const Sphere&
   const dvec3 perpendicular = f + (b_half / a) * d;
   const double reduced_disc = r2 - glm::dot(perpendicular, perpendicular);  // disc / (4 a)
   if (!(reduced_disc >= 0.0)) return out;
-  const double c = glm::dot(f, f) - r2;
+  const double f2 = glm::dot(f, f);
+  const double c = f2 - r2;
   const double root = std::sqrt(a * reduced_disc);
   const double q = b_half + (b_half >= 0.0 ? root : -root);  // -(b + sign(b) sqrt(disc)) / 2
   const double t_far = q / a;
@@ -60,7 +61,7 @@ TESSERA_HD TESSERA_FORCE_INLINE HitCandidates<2> sphere_candidates(const Sphere&
   // ||f| - r| <= band implies |c| <= band (2 |r| + band); the last term covers c's rounding.
   const bool may_start_on_surface =
       std::fabs(c) <= band * (2.0 * std::fabs(r) + band) * (1.0 + 1e-6) + 1e-15 * r2;
-  const double origin_distance = may_start_on_surface ? std::sqrt(glm::dot(f, f)) - r : 0.0;
+  const double origin_distance = may_start_on_surface ? std::sqrt(f2) - r : 0.0;
   const auto signed_distance = [r](const dvec3& p) { return glm::length(p) - r; };
   const double roots[2] = {glm::min(t_near, t_far), glm::max(t_near, t_far)};
   for (int i = 0; i < 2; ++i)

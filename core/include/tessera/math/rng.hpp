@@ -85,7 +85,8 @@ class SampleStream {
   // are stratified jointly (sobol_joined_from_index_mirrored). A pair has at most one pair
   // joined to it. The partner's shuffled index is reused when next_2d_kept drew it last (one
   // permutation and one mirror fewer on the light sample's chain), and its seeds come from
-  // the memo where there is one; the values are the same either way. The independent sampler draws it as next_2d does.
+  // the memo where there is one; the values are the same either way. The independent
+  // sampler draws it as next_2d does.
   TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     dimension_ += dimension_ & 1U;
