@@ -6,6 +6,7 @@
 // tree stays within its path bits when every light sits at one point.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -170,6 +171,53 @@ TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
       EXPECT_NEAR(importance[k], expected, 1e-4 * expected + 1e-30) << "slot " << k;
     }
   }
+}
+
+// The host's SSE importances equal the portable ones (the device's) bit for bit, at every
+// node of a 300-light tree, from points inside, beside and far from the lights (up to 1e4
+// units, where the squared distance's square would overflow no float but the ratio of
+// power to distance squared is tiny), facing every way, surfaces seeing a cluster edge-on
+// included. A pick and its pmf must agree on whichever processor renders.
+TEST(LightTree, HostImportancesEqualThePortableOnes) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(300, false, 16));
+  const SceneView view = prepared->view();
+  ASSERT_NE(view.light_tree, nullptr);
+  std::uint32_t nodes = 1;  // count the nodes: every interior child index is below the count
+  for (std::uint32_t i = 0; i < nodes; ++i)
+    for (std::uint32_t c : view.light_tree[i].child)
+      if (!LightTreeNode::is_leaf(c) && c + 1 > nodes) nodes = c + 1;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::uint32_t compared = 0, narrowed = 0, unlit = 0;
+  for (int i = 0; i < 400; ++i) {
+    const float scale = i < 300 ? 5.0f : 1e4f;
+    const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
+    vec3 n(u(rng), u(rng), u(rng));
+    if (glm::dot(n, n) < 1e-4f) n = vec3(0, 1, 0);
+    n = glm::normalize(n);
+    for (std::uint32_t at = 0; at < nodes; ++at) {
+      float host[4], portable[4];
+      light_tree_importance(view.light_tree[at], p, n, host);
+      light_tree_importance_portable(view.light_tree[at], p, n, portable);
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(host[k]), std::bit_cast<std::uint32_t>(portable[k]))
+            << "node " << at << " slot " << k << ": " << host[k] << " against " << portable[k];
+        ++compared;
+        // Narrowed by the cone: lit, yet below power / max(d2, r2).
+        const LightTreeNode& node = view.light_tree[at];
+        const vec3 lower(node.lower_x[k], node.lower_y[k], node.lower_z[k]);
+        const vec3 upper(node.upper_x[k], node.upper_y[k], node.upper_z[k]);
+        const vec3 to = 0.5f * (lower + upper) - p;
+        const float unbounded =
+            node.power[k] / std::max(glm::dot(to, to), glm::dot(upper - lower, upper - lower) / 4);
+        if (portable[k] > 0.0f && portable[k] < 0.999f * unbounded) ++narrowed;
+        if (node.power[k] > 0.0f && portable[k] == 0.0f) ++unlit;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10000u);
+  EXPECT_GT(narrowed, 1000u);  // the cone's bound is exercised,
+  EXPECT_GT(unlit, 1000u);     // and so are clusters below the horizon
 }
 
 // Every light at one point: the split search cannot separate them, median splits take
