@@ -174,10 +174,10 @@ TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
 }
 
 // The host's SSE importances equal the portable ones (the device's) bit for bit, at every
-// node of a 300-light tree, from points inside, beside and far from the lights (up to 1e4
-// units, where the squared distance's square would overflow no float but the ratio of
-// power to distance squared is tiny), facing every way, surfaces seeing a cluster edge-on
-// included. A pick and its pmf must agree on whichever processor renders.
+// node of a 300-light tree, from points among, beside and far (up to 1e4 units) from the
+// lights, facing random directions; the counts check that children narrowed by the cone
+// and children below the horizon both occur. A pick and its pmf must agree on whichever
+// processor renders.
 TEST(LightTree, HostImportancesEqualThePortableOnes) {
   const auto prepared = PreparedScene::build(many_triangle_lights(300, false, 16));
   const SceneView view = prepared->view();
