@@ -75,12 +75,12 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance_portable(const LightTreeNod
     const float n_dot = (n.x * tx + n.y * ty) + n.z * tz;
     const float power = node.power[k];
     const float tangent = std::sqrt(fmaxf(0.0f, distance2 - radius2));
-    const float inverse2 = 1.0f / distance2;
     float value = power / fmaxf(distance2, radius2);
     bool lit = power > 0.0f;
     if (distance2 > radius2 && n_dot < tangent) {
       const float cos_bound_d2 =
           n_dot * tangent + std::sqrt(fmaxf(0.0f, distance2 - n_dot * n_dot) * radius2);
+      const float inverse2 = 1.0f / distance2;
       value = ((power * inverse2) * cos_bound_d2) * inverse2;
       lit = lit && cos_bound_d2 > 0.0f;
     }
@@ -123,11 +123,9 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, 
       _mm_mul_ps(_mm_mul_ps(_mm_mul_ps(power, inverse2), cos_bound_d2), inverse2);
   const __m128 value =
       _mm_or_ps(_mm_and_ps(narrow, narrow_value), _mm_andnot_ps(narrow, wide_value));
-  // Lit: some power, and where the cone narrows the bound, a positive one.
-  const __m128 lit =
-      _mm_and_ps(_mm_cmpgt_ps(power, zero),
-                 _mm_or_ps(_mm_andnot_ps(narrow, _mm_castsi128_ps(_mm_set1_epi32(-1))),
-                           _mm_cmpgt_ps(cos_bound_d2, zero)));
+  // Lit: some power, and not narrowed to a bound of zero or less.
+  const __m128 dark = _mm_andnot_ps(_mm_cmpgt_ps(cos_bound_d2, zero), narrow);
+  const __m128 lit = _mm_andnot_ps(dark, _mm_cmpgt_ps(power, zero));
   _mm_storeu_ps(importance, _mm_and_ps(lit, value));
 #else
   light_tree_importance_portable(node, p, n, importance);
