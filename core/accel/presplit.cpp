@@ -1,12 +1,21 @@
 #include "tessera/accel/presplit.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace tessera {
 
 namespace {
 
 constexpr double kMaxSplitsPerTriangle = 64.0;
+// Triangles per task of the budget search and of the cuts.
+constexpr std::size_t kSearchGrain = 16384;
+constexpr std::size_t kSplitChunk = 2048;
 
 // A convex polygon in double: a triangle clipped by at most six planes has at most nine
 // vertices.
@@ -148,26 +157,56 @@ void presplit_triangles(std::span<const Triangle> triangles, std::span<const std
   // largest scale whose total stays within the budget (Karras and Aila search it the same
   // way). A fixed scale of budget / total priority would round most shares of a small budget
   // down to nothing; the search hands the budget to the worst-fitting triangles instead.
+  // The sum is of whole numbers, exact in any order, so the parallel reduction gives the
+  // same budget search (and the same pieces) for any thread count.
   const auto splits_at = [&](double scale) {
-    double sum = 0.0;
-    for (const float p : priority) sum += std::fmin(std::floor(scale * p), kMaxSplitsPerTriangle);
-    return sum;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, priority.size(), kSearchGrain), std::uint64_t{0},
+        [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i)
+            sum += static_cast<std::uint64_t>(
+                std::fmin(std::floor(scale * priority[i]), kMaxSplitsPerTriangle));
+          return sum;
+        },
+        [](std::uint64_t a, std::uint64_t b) { return a + b; });
   };
+  const auto fits = [&](double scale) { return static_cast<double>(splits_at(scale)) <= extra; };
   double low = 0.0,
          high = total > 0.0 ? 2.0 * (extra + static_cast<double>(ids.size())) / total : 0.0;
   if (high > 0.0) {
-    while (splits_at(high) <= extra && high < 1e30) high *= 2.0;  // the cap can hold it down
+    while (fits(high) && high < 1e30) high *= 2.0;  // the cap can hold it down
     for (int step = 0; step < 40; ++step) {
       const double middle = 0.5 * (low + high);
-      (splits_at(middle) <= extra ? low : high) = middle;
+      (fits(middle) ? low : high) = middle;
     }
   }
-  out_bounds.reserve(out_bounds.size() + ids.size() + static_cast<std::size_t>(extra) + 1);
-  out_ids.reserve(out_ids.size() + ids.size() + static_cast<std::size_t>(extra) + 1);
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const auto splits =
-        static_cast<int>(std::fmin(std::floor(low * priority[i]), kMaxSplitsPerTriangle));
-    split_piece(triangles[ids[i]], ids[i], bounds[i], splits, scene, out_bounds, out_ids);
+  // The cuts (double-precision clipping, most of the pre-split's time) run in parallel over
+  // fixed chunks of triangles, each into its own lists, joined in chunk order: the pieces
+  // come out in the order one loop would give them, whatever the thread count.
+  const std::size_t chunks = (ids.size() + kSplitChunk - 1) / kSplitChunk;
+  std::vector<std::vector<Aabb>> chunk_bounds(chunks);
+  std::vector<std::vector<std::uint32_t>> chunk_ids(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    const std::size_t begin = chunk * kSplitChunk;
+    const std::size_t end = std::min(ids.size(), begin + kSplitChunk);
+    const auto splits_of = [&](std::size_t i) {
+      return static_cast<int>(std::fmin(std::floor(low * priority[i]), kMaxSplitsPerTriangle));
+    };
+    std::size_t most = 0;  // pieces, if every cut keeps both sides
+    for (std::size_t i = begin; i < end; ++i) most += static_cast<std::size_t>(splits_of(i)) + 1;
+    chunk_bounds[chunk].reserve(most);
+    chunk_ids[chunk].reserve(most);
+    for (std::size_t i = begin; i < end; ++i)
+      split_piece(triangles[ids[i]], ids[i], bounds[i], splits_of(i), scene, chunk_bounds[chunk],
+                  chunk_ids[chunk]);
+  });
+  std::size_t pieces = 0;
+  for (const auto& chunk : chunk_ids) pieces += chunk.size();
+  out_bounds.reserve(out_bounds.size() + pieces);
+  out_ids.reserve(out_ids.size() + pieces);
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+    out_bounds.insert(out_bounds.end(), chunk_bounds[chunk].begin(), chunk_bounds[chunk].end());
+    out_ids.insert(out_ids.end(), chunk_ids[chunk].begin(), chunk_ids[chunk].end());
   }
 }
 

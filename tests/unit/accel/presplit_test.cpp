@@ -6,6 +6,7 @@
 #include "tessera/accel/presplit.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <optional>
@@ -119,6 +120,36 @@ TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
         ASSERT_TRUE(covered) << "triangle " << i;
       }
     }
+  }
+}
+
+// The cuts run in parallel over chunks of triangles: the pieces, their order included, must
+// not depend on the thread count, or the tree (and a render's image) would not either.
+TEST(Presplit, PiecesAreTheSameForAnyThreadCount) {
+  const auto tris = slivers(10000, 38);  // several chunks of the parallel loop
+  std::vector<std::uint32_t> ids(tris.size());
+  std::vector<Aabb> boxes(tris.size());
+  Aabb scene;
+  for (std::uint32_t i = 0; i < tris.size(); ++i) {
+    ids[i] = i;
+    boxes[i] = bounds(tris[i]);
+    scene.extend(boxes[i]);
+  }
+  const auto pieces_with = [&](int threads, std::vector<Aabb>& pieces,
+                               std::vector<std::uint32_t>& piece_ids) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] { presplit_triangles(tris, ids, boxes, scene, 2.0f, pieces, piece_ids); });
+  };
+  std::vector<Aabb> one, four;
+  std::vector<std::uint32_t> one_ids, four_ids;
+  pieces_with(1, one, one_ids);
+  pieces_with(4, four, four_ids);
+  ASSERT_GT(one.size(), tris.size());
+  ASSERT_EQ(one.size(), four.size());
+  ASSERT_EQ(one_ids, four_ids);
+  for (std::size_t k = 0; k < one.size(); ++k) {
+    ASSERT_EQ(one[k].lower, four[k].lower) << k;
+    ASSERT_EQ(one[k].upper, four[k].upper) << k;
   }
 }
 
