@@ -57,7 +57,8 @@ inline constexpr std::uint32_t kLightTreeMaxDepth = 64 / kLightTreePathBits;
 // cos(theta_n - theta_u) d2 = t sqrt(d2 - r2) + sqrt((d2 - t^2) r2). Written so, a step
 // takes two independent square roots and no division on the bound's path, where the
 // angles' cosines and sines took four square roots and two divisions mostly one after
-// another: the same instructions, 2-4% less render time on scenes with a tree (README).
+// another: the same instructions, 2-4% less render time on scenes with a tree
+// (bench/converge/README.md).
 // The host's SSE path and light_tree_importance_portable compute the same IEEE operations
 // in the same order, so light_tree_pick and light_tree_pmf agree bit for bit on either.
 TESSERA_HD TESSERA_INLINE void light_tree_importance_portable(const LightTreeNode& node,
