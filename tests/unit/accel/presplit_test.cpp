@@ -57,6 +57,21 @@ std::vector<Triangle> slivers(std::uint32_t count, std::uint32_t seed) {
   return tris;
 }
 
+// Every triangle of `tris` as presplit_triangles takes it: its index, its box, and the
+// scene's box.
+struct PresplitInput {
+  std::vector<std::uint32_t> ids;
+  std::vector<Aabb> boxes;
+  Aabb scene;
+  explicit PresplitInput(const std::vector<Triangle>& tris) : ids(tris.size()), boxes(tris.size()) {
+    for (std::uint32_t i = 0; i < tris.size(); ++i) {
+      ids[i] = i;
+      boxes[i] = bounds(tris[i]);
+      scene.extend(boxes[i]);
+    }
+  }
+};
+
 TEST(Presplit, ClippedBoundsHoldThePartOfTheTriangleInTheBox) {
   std::mt19937 rng(31);
   for (const Triangle& t : slivers(200, 32)) {
@@ -83,14 +98,8 @@ TEST(Presplit, ClippedBoundsHoldThePartOfTheTriangleInTheBox) {
 
 TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
   const auto tris = slivers(500, 33);
-  std::vector<std::uint32_t> ids(tris.size());
-  std::vector<Aabb> boxes(tris.size());
-  Aabb scene;
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    ids[i] = i;
-    boxes[i] = bounds(tris[i]);
-    scene.extend(boxes[i]);
-  }
+  const PresplitInput in(tris);
+  const auto& [ids, boxes, scene] = in;
   for (const float budget : {0.25f, 1.0f, 4.0f}) {
     std::vector<Aabb> pieces;
     std::vector<std::uint32_t> piece_ids;
@@ -127,14 +136,8 @@ TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
 // not depend on the thread count, or the tree (and a render's image) would not either.
 TEST(Presplit, PiecesAreTheSameForAnyThreadCount) {
   const auto tris = slivers(10000, 38);  // several chunks of the parallel loop
-  std::vector<std::uint32_t> ids(tris.size());
-  std::vector<Aabb> boxes(tris.size());
-  Aabb scene;
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    ids[i] = i;
-    boxes[i] = bounds(tris[i]);
-    scene.extend(boxes[i]);
-  }
+  const PresplitInput in(tris);
+  const auto& [ids, boxes, scene] = in;
   const auto pieces_with = [&](int threads, std::vector<Aabb>& pieces,
                                std::vector<std::uint32_t>& piece_ids) {
     tbb::task_arena arena(threads);
