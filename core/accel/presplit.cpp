@@ -103,6 +103,11 @@ void split_piece(const Triangle& tri, std::uint32_t id, const Aabb& box, int spl
   split_piece(tri, id, right, rest - left_splits, scene, out_bounds, out_ids);
 }
 
+// The cuts a triangle of priority `priority` gets at scale `scale` (presplit_triangles).
+int splits_for(double scale, float priority) {
+  return static_cast<int>(std::fmin(std::floor(scale * priority), kMaxSplitsPerTriangle));
+}
+
 }  // namespace
 
 Aabb clipped_triangle_bounds(const Triangle& tri, const Aabb& box) {
@@ -164,8 +169,7 @@ void presplit_triangles(std::span<const Triangle> triangles, std::span<const std
         tbb::blocked_range<std::size_t>(0, priority.size(), kSearchGrain), std::uint64_t{0},
         [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t sum) {
           for (std::size_t i = r.begin(); i < r.end(); ++i)
-            sum += static_cast<std::uint64_t>(
-                std::fmin(std::floor(scale * priority[i]), kMaxSplitsPerTriangle));
+            sum += static_cast<std::uint64_t>(splits_for(scale, priority[i]));
           return sum;
         },
         [](std::uint64_t a, std::uint64_t b) { return a + b; });
@@ -189,16 +193,17 @@ void presplit_triangles(std::span<const Triangle> triangles, std::span<const std
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
     const std::size_t begin = chunk * kSplitChunk;
     const std::size_t end = std::min(ids.size(), begin + kSplitChunk);
-    const auto splits_of = [&](std::size_t i) {
-      return static_cast<int>(std::fmin(std::floor(low * priority[i]), kMaxSplitsPerTriangle));
-    };
+    int splits[kSplitChunk];
     std::size_t most = 0;  // pieces, if every cut keeps both sides
-    for (std::size_t i = begin; i < end; ++i) most += static_cast<std::size_t>(splits_of(i)) + 1;
+    for (std::size_t i = begin; i < end; ++i) {
+      splits[i - begin] = splits_for(low, priority[i]);
+      most += static_cast<std::size_t>(splits[i - begin]) + 1;
+    }
     chunk_bounds[chunk].reserve(most);
     chunk_ids[chunk].reserve(most);
     for (std::size_t i = begin; i < end; ++i)
-      split_piece(triangles[ids[i]], ids[i], bounds[i], splits_of(i), scene, chunk_bounds[chunk],
-                  chunk_ids[chunk]);
+      split_piece(triangles[ids[i]], ids[i], bounds[i], splits[i - begin], scene,
+                  chunk_bounds[chunk], chunk_ids[chunk]);
   });
   std::size_t pieces = 0;
   for (const auto& chunk : chunk_ids) pieces += chunk.size();
