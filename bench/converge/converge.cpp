@@ -249,11 +249,22 @@ void print_series(const Series& series, double target) {
     std::printf("%8u %8.4g %10.3f %10.3f %12.5g %12.5g %10.5f %10.5f\n", s.spp, s.target_error,
                 s.seconds, s.wall, s.error.rmse, s.error.rel_mse, s.error.mean,
                 s.error.reference_mean);
-  if (const auto& at = series.at_target)
+  if (const auto& at = series.at_target) {
     std::printf("%s time to relMSE %g: %.3g s (%s; relMSE ~ time^%.2f)\n", series.name.c_str(),
                 target, at->seconds, at->extrapolated ? "extrapolated" : "measured", at->slope);
-  else
+    if (at->extrapolated)
+      std::printf("%s time to relMSE %g at slope -1 from the last render: %.3g s\n",
+                  series.name.c_str(), target, at->seconds_at_unit_slope);
+    if (at->shallow)
+      std::printf(
+          "%s: warning: relMSE fell only as time^%.2f over the later renders, where an "
+          "unbiased renderer's falls as time^-1: fireflies not averaged yet, bias, or a "
+          "reference too noisy for this error. The extrapolated time is unreliable; add larger "
+          "counts to --spp (and --reference-spp) to measure it\n",
+          series.name.c_str(), at->slope);
+  } else {
     std::printf("%s time to relMSE %g: not reached and not falling\n", series.name.c_str(), target);
+  }
 }
 
 std::string quoted(const std::string& s) {
@@ -451,9 +462,15 @@ int run_converge(const ConvergeOptions& options) {
     }
     cycles.at_target = time_to_error(cycles.points(), options.target);
     print_series(cycles, options.target);
-    if (tessera.at_target && cycles.at_target)
+    if (tessera.at_target && cycles.at_target) {
       std::printf("time to relMSE %g: Cycles / Tessera = %.3g\n", options.target,
                   cycles.at_target->seconds / tessera.at_target->seconds);
+      if (tessera.at_target->extrapolated || cycles.at_target->extrapolated)
+        std::printf(
+            "time to relMSE %g at slope -1 from the last renders: Cycles / Tessera = %.3g\n",
+            options.target,
+            cycles.at_target->seconds_at_unit_slope / tessera.at_target->seconds_at_unit_slope);
+    }
     references = image_error(reference, cycles_reference.image);
     std::printf(
         "references: Tessera mean %.5f, Cycles mean %.5f (Tessera %+.2f%%), relMSE of Tessera's "
@@ -465,6 +482,12 @@ int run_converge(const ConvergeOptions& options) {
   // One line with every figure, for scripts (bench/converge/run_suite.sh).
   const auto time_of = [](const Series* s) {
     return s && s->at_target ? s->at_target->seconds : std::nan("");
+  };
+  const auto unit_slope_time_of = [](const Series* s) {
+    return s && s->at_target ? s->at_target->seconds_at_unit_slope : std::nan("");
+  };
+  const auto slope_of = [](const Series* s) {
+    return s && s->at_target ? s->at_target->slope : std::nan("");
   };
   const Series* cycles = all.back().name == "cycles" ? &all.back() : nullptr;
   const Series *adaptive = nullptr, *denoised = nullptr;
@@ -479,6 +502,12 @@ int run_converge(const ConvergeOptions& options) {
       image_error(reference, reference).mean,
       references ? references->reference_mean : std::nan(""),
       references ? references->rel_mse : std::nan(""), time_of(adaptive), time_of(denoised));
+  // Separate from the line above, whose fields scripts read by position as well as by name.
+  std::printf(
+      "summary_slopes: tessera_slope=%.3g cycles_slope=%.3g tessera_time_unit_slope=%.6g "
+      "cycles_time_unit_slope=%.6g ratio_unit_slope=%.6g\n",
+      slope_of(&tessera), slope_of(cycles), unit_slope_time_of(&tessera),
+      unit_slope_time_of(cycles), unit_slope_time_of(cycles) / unit_slope_time_of(&tessera));
 
   if (!options.csv.empty()) {
     std::ofstream csv(options.csv);

@@ -70,12 +70,15 @@ std::optional<TimeToError> time_to_error(std::span<const ErrorPoint> series, dou
           (std::log(target) - std::log(a.rel_mse)) / (std::log(b.rel_mse) - std::log(a.rel_mse));
       const double seconds =
           std::exp(std::log(a.seconds) + f * (std::log(b.seconds) - std::log(a.seconds)));
-      return TimeToError{seconds, slope, false};
+      return TimeToError{seconds, slope, false, seconds, false};
     }
   }
-  if (usable.front().rel_mse <= target) return TimeToError{usable.front().seconds, slope, false};
+  if (usable.front().rel_mse <= target)
+    return TimeToError{usable.front().seconds, slope, false, usable.front().seconds, false};
   if (!(slope < 0.0)) return std::nullopt;  // not converging: no time reaches the target
-  return TimeToError{std::exp((std::log(target) - intercept) / slope), slope, true};
+  const ErrorPoint& last = usable.back();
+  return TimeToError{std::exp((std::log(target) - intercept) / slope), slope, true,
+                     last.seconds * last.rel_mse / target, slope > kShallowSlope};
 }
 
 }  // namespace tessera

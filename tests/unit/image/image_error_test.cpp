@@ -42,6 +42,8 @@ TEST(TimeToError, InterpolatesWhenTheSeriesReachesTheTarget) {
   EXPECT_FALSE(at->extrapolated);
   EXPECT_NEAR(at->seconds, 100.0, 1e-9);
   EXPECT_NEAR(at->slope, -1.0, 1e-12);
+  EXPECT_EQ(at->seconds_at_unit_slope, at->seconds);  // measured: nothing to extrapolate
+  EXPECT_FALSE(at->shallow);
 }
 
 // A renderer with a fixed cost per render (20 ms) and 10 ms per sample, relMSE 1 / spp, at
@@ -56,6 +58,26 @@ TEST(TimeToError, ExtrapolationLeavesOutTheShortRendersFixedCost) {
   EXPECT_TRUE(at->extrapolated);
   EXPECT_NEAR(at->seconds, 10.02, 0.07 * 10.02);
   EXPECT_NEAR(at->slope, -1.0, 0.05);
+  EXPECT_FALSE(at->shallow);
+  // From the 256-spp render (2.58 s, relMSE 1/256) at slope -1: 10.08 s, near the 10.02 s
+  // it takes; the fixed cost is a smaller share of the longest render.
+  EXPECT_NEAR(at->seconds_at_unit_slope, 2.58 / 256.0 / 1e-3, 1e-9);
+}
+
+// Fireflies: a heavy-tailed series whose later renders barely improve until the rare bright
+// samples are averaged (relMSE stepping 0.046, 0.087, 0.042, 0.019 at 0.19-1.48 s, the
+// held-out studio scene's 32-256 spp) fits a slope flatter than -0.8, which is flagged.
+TEST(TimeToError, FlagsASeriesTooShortForItsFireflies) {
+  const std::vector<ErrorPoint> series = {{0.008, 0.23},  {0.014, 0.12},  {0.029, 0.15},
+                                          {0.054, 0.31},  {0.097, 0.12},  {0.192, 0.046},
+                                          {0.387, 0.087}, {0.732, 0.042}, {1.477, 0.019}};
+  const auto at = time_to_error(series, 1e-3);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_TRUE(at->extrapolated);
+  EXPECT_GT(at->slope, kShallowSlope);
+  EXPECT_TRUE(at->shallow);
+  EXPECT_GT(at->seconds, 100.0);  // the flat fit's hundreds of seconds
+  EXPECT_NEAR(at->seconds_at_unit_slope, 1.477 * 0.019 / 1e-3, 1e-9);
 }
 
 TEST(TimeToError, ExtrapolatesAPowerLawAndRefusesAFlatOne) {
@@ -66,6 +88,10 @@ TEST(TimeToError, ExtrapolatesAPowerLawAndRefusesAFlatOne) {
   EXPECT_TRUE(at->extrapolated);
   EXPECT_NEAR(at->slope, -0.5, 1e-12);
   EXPECT_NEAR(at->seconds, 250000.0, 1e-6);  // 0.5 / sqrt(t) = 1e-3 at t = 500^2
+  // Much flatter than an unbiased renderer's -1: flagged, with the last render's relMSE
+  // carried on at slope -1 beside it: 8 s x 0.5 / sqrt(8) / 1e-3.
+  EXPECT_TRUE(at->shallow);
+  EXPECT_NEAR(at->seconds_at_unit_slope, 8.0 * 0.5 / std::sqrt(8.0) / 1e-3, 1e-6);
 
   const std::vector<ErrorPoint> flat = {{1, 0.2}, {2, 0.2}, {4, 0.2}};  // bias, no progress
   EXPECT_FALSE(time_to_error(flat, 1e-3).has_value());

@@ -31,7 +31,22 @@ struct TimeToError {
   // variance falls as 1/samples; flatter means bias or fireflies that do not average out).
   double slope = 0.0;
   bool extrapolated = false;  // the series never reached the target; a power-law fit did
+  // The time the last render predicts if relMSE falls as 1 / time from it on (an unbiased
+  // estimator's asymptotic rate): relMSE x seconds of that render / target. Where the fitted
+  // slope is much flatter than -1 (`shallow`) the fit extrapolates a transient by orders of
+  // magnitude: rare bright samples (a small light's caustics) not averaged yet flatten the
+  // later renders' errors until they are (a held-out scene lit by a small sun, fitted at
+  // 32-256 spp: slope -0.55 and 535 s; measured to 2,048 spp: slope -1.12 and 18.5 s; this
+  // figure from its 256-spp render: 28.5 s). A flat slope can also be bias or a reference
+  // too noisy for the error: render more samples to measure the time instead. Equal to
+  // `seconds` when the series reached the target.
+  double seconds_at_unit_slope = 0.0;
+  bool shallow = false;  // extrapolated with a slope flatter than kShallowSlope
 };
+
+// A fitted slope flatter than this (relMSE falling slower than time^-0.8) marks an
+// extrapolation as unreliable (TimeToError::shallow).
+inline constexpr double kShallowSlope = -0.8;
 
 // The time at which the series reaches `target` relMSE: interpolated (log-log) between the
 // two renders that bracket it, or extrapolated from a least-squares power law through the
