@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The converge suite: every scene of bench/converge/scenes/ and RayON's colour-bleed box
 # through `tessera-bench converge`, one CSV, plot and log per scene, and OUTDIR/summary.md
-# with the time to relMSE 1e-3 of each renderer and how the two references compare.
+# with the time to relMSE 1e-3 of each renderer, how the two references compare and the
+# fits' slopes (one flatter than -0.8 is marked: its extrapolation is unreliable).
 #
 #   bench/converge/run_suite.sh OUTDIR [--peer cycles] [--reference-spp N] [--spp LIST]
 #                               [--threads N] [--build DIR] [--adaptive TARGETS] [--denoise]
@@ -70,8 +71,10 @@ summary="$out/summary.md"
   echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -n), $threads threads, reference $reference_spp spp, spp $spp${peer:+, peer ${peer[1]}}."
   echo "Times are seconds to relMSE 1e-3 against each renderer's own reference, measured or extrapolated (see each scene's .log); \"–\": not reached and not falling."
   echo
-  echo "| scene | Tessera time to 1e-3 | Cycles time to 1e-3 | Cycles / Tessera | Tessera reference mean | Cycles reference mean | relMSE between references | Tessera adaptive | Tessera denoised |"
-  echo "|---|---|---|---|---|---|---|---|---|"
+  echo "A slope (relMSE ~ time^slope over the later renders) flatter than -0.8 is marked \"!\": its extrapolation is unreliable (fireflies not yet averaged, bias or a noisy reference; see the scene's .log), and the last column gives the ratio of the times the last renders predict at slope -1."
+  echo
+  echo "| scene | Tessera time to 1e-3 | Cycles time to 1e-3 | Cycles / Tessera | Tessera reference mean | Cycles reference mean | relMSE between references | Tessera adaptive | Tessera denoised | slopes, Tessera / Cycles | Cycles / Tessera at slope -1 |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$summary"
 
 for entry in "${scenes[@]}"; do
@@ -79,7 +82,7 @@ for entry in "${scenes[@]}"; do
   scene=${entry#*=}
   if [ "$name" = mesh_250k ] && [ ! -f "$shared/meshes/suzanne-sub4.ply" ] || [ ! -f "$scene" ]; then
     echo "run_suite.sh: $name skipped ($scene or its mesh is absent)"
-    echo "| $name | skipped | | | | | | | |" >> "$summary"
+    echo "| $name | skipped | | | | | | | | | |" >> "$summary"
     continue
   fi
   echo "run_suite.sh: $name"
@@ -89,9 +92,15 @@ for entry in "${scenes[@]}"; do
     --csv "$out/$name.csv" --plot "$out/$name.png" --save-reference "$out/${name}_reference.exr" \
     --peer-dir "$out/${name}_cycles" | tee "$out/$name.log"
   line=$(grep '^summary:' "$out/$name.log")
-  field() { sed -n "s/.*$1=\([^ ]*\).*/\1/p" <<< "$line"; }
+  slopes=$(grep '^summary_slopes:' "$out/$name.log")
+  field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< " $line"; }
+  slope_field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< " $slopes"; }
   fmt() { [ "$1" = nan ] && echo "–" || printf '%.3g' "$1"; }
-  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") |" >> "$summary"
+  slope() {  # the slope, "!" when flatter than -0.8
+    [ -z "$1" ] || [ "$1" = nan ] && { echo "–"; return; }
+    awk -v s="$1" 'BEGIN { printf "%.2f%s", s, (s > -0.8 ? " !" : "") }'
+  }
+  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") | $(slope "$(slope_field tessera_slope)") / $(slope "$(slope_field cycles_slope)") | $(fmt "$(slope_field ratio_unit_slope)") |" >> "$summary"
 done
 # What the peer drew differently from Tessera, as it said: a ratio or a pair of means is read
 # with these in mind.
