@@ -5,7 +5,11 @@
 // its 1.2 G instructions in symbol lookup, and so did each of the test binaries' ~1,300
 // processes. The code that calls OpenImageIO is therefore a module of its own,
 // libtessera_image_codecs.so (core/image_codecs/), which the functions of image/exr.hpp and
-// image/rgb_image.hpp load with dlopen the first time one of them runs.
+// image/rgb_image.hpp load with dlopen the first time one of them runs. That load is still
+// about 0.45 s (0.47 s of a 64x48 one-sample `tessera render --local`). Loading it on a
+// thread of its own while the CLI renders, and opening the tiled EXR once it was done, was
+// tried (6 December) and gave nothing: the load is CPU work that competes with the render
+// threads, which already use every core, and a short render waits for it at the end anyway.
 //
 // The module is at $TESSERA_IMAGE_CODECS when that is set (and nowhere else then);
 // otherwise the first usable one of:
