@@ -36,7 +36,7 @@ struct TimeToError {
   // slope is much flatter than -1 (`shallow`) the fit extrapolates a transient by orders of
   // magnitude: rare bright samples (a small light's caustics) not averaged yet flatten the
   // later renders' errors until they are (a held-out scene lit by a small sun, fitted at
-  // 32-256 spp: slope -0.55 and 535 s; measured to 2,048 spp: slope -1.12 and 18.5 s; this
+  // 32-256 spp: slope -0.55 and 535 s; fitted at 64-2,048 spp: slope -1.12 and 18.5 s; this
   // figure from its 256-spp render: 28.5 s). A flat slope can also be bias or a reference
   // too noisy for the error: render more samples to measure the time instead. Equal to
   // `seconds` when the series reached the target.
