@@ -489,6 +489,9 @@ int run_converge(const ConvergeOptions& options) {
   const auto slope_of = [](const Series* s) {
     return s && s->at_target ? s->at_target->slope : std::nan("");
   };
+  const auto shallow_of = [](const Series* s) {
+    return s && s->at_target && s->at_target->shallow ? 1 : 0;
+  };
   const Series* cycles = all.back().name == "cycles" ? &all.back() : nullptr;
   const Series *adaptive = nullptr, *denoised = nullptr;
   for (const Series& series : all) {
@@ -504,10 +507,11 @@ int run_converge(const ConvergeOptions& options) {
       references ? references->rel_mse : std::nan(""), time_of(adaptive), time_of(denoised));
   // Separate from the line above, whose fields scripts read by position as well as by name.
   std::printf(
-      "summary_slopes: tessera_slope=%.3g cycles_slope=%.3g tessera_time_unit_slope=%.6g "
-      "cycles_time_unit_slope=%.6g ratio_unit_slope=%.6g\n",
-      slope_of(&tessera), slope_of(cycles), unit_slope_time_of(&tessera),
-      unit_slope_time_of(cycles), unit_slope_time_of(cycles) / unit_slope_time_of(&tessera));
+      "summary_slopes: tessera_slope=%.3g cycles_slope=%.3g tessera_shallow=%d cycles_shallow=%d "
+      "tessera_time_unit_slope=%.6g cycles_time_unit_slope=%.6g ratio_unit_slope=%.6g\n",
+      slope_of(&tessera), slope_of(cycles), shallow_of(&tessera), shallow_of(cycles),
+      unit_slope_time_of(&tessera), unit_slope_time_of(cycles),
+      unit_slope_time_of(cycles) / unit_slope_time_of(&tessera));
 
   if (!options.csv.empty()) {
     std::ofstream csv(options.csv);

@@ -96,11 +96,13 @@ for entry in "${scenes[@]}"; do
   field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< " $line"; }
   slope_field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<< " $slopes"; }
   fmt() { [ "$1" = nan ] && echo "–" || printf '%.3g' "$1"; }
-  slope() {  # the slope, "!" when flatter than -0.8
-    [ -z "$1" ] || [ "$1" = nan ] && { echo "–"; return; }
-    awk -v s="$1" 'BEGIN { printf "%.2f%s", s, (s > -0.8 ? " !" : "") }'
+  slope() {  # a renderer's slope, "!" where converge flagged its fit as too flat to trust
+    local value
+    value=$(slope_field "$1_slope")
+    [ -z "$value" ] || [ "$value" = nan ] && { echo "–"; return; }
+    printf '%.2f%s' "$value" "$([ "$(slope_field "$1_shallow")" = 1 ] && echo " !")"
   }
-  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") | $(slope "$(slope_field tessera_slope)") / $(slope "$(slope_field cycles_slope)") | $(fmt "$(slope_field ratio_unit_slope)") |" >> "$summary"
+  echo "| $name | $(fmt "$(field tessera_time)") | $(fmt "$(field cycles_time)") | $(fmt "$(field ratio)") | $(fmt "$(field tessera_ref_mean)") | $(fmt "$(field cycles_ref_mean)") | $(fmt "$(field ref_relmse)") | $(fmt "$(field adaptive_time)") | $(fmt "$(field denoised_time)") | $(slope tessera) / $(slope cycles) | $(fmt "$(slope_field ratio_unit_slope)") |" >> "$summary"
 done
 # What the peer drew differently from Tessera, as it said: a ratio or a pair of means is read
 # with these in mind.
