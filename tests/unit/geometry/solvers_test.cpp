@@ -41,6 +41,25 @@ TEST(SolveQuadratic, NoRealRootsDoubleRootAndLinear) {
   EXPECT_EQ(solve_quadratic(0.0, 0.0, 1.0, roots), 0);
 }
 
+TEST(SolveQuadratic, CoefficientsBeyondTheSquaresRangeAreBalancedFirst) {
+  // 12 x^2 - 6e200 x + 1e200 (the second derivative of a quartic with a root at 1e200):
+  // b^2 overflowed to inf, and the one root returned was 0.
+  double roots[2];
+  ASSERT_EQ(solve_quadratic(12.0, -6e200, 1e200, roots), 2);
+  EXPECT_NEAR(roots[0], 1.0 / 6.0, 1e-16);
+  EXPECT_NEAR(roots[1] / 5e199, 1.0, 1e-15);
+  // (x - 1)(x - 2) times 1e-200: b^2 and 4ac underflowed into the subnormals and the
+  // roots came back as 1.33 and 1.5.
+  ASSERT_EQ(solve_quadratic(1e-200, -3e-200, 2e-200, roots), 2);
+  EXPECT_NEAR(roots[0], 1.0, 1e-15);
+  EXPECT_NEAR(roots[1], 2.0, 1e-15);
+  // x^2 + 1 times 1e300 still has no real root, and 1e-300 (x^2 - 4) two (they were 0, 0).
+  EXPECT_EQ(solve_quadratic(1e300, 0.0, 1e300, roots), 0);
+  ASSERT_EQ(solve_quadratic(1e-300, 0.0, -4e-300, roots), 2);
+  EXPECT_NEAR(roots[0], -2.0, 1e-15);
+  EXPECT_NEAR(roots[1], 2.0, 1e-15);
+}
+
 TEST(SolveCubic, ThreeRealRootsOneRealRootAndTripleRoot) {
   double roots[3];
   ASSERT_EQ(solve_cubic(1.0, -6.0, 11.0, -6.0, roots), 3);  // (x-1)(x-2)(x-3)
@@ -151,26 +170,51 @@ TEST(SolveQuartic, RootsBeyondOneScalingAreReportedAsFailure) {
 }
 
 TEST(RootsInInterval, NonConvergenceIsReportedNotReturned) {
-  // (x - 1)(x^2 + 1e300) on [0, 1e300] (inside its Cauchy bound): p(1e300) overflows,
+  // (x - 1)(x^2 + 1e300) on [0, 1e300] (inside its Cauchy bound), searched as the torus
+  // searches (RootSpan::kBounded: brackets halved arithmetically): p(1e300) overflows,
   // regula falsi and Newton creep down by a factor 2/3 per step, and after
   // kMaxBracketIterations the iterate (~1e270) was returned as the root. Now the search
   // says it did not converge.
   const Polynomial<3, double> p{{-1e300, 1e300, -1.0, 1.0}};
-  double roots[3];
-  EXPECT_EQ(roots_in_interval(p, 0.0, 1e300, roots), kSolverFailed);
   int visited = 0;
-  EXPECT_EQ(visit_roots_in_interval(p, 0.0, 1e300,
-                                    [&](double) {
-                                      ++visited;
-                                      return false;
-                                    }),
+  EXPECT_EQ(detail::visit_roots(
+                p, 0.0, 1e300,
+                [&](double) {
+                  ++visited;
+                  return false;
+                },
+                0.0),
             RootSearch::kNotConverged);
   EXPECT_EQ(visited, 0);
-  // On a sensible interval the same polynomial's root is found, and the search completes.
+  // The public search halves such brackets in their exponent and finds the root.
+  double roots[3];
+  ASSERT_EQ(roots_in_interval(p, 0.0, 1e300, roots), 1);
+  EXPECT_NEAR(roots[0], 1.0, 1e-15);
+  EXPECT_EQ(visit_roots_in_interval(p, 0.0, 1e300, [](double) { return false; }),
+            RootSearch::kCompleted);
   ASSERT_EQ(roots_in_interval(p, 0.0, 1e3, roots), 1);
   EXPECT_NEAR(roots[0], 1.0, 1e-15);
-  EXPECT_EQ(visit_roots_in_interval(p, 0.0, 1e3, [](double) { return false; }),
-            RootSearch::kCompleted);
+}
+
+TEST(RootsInInterval, RootsEightyToThreeHundredOrdersApartAreAllFound) {
+  // Three roots in [-1, 1] beside one of 1e80 to 1e300 (either sign). Before, the critical
+  // points separating the small roots were found to 1e-10 of the interval (~1e190 off for
+  // 1e200), and the closed-form quadratic of the second derivative overflowed in b^2: the
+  // small roots were lost or the search stopped unconverged, on every such quartic.
+  // Algorithm 1010 says it cannot solve these (RootsBeyondOneScalingAreReportedAsFailure).
+  for (const long double huge : {1e80L, -1e150L, 1e200L, -1e250L, 1e300L}) {
+    const long double small[3] = {-0.5L, 0.3L, 0.7L};
+    const auto c = quartic_from_roots({small[0], small[1], small[2], huge});
+    const Polynomial<4, double> p{{c[0], c[1], c[2], c[3], c[4]}};
+    const double bound = detail::cauchy_bound(p);
+    double roots[4];
+    ASSERT_EQ(roots_in_interval(p, -bound, bound, roots), 4) << static_cast<double>(huge);
+    const int first_small = huge < 0 ? 1 : 0;
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(roots[first_small + i], static_cast<double>(small[i]), 1e-14);
+    const double found_huge = roots[huge < 0 ? 0 : 3];
+    EXPECT_NEAR(found_huge / static_cast<double>(huge), 1.0, 1e-14);
+  }
 }
 
 TEST(RootsInInterval, IntervalsWiderThanTheRootsAreClippedToCauchysBound) {

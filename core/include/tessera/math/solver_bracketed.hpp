@@ -30,25 +30,66 @@ enum class RootSearch {
                   // roots visited before it are right, the search stopped there
 };
 
+// How a search treats intervals that span many orders of magnitude.
+enum class RootSpan {
+  // Ray intervals, already bounded by the shape: the critical points that separate roots
+  // are found to 1e-10 of the interval, and brackets are halved arithmetically.
+  kBounded,
+  // Any interval, up to Cauchy's bound of any polynomial (the public solver): critical
+  // points to full precision, and a bracket spanning orders of magnitude is halved in
+  // its exponent. Roots near 1 beside one near 1e200 then keep their separating critical
+  // points (to 1e-10 of the interval they were ~1e190 off, and those roots were lost).
+  kAnyMagnitude,
+};
+
 namespace detail {
+
+// Whether [lo, hi] straddles zero or one end is more than 16 times the other (zero counts
+// as the smallest normal): a bracket that arithmetic halving narrows only slowly in
+// relative terms (from 1e300 down to 1, ~1000 halvings).
+template <typename T>
+TESSERA_HD TESSERA_INLINE bool spans_magnitudes(T lo, T hi) {
+  if (lo < T(0) && hi > T(0)) return true;
+  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), std::numeric_limits<T>::min());
+  return std::fmax(std::fabs(lo), std::fabs(hi)) > T(16) * small;
+}
+
+// The point that halves [lo, hi] in its exponent: zero when it straddles zero, the
+// geometric mean when it spans orders of magnitude, else the midpoint (~10 halvings from
+// 1e300 to 1 instead of ~1000).
+template <typename T>
+TESSERA_HD T magnitude_midpoint(T lo, T hi) {
+  if (lo < T(0) && hi > T(0)) return T(0);
+  if (!spans_magnitudes(lo, hi)) return T(0.5) * lo + T(0.5) * hi;
+  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), std::numeric_limits<T>::min());
+  const T mean = std::sqrt(small) * std::sqrt(std::fmax(std::fabs(lo), std::fabs(hi)));
+  return hi > T(0) ? mean : -mean;  // sqrt of each: their product may overflow
+}
 
 // Iterations of bracketed_root before it gives up. Newton converges in a handful and
 // bisection gains a bit per step, so this is only reached when the bracket spans many
-// orders of magnitude (e.g. [0, 1e300] around a root near 1, where p(hi) overflows and
-// Newton creeps down by a constant factor per step).
+// orders of magnitude under RootSpan::kBounded (e.g. [0, 1e300] around a root near 1,
+// where p(hi) overflows and Newton creeps down by a constant factor per step).
 inline constexpr int kMaxBracketIterations = 100;
 
 // Root of p in [lo, hi], given p(lo) = value_lo with sign opposite to p(hi) (rtsafe:
 // Newton where it converges, bisection where it would leave the bracket or stall).
 // Returns false, instead of an unconverged value, when kMaxBracketIterations pass without
 // the step or the bracket falling below the tolerance; `root` then holds the last iterate.
-template <int Degree, typename T>
+template <RootSpan Span = RootSpan::kBounded, int Degree, typename T>
 TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T value_lo, T value_hi,
                                T absolute_tolerance, T& root) {
+  const auto halve = [](T a, T b) {
+    if constexpr (Span == RootSpan::kAnyMagnitude) {
+      return magnitude_midpoint(a, b);
+    } else {
+      return T(0.5) * (a + b);
+    }
+  };
   const bool lo_negative = value_lo < T(0);
   // Regula falsi starting point: already close when p is nearly linear on the bracket.
   T x = lo + (hi - lo) * (value_lo / (value_lo - value_hi));
-  if (!(x > lo && x < hi)) x = T(0.5) * (lo + hi);
+  if (!(x > lo && x < hi)) x = halve(lo, hi);
   T previous_step = hi - lo;
   T step = previous_step;
   constexpr T kEpsilon = std::numeric_limits<T>::epsilon();
@@ -68,10 +109,19 @@ TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T val
     T next;
     // Bisect when Newton leaves the bracket (or is not finite, which the comparisons also
     // catch) or when it is not halving the step size fast enough.
-    if (!(newton > lo && newton < hi) ||
-        std::fabs(T(2) * value) > std::fabs(previous_step * derivative)) {
+    bool bisect = !(newton > lo && newton < hi) ||
+                  std::fabs(T(2) * value) > std::fabs(previous_step * derivative);
+    if constexpr (Span == RootSpan::kAnyMagnitude) {
+      // Far from its roots a polynomial of degree n looks like x^n, and Newton moves by
+      // about x / n per step (halving is enough for the test above): from 1e40 towards a
+      // root near 1 that is ~130 steps. While the bracket spans orders of magnitude,
+      // halve its exponent instead, unless Newton is converging (a step below x / 8).
+      if (!bisect && spans_magnitudes(lo, hi) && !(std::fabs(newton - x) < T(0.125) * std::fabs(x)))
+        bisect = true;
+    }
+    if (bisect) {
       previous_step = step;
-      next = T(0.5) * (lo + hi);
+      next = halve(lo, hi);
     } else {
       previous_step = step;
       next = newton;
@@ -119,7 +169,7 @@ TESSERA_HD T cauchy_bound(const Polynomial<Degree, T>& p) {
 // the torus's is by its bounding sphere). Forced inline: with the failure checks added,
 // GCC stopped inlining the derivative's search into the torus intersector, which cost it
 // 4% more instructions (callgrind); inlined, the torus is within 0.5% of before.
-template <int Degree, typename T, typename Visitor>
+template <RootSpan Span = RootSpan::kBounded, int Degree, typename T, typename Visitor>
 TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, T>& p, T lo, T hi,
                                                        Visitor&& visit, T absolute_tolerance) {
   static_assert(Degree >= 1, "a constant has no isolated roots");
@@ -139,13 +189,14 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
     int critical_count = 0;
     // A critical point that did not converge could put two roots in one piece (or none
     // where there is one): nothing found after it could be trusted.
-    if (visit_roots(
+    const T critical_tolerance = Span == RootSpan::kBounded ? T(1e-10) * (hi - lo) : T(0);
+    if (visit_roots<Span>(
             p.derivative(), lo, hi,
             [&](T x) {
               critical[critical_count++] = x;
               return critical_count == Degree - 1;
             },
-            T(1e-10) * (hi - lo)) == RootSearch::kNotConverged)
+            critical_tolerance) == RootSearch::kNotConverged)
       return RootSearch::kNotConverged;
     T a = lo;
     T value_a = sign_reliable_value(p, lo);
@@ -168,7 +219,7 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
         }
       } else if (value_a != T(0) && ((value_a < T(0)) != (value_b < T(0)))) {
         T root;
-        if (!bracketed_root(p, a, b, value_a, value_b, absolute_tolerance, root))
+        if (!bracketed_root<Span>(p, a, b, value_a, value_b, absolute_tolerance, root))
           return RootSearch::kNotConverged;
         if (visit(root)) return RootSearch::kStopped;
         visited_any = true;
@@ -189,9 +240,12 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
 // exactly at a critical point (p == 0 there, a double root) is visited once. The leading
 // coefficient should be non-zero; a zero one does no harm, the search finds fewer pieces.
 //
-// The derivative's roots only separate the pieces, so they are found to a tolerance of
-// 1e-10 of the interval rather than to the last bit: a critical point that far off changes
-// p there by ~p'' * 1e-20 * length^2, far below its rounding error.
+// The search is RootSpan::kAnyMagnitude: the derivative's roots, which separate the pieces,
+// are found to full precision, and brackets are halved in their exponent where they span
+// orders of magnitude, so roots of very different sizes (1, 2, 3 and 1e200) are all found.
+// (The torus, whose interval its bounding sphere bounds, calls detail::visit_roots with
+// kBounded: critical points to 1e-10 of the interval, which changes p there by
+// ~p'' * 1e-20 * length^2, far below its rounding error, in fewer Newton steps.)
 template <int Degree, typename T, typename Visitor>
 TESSERA_HD RootSearch visit_roots_in_interval(const Polynomial<Degree, T>& p, T lo, T hi,
                                               Visitor&& visit, T absolute_tolerance = T(0)) {
@@ -203,7 +257,7 @@ TESSERA_HD RootSearch visit_roots_in_interval(const Polynomial<Degree, T>& p, T 
   const T bound = detail::cauchy_bound(p);
   if (lo < -bound) lo = -bound;
   if (hi > bound) hi = bound;
-  return detail::visit_roots(p, lo, hi, visit, absolute_tolerance);
+  return detail::visit_roots<RootSpan::kAnyMagnitude>(p, lo, hi, visit, absolute_tolerance);
 }
 
 // Roots of p in [lo, hi], ascending, written to roots (room for Degree values); returns

@@ -24,6 +24,24 @@ TESSERA_HD TESSERA_INLINE double quadratic_discriminant(double a, double b, doub
   return d + (bb_error - ac4_error);
 }
 
+// Divides a, b and c by one power of two (the roots stay the same, and no digit changes)
+// when the largest is beyond 2^500 or below 2^-500: b^2 overflowed from |b| ~ 1.3e154 (the
+// second derivative of (x - 1)(x - 2)(x - 3)(x - 1e200) lost its roots to that), and 4ac
+// underflows as early. Coefficients between leave every result bit for bit as before.
+template <typename T>
+TESSERA_HD TESSERA_INLINE void balance_quadratic(T& a, T& b, T& c) {
+  if constexpr (sizeof(T) >= sizeof(double)) {
+    const T largest = std::fmax(std::fmax(std::fabs(a), std::fabs(b)), std::fabs(c));
+    if (!(largest > T(0x1p500)) && !(largest < T(0x1p-500) && largest > T(0))) return;
+    if (!std::isfinite(largest)) return;
+    int exponent;
+    std::frexp(largest, &exponent);
+    a = std::ldexp(a, -exponent);
+    b = std::ldexp(b, -exponent);
+    c = std::ldexp(c, -exponent);
+  }
+}
+
 // Real roots of a x^2 + b x + c = 0 in ascending order; returns how many (0, 1 or 2; a
 // double root is returned twice). The root of larger magnitude comes from
 // q = -(b + sign(b) sqrt(disc)) / 2 and the other from c / q, so neither is formed as a
@@ -38,6 +56,7 @@ TESSERA_HD int solve_quadratic(T a, T b, T c, T roots[2]) {
     roots[0] = x;
     return 1;
   }
+  balance_quadratic(a, b, c);  // float coefficients cannot overflow the double discriminant
   const auto disc = quadratic_discriminant(a, b, c);
   if (disc < 0) return 0;
   const auto root_disc = std::sqrt(disc);
