@@ -73,6 +73,24 @@ TEST(SolveCubic, ThreeRealRootsOneRealRootAndTripleRoot) {
   for (int i = 0; i < n; ++i) EXPECT_NEAR(roots[i], 1.0, 1e-5);  // cube-root conditioning
 }
 
+TEST(SolveCubic, RootsOfVeryDifferentMagnitudesAreAllFound) {
+  // (x - 1)(x - 2)(x - 1e200): the depressed form's shift^3 overflowed and the one root
+  // returned was NaN. (x - 1e-150)(x - 1)(x - 1e150) came back as one infinite root.
+  double roots[3];
+  ASSERT_EQ(solve_cubic(1.0, -(1e200 + 3.0), 3e200 + 2.0, -2e200, roots), 3);
+  EXPECT_NEAR(roots[0], 1.0, 1e-15);
+  EXPECT_NEAR(roots[1], 2.0, 1e-15);
+  EXPECT_NEAR(roots[2] / 1e200, 1.0, 1e-15);
+  // Coefficients of (x - 1e-150)(x - 1)(x - 1e150), each rounded once.
+  ASSERT_EQ(solve_cubic(1.0, -1e150, 1e150, -1.0, roots), 3);
+  EXPECT_NEAR(roots[0] / 1e-150, 1.0, 1e-15);
+  EXPECT_NEAR(roots[1], 1.0, 1e-15);
+  EXPECT_NEAR(roots[2] / 1e150, 1.0, 1e-15);
+  // A huge negative root beside a complex pair: x^2 + 1 times (x + 1e250).
+  ASSERT_EQ(solve_cubic(1.0, 1e250, 1.0, 1e250, roots), 1);
+  EXPECT_NEAR(roots[0] / -1e250, 1.0, 1e-15);
+}
+
 struct QuarticCase {
   double c[5];  // c[i] multiplies x^i
   std::vector<double> roots;

@@ -54,12 +54,35 @@ TESSERA_HD T dominant_root_depressed_cubic(T p, T q) {
 
 }  // namespace detail
 
+namespace detail {
+
+// Exponent e of the power of two that makes the monic cubic's coefficients O(1) under
+// x = 2^e y (a / 2^e, b / 2^2e, c / 2^3e).
+template <typename T>
+TESSERA_HD int cubic_root_exponent(T a, T b, T c) {
+  const T m = std::fmax(std::fmax(std::fabs(a), std::sqrt(std::fabs(b))), std::cbrt(std::fabs(c)));
+  if (!(m > T(0)) || !std::isfinite(m)) return 0;
+  int exponent;
+  std::frexp(m, &exponent);
+  return exponent;
+}
+
+}  // namespace detail
+
 // Real roots of c3 x^3 + c2 x^2 + c1 x + c0 = 0, ascending; returns how many (0 to 3,
-// multiple roots repeated). One root comes from the closed form on the depressed cubic and
-// is polished with Newton on the original polynomial; the other two come from the deflated
+// multiple roots repeated). One root, the largest in magnitude, comes from the closed form
+// on the depressed cubic and is polished with Newton; the other two come from the deflated
 // quadratic (whichever of forward or backward deflation leaves the smaller residual, as in
 // ACM TOMS Algorithm 954, Flocke 2015) and are polished the same way. c3 == 0 (or so small
 // that the monic form overflows) degrades to the quadratic.
+//
+// The dominant root is found on the cubic scaled by a power of two (x = 2^e y), where the
+// depressed form cannot overflow: unscaled, a root of 1e160 made shift^3 infinite and the
+// solver returned NaN, and roots 1e-150, 1 and 1e150 came back as one infinite root. The
+// scaled cubic may lose its tiny coefficients to underflow, which moves the dominant root
+// by nothing representable; the deflation uses the unscaled ones, and its backward form
+// ((C - b) / x0 and -c / x0) keeps the small roots' digits beside a huge one, where
+// forward deflation (a + x0) cancels them away.
 template <typename T>
 TESSERA_HD int solve_cubic(T c3, T c2, T c1, T c0, T roots[3]) {
   if (c3 == T(0)) return solve_quadratic(c2, c1, c0, roots);
@@ -70,24 +93,38 @@ TESSERA_HD int solve_cubic(T c3, T c2, T c1, T c0, T roots[3]) {
     return solve_quadratic(c2, c1, c0, roots);
   const Polynomial<3, T> monic{{c, b, a, T(1)}};
 
-  const T shift = a / T(3);
-  const T p = b - a * shift;
-  const T q = (T(2) * shift * shift - b) * shift + c;  // 2a^3/27 - ab/3 + c
-  T x0 = detail::dominant_root_depressed_cubic(p, q) - shift;
-  x0 = polish_root(monic, x0, 8);
+  const int exponent = detail::cubic_root_exponent(a, b, c);
+  const T as = std::ldexp(a, -exponent);
+  const T bs = std::ldexp(b, -2 * exponent);
+  const T cs = std::ldexp(c, -3 * exponent);
+  const Polynomial<3, T> scaled{{cs, bs, as, T(1)}};
+  const T shift = as / T(3);
+  const T p = bs - as * shift;
+  const T q = (T(2) * shift * shift - bs) * shift + cs;  // 2a^3/27 - ab/3 + c
+  T y0 = detail::dominant_root_depressed_cubic(p, q) - shift;
+  y0 = polish_root(scaled, y0, 8);
+  const T x0 = std::ldexp(y0, exponent);
 
-  // x^3 + a x^2 + b x + c = (x - x0)(x^2 + B x + C).
-  const T B = a + x0;
-  const T C_forward = b + x0 * B;
-  T C = C_forward;
+  // x^3 + a x^2 + b x + c = (x - x0)(x^2 + B x + C): a = B - x0, b = C - x0 B, c = -x0 C.
+  // B forward with C forward or backward, whichever reproduces b and c better; then B and
+  // C both backward if that reproduces all three better still (a root far larger than the
+  // others, where a + x0 cancels their digits).
+  T B = a + x0;
+  T C = b + x0 * B;
   if (x0 != T(0)) {
     const T C_backward = -c / x0;
-    const T residual_forward = std::fabs(x0 * C_forward + c);
-    const T residual_backward = std::fabs(C_backward - x0 * B - b);
-    const T residual_forward_b = std::fabs(C_forward - x0 * B - b);
-    const T residual_backward_c = std::fabs(x0 * C_backward + c);
-    if (residual_backward + residual_backward_c < residual_forward + residual_forward_b)
+    const T residual_forward = std::fabs(x0 * C + c) + std::fabs(C - x0 * B - b);
+    const T residual_mixed = std::fabs(x0 * C_backward + c) + std::fabs(C_backward - x0 * B - b);
+    if (residual_mixed < residual_forward) C = C_backward;
+    const T B_backward = (C_backward - b) / x0;
+    const auto residual = [&](T B_try, T C_try) {
+      return std::fabs(B_try - x0 - a) + std::fabs(C_try - x0 * B_try - b) +
+             std::fabs(x0 * C_try + c);
+    };
+    if (residual(B_backward, C_backward) < residual(B, C)) {
+      B = B_backward;
       C = C_backward;
+    }
   }
   T quadratic_roots[2];
   const int n = solve_quadratic(T(1), B, C, quadratic_roots);
