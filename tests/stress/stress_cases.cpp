@@ -402,9 +402,9 @@ double surface_distance_bound(const Torus1010& t, const dvec3& point) {
 // of the rounded polynomial. wrong = a different number of real roots; t = the largest
 // error of a root relative to the largest root magnitude.
 // kHugeRoot: three roots in [-1, 1] and one of magnitude 1e80 to 1e300; beyond ~1e102 no
-// single power-of-two scaling of double holds both, and Algorithm 1010 must say so
-// (kSolverFailed, counted as `failed`, not wrong) rather than return wrong roots, as it did
-// when its scale^4 overflowed. Isolation solves them all: its critical points are found
+// single power-of-two scaling of double holds both, and Algorithm 1010, which returned
+// wrong roots when its scale^4 overflowed, then reported failure, hands them to isolation.
+// Isolation solves them all: its critical points are found
 // to full precision and its brackets halved in their exponent (RootSpan::kAnyMagnitude);
 // to 1e-10 of the interval, as for the torus, it lost the small roots or stopped
 // unconverged on every one. kHugeInterval: roots in [0.5, 2] plus a complex pair,

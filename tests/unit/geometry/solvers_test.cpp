@@ -176,15 +176,23 @@ TEST(SolveQuartic, ScalingDoesNotOverflowForExtremeMagnitudes) {
   EXPECT_NEAR(roots[3], 1e100, 1e88);
 }
 
-TEST(SolveQuartic, RootsBeyondOneScalingAreReportedAsFailure) {
+TEST(SolveQuartic, RootsBeyondOneScalingAreSolvedByIsolation) {
   // (x - 1)(x - 2)(x - 3)(x - 1e200): scaled to make 1e200 O(1), d = 6e200 / 2^2660 falls
-  // below double's range and with it the three small roots. Before, one root (1e200) came
-  // back as if it were all; now the solver says it has no answer.
+  // below double's range and with it the three small roots. First one root (1e200) came
+  // back as if it were all, then the solver said it failed; now isolation over Cauchy's
+  // bound answers for Algorithm 1010.
   const auto c = quartic_from_roots({1.0L, 2.0L, 3.0L, 1e200L});
   double roots[4];
-  EXPECT_EQ(solve_quartic(c[4], c[3], c[2], c[1], c[0], roots), kSolverFailed);
-  // (x - 1e300)(x^3 + 1): c = 1 cannot be scaled by 2^-2991 either.
-  EXPECT_EQ(solve_quartic(1.0, -1e300, 0.0, 1.0, -1e300, roots), kSolverFailed);
+  // The coefficients are rounded, which moves the small roots by a few ulps.
+  ASSERT_EQ(solve_quartic(c[4], c[3], c[2], c[1], c[0], roots), 4);
+  EXPECT_NEAR(roots[0], 1.0, 1e-14);
+  EXPECT_NEAR(roots[1], 2.0, 1e-14);
+  EXPECT_NEAR(roots[2], 3.0, 1e-14);
+  EXPECT_NEAR(roots[3] / 1e200, 1.0, 1e-15);
+  // (x - 1e300)(x^3 + 1): c = 1 cannot be scaled by 2^-2991 either. Roots -1 and 1e300.
+  ASSERT_EQ(solve_quartic(1.0, -1e300, 0.0, 1.0, -1e300, roots), 2);
+  EXPECT_NEAR(roots[0], -1.0, 1e-15);
+  EXPECT_NEAR(roots[1] / 1e300, 1.0, 1e-15);
 }
 
 TEST(RootsInInterval, NonConvergenceIsReportedNotReturned) {
@@ -219,7 +227,8 @@ TEST(RootsInInterval, RootsEightyToThreeHundredOrdersApartAreAllFound) {
   // points separating the small roots were found to 1e-10 of the interval (~1e190 off for
   // 1e200), and the closed-form quadratic of the second derivative overflowed in b^2: the
   // small roots were lost or the search stopped unconverged, on every such quartic.
-  // Algorithm 1010 says it cannot solve these (RootsBeyondOneScalingAreReportedAsFailure).
+  // Algorithm 1010 cannot factor these and hands them to this search
+  // (SolveQuartic.RootsBeyondOneScalingAreSolvedByIsolation).
   for (const long double huge : {1e80L, -1e150L, 1e200L, -1e250L, 1e300L}) {
     const long double small[3] = {-0.5L, 0.3L, 0.7L};
     const auto c = quartic_from_roots({small[0], small[1], small[2], huge});

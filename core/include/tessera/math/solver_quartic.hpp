@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "tessera/math/polynomial.hpp"
+#include "tessera/math/solver_bracketed.hpp"
 #include "tessera/math/solver_cubic.hpp"
 
 namespace tessera {
@@ -177,8 +178,10 @@ TESSERA_HD TESSERA_INLINE bool scale_exactly(T& value, int shift) {
 
 }  // namespace detail
 
-// Returns the number of real roots written to `roots` (ascending), or kSolverFailed when
-// the roots span more orders of magnitude than one power-of-two scaling of double holds.
+// Returns the number of real roots written to `roots` (ascending). Where the roots span more
+// orders of magnitude than one power-of-two scaling of double holds (1, 2, 3 and 1e200),
+// Algorithm 1010 cannot factor the quartic and root isolation over Cauchy's bound answers
+// instead; kSolverFailed only if that does not converge either.
 template <typename T>
 TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
   if (c4 == T(0)) return solve_cubic(c3, c2, c1, c0, roots);
@@ -198,14 +201,18 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
 
   // A coefficient that the scaling takes below the normal range loses digits, and with them
   // the small roots it decides (e.g. (x - 1e200)(x - 1)(x - 2)(x - 3): d / 2^4e underflows):
-  // no single scaling holds roots that far apart, so the solver says it failed.
+  // no single scaling holds roots that far apart, and isolation takes over.
+  const auto isolate = [&] {
+    const T bound = detail::cauchy_bound(original);
+    return roots_in_interval(original, -bound, bound, roots);
+  };
   const int exponent = detail::quartic_root_exponent(a, b, c, d);
   if (!detail::scale_exactly(a, exponent) || !detail::scale_exactly(b, 2 * exponent) ||
       !detail::scale_exactly(c, 3 * exponent) || !detail::scale_exactly(d, 4 * exponent))
-    return kSolverFailed;
+    return isolate();
 
   const T phi0 = detail::quartic_phi0(a, b, c, d);
-  if (!std::isfinite(phi0)) return kSolverFailed;
+  if (!std::isfinite(phi0)) return isolate();
   const T l1 = a / T(2);                                    // eq. (16)
   const T l3 = b / T(6) + phi0 / T(2);                      // eq. (18)
   const T del2 = c - a * l3;                                // after eq. (27)
