@@ -44,24 +44,42 @@ enum class RootSpan {
 
 namespace detail {
 
-// Whether [lo, hi] straddles zero or one end is more than 16 times the other (zero counts
-// as the smallest normal): a bracket that arithmetic halving narrows only slowly in
-// relative terms (from 1e300 down to 1, ~1000 halvings).
+// A lower bound on the magnitude of p's non-zero roots: Cauchy's bound of the reversed
+// polynomial, |x| >= |c_k| / (|c_k| + max_{i>k} |c_i|) with c_k the lowest non-zero
+// coefficient (a few ulps smaller for its own rounding). Zero when it underflows.
+template <int Degree, typename T>
+TESSERA_HD T smallest_root_bound(const Polynomial<Degree, T>& p) {
+  int lowest = 0;
+  while (lowest < Degree && p.c[lowest] == T(0)) ++lowest;
+  if (lowest == Degree) return T(0);
+  T largest = T(0);
+  for (int i = lowest + 1; i <= Degree; ++i) largest = std::fmax(largest, std::fabs(p.c[i]));
+  const T bound = T(1) / (T(1) + largest / std::fabs(p.c[lowest]));
+  return std::isfinite(bound) ? bound * (T(1) - T(8) * std::numeric_limits<T>::epsilon()) : T(0);
+}
+
+// Whether [lo, hi] spans orders of magnitude where roots can be, which arithmetic halving
+// narrows only slowly in relative terms (from 1e300 down to 1, ~1000 halvings): its larger
+// end is more than 16 times its smaller one, where magnitudes below smallest_root (no root
+// lies there) count as smallest_root, and a bracket that straddles zero has 0 as its
+// smaller end.
 template <typename T>
-TESSERA_HD TESSERA_INLINE bool spans_magnitudes(T lo, T hi) {
-  if (lo < T(0) && hi > T(0)) return true;
-  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), std::numeric_limits<T>::min());
+TESSERA_HD TESSERA_INLINE bool spans_magnitudes(T lo, T hi, T smallest_root) {
+  const T floor = std::fmax(smallest_root, std::numeric_limits<T>::min());
+  const T small =
+      lo < T(0) && hi > T(0) ? floor : std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), floor);
   return std::fmax(std::fabs(lo), std::fabs(hi)) > T(16) * small;
 }
 
-// The point that halves [lo, hi] in its exponent: zero when it straddles zero, the
-// geometric mean when it spans orders of magnitude, else the midpoint (~10 halvings from
-// 1e300 to 1 instead of ~1000).
+// The point that halves [lo, hi] in its exponent where it spans orders of magnitude: zero
+// when it straddles zero, else the geometric mean of its ends (the smaller one raised to
+// smallest_root); the midpoint otherwise. ~10 halvings from 1e300 to 1 instead of ~1000.
 template <typename T>
-TESSERA_HD T magnitude_midpoint(T lo, T hi) {
+TESSERA_HD T magnitude_midpoint(T lo, T hi, T smallest_root) {
+  if (!spans_magnitudes(lo, hi, smallest_root)) return T(0.5) * lo + T(0.5) * hi;
   if (lo < T(0) && hi > T(0)) return T(0);
-  if (!spans_magnitudes(lo, hi)) return T(0.5) * lo + T(0.5) * hi;
-  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), std::numeric_limits<T>::min());
+  const T floor = std::fmax(smallest_root, std::numeric_limits<T>::min());
+  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), floor);
   const T mean = std::sqrt(small) * std::sqrt(std::fmax(std::fabs(lo), std::fabs(hi)));
   return hi > T(0) ? mean : -mean;  // sqrt of each: their product may overflow
 }
@@ -76,12 +94,13 @@ inline constexpr int kMaxBracketIterations = 100;
 // Newton where it converges, bisection where it would leave the bracket or stall).
 // Returns false, instead of an unconverged value, when kMaxBracketIterations pass without
 // the step or the bracket falling below the tolerance; `root` then holds the last iterate.
+// smallest_root (RootSpan::kAnyMagnitude only): no root of p is smaller in magnitude.
 template <RootSpan Span = RootSpan::kBounded, int Degree, typename T>
 TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T value_lo, T value_hi,
-                               T absolute_tolerance, T& root) {
-  const auto halve = [](T a, T b) {
+                               T absolute_tolerance, T& root, T smallest_root = T(0)) {
+  const auto halve = [smallest_root](T a, T b) {
     if constexpr (Span == RootSpan::kAnyMagnitude) {
-      return magnitude_midpoint(a, b);
+      return magnitude_midpoint(a, b, smallest_root);
     } else {
       return T(0.5) * (a + b);
     }
@@ -106,6 +125,14 @@ TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T val
       hi = x;
     }
     const T newton = x - value / derivative;
+    // Newton's own step below the tolerance: x is the root to that tolerance. Without this
+    // test a step below half an ulp left Newton on the bracket's end, which reads as
+    // leaving the bracket, and the search bisected away from the root it had and crept
+    // back one halving at a time (~50 more evaluations).
+    if (std::fabs(newton - x) <= T(2) * kEpsilon * std::fabs(x) + absolute_tolerance) {
+      root = x;
+      return true;
+    }
     T next;
     // Bisect when Newton leaves the bracket (or is not finite, which the comparisons also
     // catch) or when it is not halving the step size fast enough.
@@ -116,7 +143,8 @@ TESSERA_HD bool bracketed_root(const Polynomial<Degree, T>& p, T lo, T hi, T val
       // about x / n per step (halving is enough for the test above): from 1e40 towards a
       // root near 1 that is ~130 steps. While the bracket spans orders of magnitude,
       // halve its exponent instead, unless Newton is converging (a step below x / 8).
-      if (!bisect && spans_magnitudes(lo, hi) && !(std::fabs(newton - x) < T(0.125) * std::fabs(x)))
+      if (!bisect && spans_magnitudes(lo, hi, smallest_root) &&
+          !(std::fabs(newton - x) < T(0.125) * std::fabs(x)))
         bisect = true;
     }
     if (bisect) {
@@ -198,6 +226,8 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
             },
             critical_tolerance) == RootSearch::kNotConverged)
       return RootSearch::kNotConverged;
+    T smallest_root = T(0);
+    if constexpr (Span == RootSpan::kAnyMagnitude) smallest_root = smallest_root_bound(p);
     T a = lo;
     T value_a = sign_reliable_value(p, lo);
     T last_visited = hi;
@@ -219,7 +249,8 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
         }
       } else if (value_a != T(0) && ((value_a < T(0)) != (value_b < T(0)))) {
         T root;
-        if (!bracketed_root<Span>(p, a, b, value_a, value_b, absolute_tolerance, root))
+        if (!bracketed_root<Span>(p, a, b, value_a, value_b, absolute_tolerance, root,
+                                  smallest_root))
           return RootSearch::kNotConverged;
         if (visit(root)) return RootSearch::kStopped;
         visited_any = true;
