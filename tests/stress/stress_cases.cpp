@@ -1020,15 +1020,15 @@ const BoundsException kExceptions[] = {
     // 1e6 units: edge functions uncertain by ~6% of its size), t from float edge functions,
     // and no start-surface rule (spawned rays are offset instead). The double path
     // ("triangle (double)") meets the default bounds on the same rays.
-    {"triangle (float)", "random near", {0, 1e-4, 0}},
+    {"triangle (float)", "random near", {0, 2e-4, 0}},
     {"triangle (float)", "far 1e2-1e4", {4, 2e-4, 4}},
     {"triangle (float)", "far 1e5-1e6", {150, 1e-5, 150}},
     {"triangle (float)", "grazing", {160, 1e-3, 160}},
-    {"triangle (float)", "axis-aligned", {0, 1e-5, 0}},
+    {"triangle (float)", "axis-aligned", {0, 1e-4, 0}},
     {"triangle (float)", "along axis", {0, 1e-6, 0}},
     {"triangle (float)", "origin on surface", {2000, 1e-7, 2000}},
     {"triangle (float)", "offset 1e2-1e6", {2, 3e-4, 2}},
-    {"triangle (float)", "tiny (size 1e-4)", {2, 1e-4, 2}},
+    {"triangle (float)", "tiny (size 1e-4)", {2, 1.5e-3, 2}},
     {"triangle (float)", "huge (size 1e4)", {2, 3e-4, 2}},
     // Rays within ~1e-11 of parallel: t = h / (d . n) with d . n ~ 1e-11 carries the 1e-16
     // rounding of the normalised normal as a relative 1e-5.
@@ -1041,7 +1041,7 @@ const BoundsException kExceptions[] = {
     // Singular points: the horn torus's centre (the tube meets itself; an origin there
     // sits within 3e-8 of the other sheet) and the spindle torus's cusps on the axis (apple
     // and lemon roots within the ray's distance from the axis, below double resolution).
-    {"torus horn r=R", "origin on surface", {2, 1e-3, 2}},
+    {"torus horn r=R", "origin on surface", {5, 1e-3, 5}},
     // Sphere tracing (bounded: 512 steps, a step floor growing from 1e-6 of the size):
     // crossings with a chord shorter than the floor are stepped over. The plain box's
     // "grazing" and "axis-aligned" rays are mostly such: surface samples land on edges and
@@ -1065,6 +1065,11 @@ const BoundsException kExceptions[] = {
     {"sdf capsule", "tangent", {152, 1e-7, 152}},
     {"sdf capsule", "tangent +-1e-6", {2, 1e-7, 2}},
     {"sdf capsule", "origin on surface", {8, 1e-7, 8}},
+    // Widened on 6 December, when tessera-stress --seed 0..4 (which the bounds are meant to
+    // hold for) failed five rows of code older than that day's changes: triangle (float)
+    // random near t 1.35e-4, axis-aligned 4.7e-5, tiny 8.2e-4 (seed 0 and 2), torus horn
+    // origin on surface 3 wrong (seed 1), and this row 1 wrong of 2,000 (seed 2).
+    {"sdf capsule", "axis-aligned", {2, 1e-7, 2}},
     // The quartic solvers alone (t here is the root error relative to the largest root).
     // Close pairs: a root pair 1e-6 apart is conditioned like sqrt(eps); when both pairs
     // also fall close together the count can flip. Near-double pairs (1e-9..1e-7 apart):
