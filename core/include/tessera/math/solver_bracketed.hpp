@@ -271,9 +271,10 @@ TESSERA_HD TESSERA_FORCE_INLINE RootSearch visit_roots(const Polynomial<Degree, 
 // exactly at a critical point (p == 0 there, a double root) is visited once. The leading
 // coefficient should be non-zero; a zero one does no harm, the search finds fewer pieces.
 //
-// The search is RootSpan::kAnyMagnitude: the derivative's roots, which separate the pieces,
-// are found to full precision, and brackets are halved in their exponent where they span
-// orders of magnitude, so roots of very different sizes (1, 2, 3 and 1e200) are all found.
+// Where the interval is wide against the smallest root p can have, the search is
+// RootSpan::kAnyMagnitude: the derivative's roots, which separate the pieces, are found to
+// full precision, and brackets are halved in their exponent where they span orders of
+// magnitude, so roots of very different sizes (1, 2, 3 and 1e200) are all found.
 // (The torus, whose interval its bounding sphere bounds, calls detail::visit_roots with
 // kBounded: critical points to 1e-10 of the interval, which changes p there by
 // ~p'' * 1e-20 * length^2, far below its rounding error, in fewer Newton steps.)
@@ -288,6 +289,11 @@ TESSERA_HD RootSearch visit_roots_in_interval(const Polynomial<Degree, T>& p, T 
   const T bound = detail::cauchy_bound(p);
   if (lo < -bound) lo = -bound;
   if (hi > bound) hi = bound;
+  // Within three orders of magnitude of the smallest root p can have, the bounded search
+  // (critical points to 1e-10 of the interval) separates roots as well and is about 1.5x
+  // faster (tessera-bench-geometry's random quartics on [-2, 2]).
+  if (hi - lo <= T(1e3) * detail::smallest_root_bound(p))
+    return detail::visit_roots<RootSpan::kBounded>(p, lo, hi, visit, absolute_tolerance);
   return detail::visit_roots<RootSpan::kAnyMagnitude>(p, lo, hi, visit, absolute_tolerance);
 }
 

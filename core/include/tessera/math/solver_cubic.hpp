@@ -52,10 +52,6 @@ TESSERA_HD T dominant_root_depressed_cubic(T p, T q) {
   return polish_root(depressed, y, 8);
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // Exponent e of the power of two that makes the monic cubic's coefficients O(1) under
 // x = 2^e y (a / 2^e, b / 2^2e, c / 2^3e).
 template <typename T>
