@@ -62,7 +62,7 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
   const double b = 2.0 * (o.x * d.x + o.y * d.y - slope * d.z * radius_at_o);
   const double c = (rho - radius_at_o) * (rho + radius_at_o);
   double s[2];
-  int n = solve_quadratic(a, b, c, s);
+  int n = solve_quadratic_in_range(a, b, c, s);
   // a < 0: the direction is steeper than the cone's generators, and such a line meets the
   // double cone in two points in exact arithmetic (one per nappe). Near the apex the two
   // roots differ by the ray's distance from the apex, below what the rounded coefficients

@@ -58,30 +58,33 @@ TESSERA_HD T smallest_root_bound(const Polynomial<Degree, T>& p) {
   return std::isfinite(bound) ? bound * (T(1) - T(8) * std::numeric_limits<T>::epsilon()) : T(0);
 }
 
-// Whether [lo, hi] spans orders of magnitude where roots can be, which arithmetic halving
-// narrows only slowly in relative terms (from 1e300 down to 1, ~1000 halvings): its larger
-// end is more than 16 times its smaller one, where magnitudes below smallest_root (no root
-// lies there) count as smallest_root, and a bracket that straddles zero has 0 as its
-// smaller end.
+// The smaller end of [lo, hi] in magnitude, where magnitudes below smallest_root (no root
+// lies there) count as smallest_root, and a bracket that straddles zero has 0.
+template <typename T>
+TESSERA_HD TESSERA_INLINE T smaller_magnitude(T lo, T hi, T smallest_root) {
+  const T floor = std::fmax(smallest_root, std::numeric_limits<T>::min());
+  return lo < T(0) && hi > T(0) ? floor : std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), floor);
+}
+
+// Whether [lo, hi] spans orders of magnitude where roots can be (its larger end more than
+// 16 times its smaller_magnitude), which arithmetic halving narrows only slowly in relative
+// terms (from 1e300 down to 1, ~1000 halvings).
 template <typename T>
 TESSERA_HD TESSERA_INLINE bool spans_magnitudes(T lo, T hi, T smallest_root) {
-  const T floor = std::fmax(smallest_root, std::numeric_limits<T>::min());
-  const T small =
-      lo < T(0) && hi > T(0) ? floor : std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), floor);
-  return std::fmax(std::fabs(lo), std::fabs(hi)) > T(16) * small;
+  return std::fmax(std::fabs(lo), std::fabs(hi)) > T(16) * smaller_magnitude(lo, hi, smallest_root);
 }
 
 // The point that halves [lo, hi] in its exponent where it spans orders of magnitude: zero
-// when it straddles zero, else the geometric mean of its ends (the smaller one raised to
-// smallest_root); the midpoint otherwise. ~10 halvings from 1e300 to 1 instead of ~1000.
+// when it straddles zero, else the geometric mean of its larger end and its
+// smaller_magnitude; the midpoint otherwise. ~10 halvings from 1e300 to 1 instead of ~1000.
 template <typename T>
 TESSERA_HD T magnitude_midpoint(T lo, T hi, T smallest_root) {
-  if (!spans_magnitudes(lo, hi, smallest_root)) return T(0.5) * lo + T(0.5) * hi;
+  const T small = smaller_magnitude(lo, hi, smallest_root);
+  const T large = std::fmax(std::fabs(lo), std::fabs(hi));
+  if (!(large > T(16) * small)) return T(0.5) * lo + T(0.5) * hi;
   if (lo < T(0) && hi > T(0)) return T(0);
-  const T floor = std::fmax(smallest_root, std::numeric_limits<T>::min());
-  const T small = std::fmax(std::fmin(std::fabs(lo), std::fabs(hi)), floor);
-  const T mean = std::sqrt(small) * std::sqrt(std::fmax(std::fabs(lo), std::fabs(hi)));
-  return hi > T(0) ? mean : -mean;  // sqrt of each: their product may overflow
+  const T mean = std::sqrt(small) * std::sqrt(large);  // their product may overflow
+  return hi > T(0) ? mean : -mean;
 }
 
 // Iterations of bracketed_root before it gives up. Newton converges in a handful and

@@ -52,11 +52,18 @@ TESSERA_HD T dominant_root_depressed_cubic(T p, T q) {
   return polish_root(depressed, y, 8);
 }
 
-// Exponent e of the power of two that makes the monic cubic's coefficients O(1) under
-// x = 2^e y (a / 2^e, b / 2^2e, c / 2^3e).
+// Exponent e of the power-of-two scale x = 2^e y that makes a monic cubic's or quartic's
+// coefficients O(1) (d = 0 for a cubic): scaling by a power of two changes no digit, and
+// keeps the closed forms and the quartic's Newton system finite for roots of any
+// magnitude. The coefficients are scaled one by one with ldexp (a / 2^e, b / 2^2e, ...),
+// never through 2^4e itself: that overflows to inf (and underflows to 0) once |e| > 256,
+// which before silently zeroed the lower coefficients of quartics with a root beyond ~1e77.
 template <typename T>
-TESSERA_HD int cubic_root_exponent(T a, T b, T c) {
-  const T m = std::fmax(std::fmax(std::fabs(a), std::sqrt(std::fabs(b))), std::cbrt(std::fabs(c)));
+TESSERA_HD int root_scale_exponent(T a, T b, T c, T d = T(0)) {
+  T m = std::fabs(a);
+  m = std::fmax(m, std::sqrt(std::fabs(b)));
+  m = std::fmax(m, std::cbrt(std::fabs(c)));
+  m = std::fmax(m, std::sqrt(std::sqrt(std::fabs(d))));
   if (!(m > T(0)) || !std::isfinite(m)) return 0;
   int exponent;
   std::frexp(m, &exponent);
@@ -89,7 +96,7 @@ TESSERA_HD int solve_cubic(T c3, T c2, T c1, T c0, T roots[3]) {
     return solve_quadratic(c2, c1, c0, roots);
   const Polynomial<3, T> monic{{c, b, a, T(1)}};
 
-  const int exponent = detail::cubic_root_exponent(a, b, c);
+  const int exponent = detail::root_scale_exponent(a, b, c);
   const T as = std::ldexp(a, -exponent);
   const T bs = std::ldexp(b, -2 * exponent);
   const T cs = std::ldexp(c, -3 * exponent);

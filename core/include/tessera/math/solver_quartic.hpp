@@ -146,24 +146,6 @@ TESSERA_HD TESSERA_INLINE void balance_betas(T d, T& beta1, T& beta2) {
   }
 }
 
-// Exponent e of the power-of-two scale x = 2^e y that makes the monic coefficients O(1):
-// scaling by a power of two changes no digit, and keeps the cubic and the Newton system
-// finite for roots of any magnitude. The coefficients are scaled one by one with ldexp
-// (a / 2^e, b / 2^2e, ...), never through 2^4e itself: that overflows to inf (and
-// underflows to 0) once |e| > 256, which before silently zeroed the lower coefficients of
-// quartics with a root beyond ~1e77.
-template <typename T>
-TESSERA_HD int quartic_root_exponent(T a, T b, T c, T d) {
-  T m = std::fabs(a);
-  m = std::fmax(m, std::sqrt(std::fabs(b)));
-  m = std::fmax(m, std::cbrt(std::fabs(c)));
-  m = std::fmax(m, std::sqrt(std::sqrt(std::fabs(d))));
-  if (!(m > T(0)) || !std::isfinite(m)) return 0;
-  int exponent;
-  std::frexp(m, &exponent);
-  return exponent;
-}
-
 // value * 2^-shift, and whether that kept every digit (false: it underflowed below the
 // normal range, where digits are lost; a power-of-two scale is otherwise exact).
 template <typename T>
@@ -206,7 +188,7 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
     const T bound = detail::cauchy_bound(original);
     return roots_in_interval(original, -bound, bound, roots);
   };
-  const int exponent = detail::quartic_root_exponent(a, b, c, d);
+  const int exponent = detail::root_scale_exponent(a, b, c, d);
   if (!detail::scale_exactly(a, exponent) || !detail::scale_exactly(b, 2 * exponent) ||
       !detail::scale_exactly(c, 3 * exponent) || !detail::scale_exactly(d, 4 * exponent))
     return isolate();
