@@ -472,6 +472,26 @@ enum class QuarticCase {
 // One solver answer against the expected roots (ascending): kSolverFailed counts as
 // `failed`, a different count as wrong; per_root: each root's error relative to
 // max(|root|, root_floor), and over 1e-6 is wrong; else relative to the largest root.
+// TESSERA_STRESS_VERBOSE=N also prints the first N wrong solver answers: the coefficients
+// (ascending powers, exact hex), the roots found and the reference's.
+void report_wrong_roots(const double* coefficients, int degree, const double* roots, int n,
+                        const quad* expected, int expected_count) {
+  static const int limit = [] {
+    const char* v = std::getenv("TESSERA_STRESS_VERBOSE");
+    return v ? std::atoi(v) : 0;
+  }();
+  static int printed = 0;
+  if (printed >= limit) return;
+  ++printed;
+  std::printf("  wrong: coefficients");
+  for (int i = 0; i <= degree; ++i) std::printf(" %a", coefficients[i]);
+  std::printf("; found");
+  for (int i = 0; i < n; ++i) std::printf(" %.17g", roots[i]);
+  std::printf("; reference");
+  for (int i = 0; i < expected_count; ++i) std::printf(" %.17g", to_double(expected[i]));
+  std::printf("\n");
+}
+
 void score_roots(const double* roots, int n, const quad* expected, int expected_count,
                  bool per_root, RowResult& result, quad root_floor = 1) {
   ++result.rays;
@@ -608,7 +628,10 @@ std::function<RowResult(int, std::uint64_t)> quartic_row(QuarticCase which, bool
             {coefficient[0], coefficient[1], coefficient[2], coefficient[3], coefficient[4]}};
         n = roots_in_interval(p, -to_double(bound), to_double(bound), roots);
       }
+      const long wrong_before = result.wrong;
       score_roots(roots, n, expected, expected_count, per_root, result);
+      if (result.wrong != wrong_before)
+        report_wrong_roots(coefficient, 4, roots, n, expected, expected_count);
     }
     return result;
   };
@@ -687,8 +710,11 @@ std::function<RowResult(int, std::uint64_t)> cubic_row(CubicCase which) {
       double roots[3];
       const int n =
           solve_cubic(coefficient[3], coefficient[2], coefficient[1], coefficient[0], roots);
+      const long wrong_before = result.wrong;
       score_roots(roots, n, expected, expected_count, per_root, result,
                   which == CubicCase::kSpread ? 0 : 1);
+      if (result.wrong != wrong_before)
+        report_wrong_roots(coefficient, 3, roots, n, expected, expected_count);
     }
     return result;
   };
