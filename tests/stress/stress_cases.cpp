@@ -237,12 +237,26 @@ double float_triangle_conditioning(const Triangle& t, const Ray& ray, double ref
   return t_conditioning(t, ray) * travelled / std::max(travelled, reach);
 }
 
+// For a ray that starts on the surface, the factor a root's relative t error is scaled by:
+// a root a distance d = t |direction| from the origin forms a close pair with the origin's
+// own root, which the intersectors drop, and the rounding of the polynomial's terms
+// (~2^-52 of them at the shape's size R) moves it by ~2^-52 R^2 / d, a relative
+// 2^-52 (R / d)^2. The error is judged against 1e-7 plus four times that: unchanged for
+// roots across the shape, and 1e-6 for a thin tube's exit 2e-5 R away (measured 3.3e-7)
+// or a spindle torus's other sheet 8.7e-6 R away (1.4e-6).
+double start_pair_conditioning(double radius, const Ray& ray, double reference_t) {
+  const double d = reference_t * glm::length(dvec3(ray.direction));
+  const double pair = 4.0 * 0x1p-52 * (radius / d) * (radius / d);
+  return 1e-7 / (1e-7 + pair);
+}
+
 // Compares intersect, intersect_all and surface_at on one ray with the reference.
 template <typename Shape>
 void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& result) {
   const Ray& ray = generated.ray;
   const ReferenceHits reference = reference_hits(shape, to_qray(ray));
   double conditioning = t_conditioning(shape, ray);
+  const double radius = bounding_sphere(shape).radius;
   if constexpr (std::is_same_v<Shape, Triangle>) {
     if (reference.count > 0)
       conditioning = float_triangle_conditioning(shape, ray, to_double(reference.t[0]));
@@ -294,7 +308,9 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
   } else if (found != (expected_count > 0)) {
     wrong = true;
   } else if (found) {
-    const double e = relative_error(hit.t, expected[0]) * conditioning;
+    double e = relative_error(hit.t, expected[0]) * conditioning;
+    if (generated.starts_on_surface)
+      e *= start_pair_conditioning(radius, ray, to_double(expected[0]));
     if (e > 1e-3) {
       wrong = true;  // another root than the closest one
     } else {
@@ -321,7 +337,9 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
     } else if (i > 0 && all[i].t < all[i - 1].t) {
       mismatch = true;
     } else {
-      const double e = relative_error(all[i].t, expected[i]) * conditioning;
+      double e = relative_error(all[i].t, expected[i]) * conditioning;
+      if (generated.starts_on_surface)
+        e *= start_pair_conditioning(radius, ray, to_double(expected[i]));
       if (e > 1e-3) {
         mismatch = true;
       } else {
@@ -1112,22 +1130,16 @@ const BoundsException kExceptions[] = {
     {"triangle (float)", "offset 1e2-1e6", {0, 1e-6, 0}},
     {"triangle (float)", "tiny (size 1e-4)", {0, 1e-6, 0}},
     {"triangle (float)", "huge (size 1e4)", {0, 1e-6, 0}},
-    // Roots a small distance d from the origin's own (start-surface) root form a close
-    // pair: the quartic's rounding (~1e-16 of its terms) moves them by ~1e-16 / d, a
-    // relative 1e-16 / d^2. A thin tube's exit is 2r away (r/R = 1e-5: 3.3e-7 measured),
-    // the spindle's other sheet can be nearer (1.4e-6 at a root 8.7e-6 away, seed 125).
-    {"torus r/R=1e-05", "origin on surface", {0, 1e-6, 0}},
-    {"torus/1010 r/R=1e-05", "origin on surface", {0, 5e-7, 0}},
-    {"torus spindle r=1.5R", "origin on surface", {0, 5e-6, 0}},
     // Singular points: the horn torus's centre (the tube meets itself; an origin there
     // sits within 3e-8 of the other sheet) and the spindle torus's cusps on the axis (apple
     // and lemon roots within the ray's distance from the axis, below double resolution).
     {"torus horn r=R", "origin on surface", {8, 2e-3, 8}},
     {"torus spindle r=1.5R", "random near", {0, 5e-7, 0}},
     {"torus spindle r=1.5R", "along axis", {17, 1e-7, 24}},
-    // An origin on the surface decides the start-surface band (is_start_surface_root) from
-    // the object-space ray the instance hands over: one ray in 480,000 (seed 148) was
-    // decided the other way, not investigated.
+    // An origin on the surface: the instance decides the start-surface band
+    // (is_start_surface_root) from the object-space ray it hands over; one ray in 480,000
+    // (seed 148), leaving at a grazing angle, met its own surface at t = 0.24 with the
+    // midpoint inside the reference's band, and was reported. Not investigated.
     {"instance(cylinder)", "origin on surface", {3, 1e-7, 3}},
     // Sphere tracing (bounded: 512 steps, a step floor growing from 1e-6 of the size):
     // crossings with a chord shorter than the floor are stepped over. The plain box's
