@@ -181,16 +181,23 @@ double relative_error(float t, quad reference) {
   return std::fabs(static_cast<double>(t) - to_double(reference)) / std::fabs(to_double(reference));
 }
 
-// TESSERA_STRESS_VERBOSE=N prints the first N wrong rays of each run (for diagnosis).
-void report_wrong_ray(const Ray& ray, float found_t, const quad* expected, int expected_count,
-                      int ambiguous) {
+// TESSERA_STRESS_VERBOSE=N prints the first N wrong cases of each kind (for diagnosis):
+// whether the case counted by `printed` is still among them.
+bool verbose_slot(int& printed) {
   static const int limit = [] {
     const char* v = std::getenv("TESSERA_STRESS_VERBOSE");
     return v ? std::atoi(v) : 0;
   }();
-  static int printed = 0;
-  if (printed >= limit) return;
+  if (printed >= limit) return false;
   ++printed;
+  return true;
+}
+
+// Prints a wrong ray (TESSERA_STRESS_VERBOSE).
+void report_wrong_ray(const Ray& ray, float found_t, const quad* expected, int expected_count,
+                      int ambiguous) {
+  static int printed = 0;
+  if (!verbose_slot(printed)) return;
   std::printf("  wrong: o=(%a,%a,%a) d=(%a,%a,%a) found t=%.9g; reference (%d ambiguous):",
               ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x, ray.direction.y,
               ray.direction.z, found_t, ambiguous);
@@ -490,17 +497,12 @@ enum class QuarticCase {
 // One solver answer against the expected roots (ascending): kSolverFailed counts as
 // `failed`, a different count as wrong; per_root: each root's error relative to
 // max(|root|, root_floor), and over 1e-6 is wrong; else relative to the largest root.
-// TESSERA_STRESS_VERBOSE=N also prints the first N wrong solver answers: the coefficients
-// (ascending powers, exact hex), the roots found and the reference's.
+// Prints a wrong solver answer (TESSERA_STRESS_VERBOSE): the coefficients (ascending
+// powers, exact hex), the roots found and the reference's.
 void report_wrong_roots(const double* coefficients, int degree, const double* roots, int n,
                         const quad* expected, int expected_count) {
-  static const int limit = [] {
-    const char* v = std::getenv("TESSERA_STRESS_VERBOSE");
-    return v ? std::atoi(v) : 0;
-  }();
   static int printed = 0;
-  if (printed >= limit) return;
-  ++printed;
+  if (!verbose_slot(printed)) return;
   std::printf("  wrong: coefficients");
   for (int i = 0; i <= degree; ++i) std::printf(" %a", coefficients[i]);
   std::printf("; found");
