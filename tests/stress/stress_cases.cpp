@@ -1101,15 +1101,16 @@ std::function<RowResult(int, std::uint64_t)> degenerate_triangle_row(DegenerateK
 
 // The bounds each row asserts. Every row not listed must be exact: no wrong decision, no
 // all-hits mismatch, t within 1e-7 relative (the float rounding of a double root is at most
-// 2^-24 = 6e-8; flat shapes' t errors are scaled by |cos| first, t_conditioning). NaN is
-// never allowed. The numbers come from tessera-stress --seed 0..59 and 100..159 through
-// tests/stress/derive_bounds.py (its docstring gives the method; seeds 100..129 and then
-// 130..159, held out at first, failed rows that the seeds before never had, and were then
-// added): a row that
-// erred at some seed allows the count a Poisson rate at its 99.9% upper limit exceeds with
-// probability 1e-5; a row that never erred stays exact; a t bound is twice the largest
-// error measured. (Until 6 December they were the worst case of seeds 0..4 rounded up, and
-// 14 of 23 seeds between 5 and 59 failed a row.)
+// 2^-24 = 6e-8; flat shapes' errors are their backward errors, and a root near the start
+// of a ray leaving the surface is judged against its close pair's conditioning: see
+// t_conditioning, float_triangle_conditioning and start_pair_conditioning). NaN is never
+// allowed. The numbers come from tessera-stress --seed 0..59 and 100..159 through
+// tests/stress/derive_bounds.py, whose docstring gives the method (seeds 100..129, then
+// 130..159, were held out at first, failed rows the seeds before never had, and were then
+// added): a row that erred at some seed allows the count a Poisson rate at its 99.9% upper
+// limit exceeds with probability 1e-5; a row that never erred stays exact; a t bound is
+// twice the largest error measured. (Until 6 December they were the worst case of seeds
+// 0..4 rounded up, and 14 of 23 seeds between 5 and 59 failed a row.)
 struct BoundsException {
   const char* surface;
   const char* family;
