@@ -14,8 +14,8 @@ one; a row that never erred can still meet a rarer event at a new seed, and did 
 held-out seeds: tests/stress/README.md). t: within 1e-7 (the float rounding of an exact
 root is at most 2^-24 = 6e-8) unless some seed measured more, or more than half a wider
 bound; then twice the largest error measured, on a 1-2-5 ladder (the measures of
-stress_cases.cpp's t_conditioning, float_triangle_conditioning and start_pair_conditioning
-keep the rows' spread over seeds narrow). Prints the rows whose bounds are below the derived
+stress_cases.cpp's t_conditioning and start_pair_conditioning keep the rows' spread over
+seeds narrow). Prints the rows whose bounds are below the derived
 ones, then those above them (kept unless their reason is gone). Standard library only.
 """
 import math

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <type_traits>
 
 #include "reference_shapes.hpp"
 #include "sampling.hpp"
@@ -205,43 +204,43 @@ void report_wrong_ray(const Ray& ray, float found_t, const quad* expected, int e
   std::printf("\n");
 }
 
-// The factor a hit's relative t error is scaled by before it is judged. For flat shapes it
-// is |cos| of the angle between the ray and the normal, so the error judged is the hit's
-// distance from the plane relative to the distance travelled (the backward error): a ray
-// within c of parallel has t conditioned as 1/c, and no computation in the precision of
-// its inputs pins t down better than that (a double-path plane meets a ray 2e-12 off
-// parallel with t off by 3e-5, yet 6e-17 off the plane; the float triangle is 1e-8 off it
-// where t is 1e-3 off). Curved shapes are judged on t itself: 1.
+// The factor a hit's relative t error is scaled by before it is judged, for a root at
+// reference_t. For flat shapes it is |cos| of the angle between the ray and the normal, so
+// the error judged is the hit's distance from the plane relative to the distance travelled
+// (the backward error): a ray within c of parallel has t conditioned as 1/c, and no
+// computation in the precision of its inputs pins t down better than that (a double-path
+// plane meets a ray 2e-12 off parallel with t off by 3e-5, yet 6e-17 off the plane).
+// Curved shapes are judged on t itself: 1.
 template <typename Shape>
-double t_conditioning(const Shape&, const Ray&) {
+double t_conditioning(const Shape&, const Ray&, double /*reference_t*/) {
   return 1.0;
 }
 double flat_conditioning(const dvec3& normal, const Ray& ray) {
   return std::fabs(glm::dot(glm::normalize(normal), glm::normalize(dvec3(ray.direction))));
 }
-double t_conditioning(const Plane& p, const Ray& ray) {
+double t_conditioning(const Plane& p, const Ray& ray, double) {
   return flat_conditioning(dvec3(p.normal), ray);
 }
-double t_conditioning(const Disk& d, const Ray& ray) {
+double t_conditioning(const Disk& d, const Ray& ray, double) {
   return flat_conditioning(dvec3(d.normal), ray);
 }
-double t_conditioning(const Quad& q, const Ray& ray) {
+double t_conditioning(const Quad& q, const Ray& ray, double) {
   return flat_conditioning(glm::cross(dvec3(q.u), dvec3(q.v)), ray);
 }
-double t_conditioning(const Triangle& t, const Ray& ray) {
-  return flat_conditioning(glm::cross(dvec3(t.p1) - dvec3(t.p0), dvec3(t.p2) - dvec3(t.p0)), ray);
+dvec3 triangle_normal(const Triangle& t) {
+  return glm::cross(dvec3(t.p1) - dvec3(t.p0), dvec3(t.p2) - dvec3(t.p0));
 }
 // The float triangle (Woop's test) computes in float coordinates relative to the ray's
 // origin, so its hit lies within a few 2^-24 of the vertices' distance from the origin, not
 // of the distance travelled: a hit close to an origin near a large triangle, or near a
-// small one far out in coordinates, is that much less precise relative to t. Its error is
-// judged against the larger of the two (the backward error of that computation).
-double float_triangle_conditioning(const Triangle& t, const Ray& ray, double reference_t) {
+// small one far out in coordinates, is that much less precise relative to t. Its backward
+// error is judged against the larger of the two.
+double t_conditioning(const Triangle& t, const Ray& ray, double reference_t) {
   const dvec3 o(ray.origin);
   const double reach = std::max(
       {glm::length(dvec3(t.p0) - o), glm::length(dvec3(t.p1) - o), glm::length(dvec3(t.p2) - o)});
   const double travelled = reference_t * glm::length(dvec3(ray.direction));
-  return t_conditioning(t, ray) * travelled / std::max(travelled, reach);
+  return flat_conditioning(triangle_normal(t), ray) * travelled / std::max(travelled, reach);
 }
 
 // For a ray that starts on the surface, the factor a root's relative t error is scaled by:
@@ -257,17 +256,23 @@ double start_pair_conditioning(double radius, const Ray& ray, double reference_t
   return 1e-7 / (1e-7 + pair);
 }
 
+// The error a hit at `found_t` is judged by against the reference root: relative to it,
+// scaled by both factors above.
+template <typename Shape>
+double judged_error(const Shape& shape, const GeneratedRay& generated, float found_t,
+                    quad reference) {
+  const double reference_t = to_double(reference);
+  double e = relative_error(found_t, reference) * t_conditioning(shape, generated.ray, reference_t);
+  if (generated.starts_on_surface)
+    e *= start_pair_conditioning(bounding_sphere(shape).radius, generated.ray, reference_t);
+  return e;
+}
+
 // Compares intersect, intersect_all and surface_at on one ray with the reference.
 template <typename Shape>
 void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& result) {
   const Ray& ray = generated.ray;
   const ReferenceHits reference = reference_hits(shape, to_qray(ray));
-  double conditioning = t_conditioning(shape, ray);
-  const double radius = bounding_sphere(shape).radius;
-  if constexpr (std::is_same_v<Shape, Triangle>) {
-    if (reference.count > 0)
-      conditioning = float_triangle_conditioning(shape, ray, to_double(reference.t[0]));
-  }
   // For rays that start on the surface each reference root is classified by how far the
   // ray's midpoint between origin and root is from the surface, in units of the band the
   // intersectors use: <= 0.5 it is the start surface (must not be reported), > 4 a real hit
@@ -315,9 +320,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
   } else if (found != (expected_count > 0)) {
     wrong = true;
   } else if (found) {
-    double e = relative_error(hit.t, expected[0]) * conditioning;
-    if (generated.starts_on_surface)
-      e *= start_pair_conditioning(radius, ray, to_double(expected[0]));
+    const double e = judged_error(shape, generated, hit.t, expected[0]);
     if (e > 1e-3) {
       wrong = true;  // another root than the closest one
     } else {
@@ -344,9 +347,7 @@ void evaluate_ray(const Shape& shape, const GeneratedRay& generated, RowResult& 
     } else if (i > 0 && all[i].t < all[i - 1].t) {
       mismatch = true;
     } else {
-      double e = relative_error(all[i].t, expected[i]) * conditioning;
-      if (generated.starts_on_surface)
-        e *= start_pair_conditioning(radius, ray, to_double(expected[i]));
+      const double e = judged_error(shape, generated, all[i].t, expected[i]);
       if (e > 1e-3) {
         mismatch = true;
       } else {
@@ -412,8 +413,9 @@ int intersect_all(const PreciseTriangle& p, const Ray& ray, float t_max, HitReco
                   int max_hits, std::uint32_t primitive) {
   return intersect_all(p.triangle, make_precise_ray(ray), t_max, hits, max_hits, primitive);
 }
-double t_conditioning(const PreciseTriangle& p, const Ray& ray) {
-  return t_conditioning(p.triangle, ray);
+// The double path: the plain backward error of a flat shape.
+double t_conditioning(const PreciseTriangle& p, const Ray& ray, double) {
+  return flat_conditioning(triangle_normal(p.triangle), ray);
 }
 SurfaceInteraction surface_at(const PreciseTriangle& p, const Ray& ray, const HitRecord& hit) {
   return surface_at(p.triangle, ray, hit);
@@ -1103,7 +1105,7 @@ std::function<RowResult(int, std::uint64_t)> degenerate_triangle_row(DegenerateK
 // all-hits mismatch, t within 1e-7 relative (the float rounding of a double root is at most
 // 2^-24 = 6e-8; flat shapes' errors are their backward errors, and a root near the start
 // of a ray leaving the surface is judged against its close pair's conditioning: see
-// t_conditioning, float_triangle_conditioning and start_pair_conditioning). NaN is never
+// t_conditioning and start_pair_conditioning). NaN is never
 // allowed. The numbers come from tessera-stress --seed 0..59 and 100..159 through
 // tests/stress/derive_bounds.py, whose docstring gives the method (seeds 100..129, then
 // 130..159, were held out at first, failed rows the seeds before never had, and were then
@@ -1121,7 +1123,7 @@ const BoundsException kExceptions[] = {
     // float rounding of the coordinates relative to the origin (a 1-unit triangle seen from
     // 1e6 units: edge functions uncertain by ~6% of its size), and no start-surface rule
     // (spawned rays are offset instead). Its hit lies within a few 2^-24 of the vertices'
-    // reach from the origin (float_triangle_conditioning; at most 2.9e-7 over 150 seeds).
+    // reach from the origin (t_conditioning; at most 2.9e-7 over 150 seeds).
     // The double path ("triangle (double)") meets the default bounds on the same rays.
     {"triangle (float)", "random near", {3, 1e-6, 3}},
     {"triangle (float)", "far 1e2-1e4", {8, 1e-6, 8}},
