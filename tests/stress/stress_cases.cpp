@@ -1203,12 +1203,6 @@ const BoundsException kExceptions[] = {
     // real/complex split the rounded coefficients no longer decide (1 wrong count in
     // 240,000 cubics over seeds 0..59).
     {"cubic", "1 real + complex pair", {4, 1e-5, 0}},
-    // Patches (patch_cases.cpp): defects found on seeds 5..59, not fixed. At the collapsed
-    // pole, 3 rays in 30,000 lost one of two crossings 1e-3 apart (seed 32: the nearer
-    // one, a wrong closest hit). One tangent ray of the cylinder (seed 36) got its second
-    // root as the closest hit, where intersect_all found the touching first one.
-    {"nurbs sphere octant", "at the pole (collapsed)", {4, 1e-7, 4}},
-    {"nurbs cylinder 1/4", "tangent", {4, 1e-7, 0}},
 };
 
 Bounds bounds_for(const std::string& surface, const std::string& family) {

@@ -330,6 +330,12 @@ TESSERA_HD TESSERA_INLINE bool single_root_cell(const ProjectedCell& cell) {
 // Newton roots anywhere in the piece are kept (PatchRoots::add merges the duplicates).
 // `closest` narrows t_hi to the nearest root found so far.
 inline constexpr std::uint32_t kMaxPatchDepth = 16;
+// Newton's starts in a cell, as fractions of its extent in (s, t): the centre first (a
+// cell proven to hold one root uses it alone), then the corners and the quarter points.
+inline constexpr int kCellStarts = 9;
+inline constexpr double kCellStartFractions[kCellStarts][2] = {
+    {0.5, 0.5},   {0.0, 0.0},   {1.0, 0.0},   {0.0, 1.0},  {1.0, 1.0},
+    {0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}};
 inline constexpr int kPatchStackSize = static_cast<int>(kMaxPatchDepth) + 2;
 
 // Whether the ray meets the piece's control box within [t_lo, t_hi] (slab test in double,
@@ -357,6 +363,26 @@ TESSERA_HD TESSERA_INLINE bool ray_meets_box(const RayPlanes& ray, const dvec3& 
     t1 = glm::min(t1, b);
   }
   return t0 <= t1 * (1.0 + 1e-12) + 1e-300;
+}
+
+// Which edges of the piece collapse to one point (the poles of a sphere of revolution):
+// the control points along the edge coincide (to rounding of the piece's extent).
+struct CollapsedEdges {
+  bool s0, s1, t0, t1;
+};
+
+TESSERA_HD TESSERA_INLINE CollapsedEdges collapsed_edges(const RationalBezierPatch& piece) {
+  const dvec3 extent = piece.upper - piece.lower;
+  const double tolerance_squared = 1e-24 * glm::dot(extent, extent);
+  const auto collapsed = [&](int i0, int j0, int di, int dj) {
+    for (int k = 1; k < 4; ++k) {
+      const dvec3 step = piece.point[i0 + k * di][j0 + k * dj] - piece.point[i0][j0];
+      if (glm::dot(step, step) > tolerance_squared) return false;
+    }
+    return true;
+  };
+  return {collapsed(0, 0, 0, 1), collapsed(3, 0, 0, 1), collapsed(0, 0, 1, 0),
+          collapsed(0, 3, 1, 0)};
 }
 
 TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
@@ -392,6 +418,8 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
   // piece lies in the hull of its control points).
   const dvec3 outside = glm::max(piece.lower - ray.origin, ray.origin - piece.upper);
   const bool origin_near_piece = glm::length(glm::max(outside, dvec3(0.0))) <= band;
+  CollapsedEdges collapsed{};
+  bool collapsed_known = false;  // formed at the first cell that needs it: few rays do
   while (top > 0) {
     const ProjectedCell cell = stack[--top];
     if (!cell_may_hit(cell, ray.t_lo, ray.t_hi)) continue;
@@ -401,13 +429,34 @@ TESSERA_HD TESSERA_INLINE void piece_roots(const RationalBezierPatch& piece,
     bool subdivide = !at_depth_limit && !single;
     if (!subdivide) {
       // At the depth limit a cell not proven to hold one root may hold two close ones (a
-      // ray within ~1e-3 of tangency): Newton from its corners too, which reach the roots
-      // on either side of the tangent point.
-      const int starts = single ? 1 : 5;
+      // ray within ~1e-3 of tangency): Newton from its corners and quarter points too,
+      // which reach the roots on either side of the fold (each root's basin can be a
+      // fraction of the cell when the ray also runs nearly along an isoparametric line),
+      // and from beside the collapsed edges the cell touches (a pole, where the corners'
+      // Jacobian is singular and the other starts are drawn to a root farther out).
+      const int starts = single ? 1 : kCellStarts + 4;
+      if (!single && !collapsed_known) {
+        collapsed = collapsed_edges(piece);
+        collapsed_known = true;
+      }
       bool converged_in_cell = false;
       for (int start = 0; start < starts; ++start) {
-        double s = start == 0 ? 0.5 * (cell.s0 + cell.s1) : ((start & 1) ? cell.s1 : cell.s0);
-        double t = start == 0 ? 0.5 * (cell.t0 + cell.t1) : ((start & 2) ? cell.t1 : cell.t0);
+        double fraction_s, fraction_t;
+        if (start < kCellStarts) {
+          fraction_s = kCellStartFractions[start][0];
+          fraction_t = kCellStartFractions[start][1];
+        } else {
+          const int edge = start - kCellStarts;
+          const bool touches = (edge == 0 && collapsed.s0 && cell.s0 == 0.0) ||
+                               (edge == 1 && collapsed.s1 && cell.s1 == 1.0) ||
+                               (edge == 2 && collapsed.t0 && cell.t0 == 0.0) ||
+                               (edge == 3 && collapsed.t1 && cell.t1 == 1.0);
+          if (!touches) continue;
+          fraction_s = edge == 0 ? 1e-3 : edge == 1 ? 1.0 - 1e-3 : 0.5;
+          fraction_t = edge == 2 ? 1e-3 : edge == 3 ? 1.0 - 1e-3 : 0.5;
+        }
+        double s = cell.s0 + fraction_s * (cell.s1 - cell.s0);
+        double t = cell.t0 + fraction_t * (cell.t1 - cell.t0);
         double root_t;
         if (!newton_projected(projected, patch.size, direction_length, s, t, root_t)) continue;
         const double margin = 1e-9;
