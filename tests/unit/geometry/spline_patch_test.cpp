@@ -263,6 +263,18 @@ int quadric_roots(const Ray& r, const dvec3& c, const dvec3& mask, double R, dou
   return 2;
 }
 
+// Both crossings t[0] < t[1] of ray number k, from intersect_all, and the first from
+// intersect, to 1e-6 relative.
+void expect_two_crossings(const SplinePatch& patch, const Ray& r, const double t[2], int k) {
+  HitRecord hits[4];
+  ASSERT_EQ(intersect_all(patch, r, kInfinity, hits, 4, 0u), 2) << "ray " << k;
+  EXPECT_NEAR(hits[0].t, t[0], 1e-6 * t[0]) << "ray " << k;
+  EXPECT_NEAR(hits[1].t, t[1], 1e-6 * t[1]) << "ray " << k;
+  HitRecord closest;
+  ASSERT_TRUE(intersect(patch, r, kInfinity, closest, 0u));
+  EXPECT_NEAR(closest.t, t[0], 1e-6 * t[0]) << "ray " << k;
+}
+
 // A ray grazing the sphere octant through a point within 1e-7..1e-4 of its pole (the
 // collapsed edge) crosses it twice, 2e-4..2e-2 apart: both crossings are found, the one at
 // the pole first. (Newton from the cells along the collapsed edge used to end outside the
@@ -291,13 +303,7 @@ TEST(SplinePatch, GrazingRaysThroughThePoleFindBothCrossings) {
     const dvec3 second = dvec3(r.origin) + t[1] * dvec3(r.direction);
     if (glm::min(first.x, first.y) <= 1e-9 || glm::min(second.x, second.y) <= 1e-9) continue;
     ++checked;
-    HitRecord hits[4];
-    ASSERT_EQ(intersect_all(patch, r, kInfinity, hits, 4, 0u), 2) << "ray " << k;
-    EXPECT_NEAR(hits[0].t, t[0], 1e-6 * t[0]) << "ray " << k;
-    EXPECT_NEAR(hits[1].t, t[1], 1e-6 * t[1]) << "ray " << k;
-    HitRecord closest;
-    ASSERT_TRUE(intersect(patch, r, kInfinity, closest, 0u));
-    EXPECT_NEAR(closest.t, t[0], 1e-6 * t[0]) << "ray " << k;
+    expect_two_crossings(patch, r, t, k);
   }
   EXPECT_GT(checked, 800);
 }
@@ -307,9 +313,9 @@ TEST(SplinePatch, GrazingRaysThroughThePoleFindBothCrossings) {
 // the same angle, one crossing within 3% of the patch's border. The patch is seen almost
 // edge-on, so Newton from a cell's centre and corners can take a step along the axis that
 // leaves the piece or reaches the other crossing (41 of these 448 rays lost one before the
-// quarter-point starts). The patch is moved so that the ray
-// touches it near x = y = 0, where the float ray keeps the dip to 1e-10; origins stay
-// 1e-5 clear of the surface, so the start-surface rule plays no part.
+// quarter-point starts). The patch is moved so that the ray touches it near x = y = 0,
+// where the float ray keeps the dip to 1e-10; origins stay 1e-5 clear of the surface, so
+// the start-surface rule plays no part.
 TEST(SplinePatch, RaysAlongARulingFindBothCrossings) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -341,13 +347,7 @@ TEST(SplinePatch, RaysAlongARulingFindBothCrossings) {
     };
     if (!on_patch(t[0]) || !on_patch(t[1])) continue;
     ++checked;
-    HitRecord hits[4];
-    ASSERT_EQ(intersect_all(patch, r, kInfinity, hits, 4, 0u), 2) << "ray " << k;
-    EXPECT_NEAR(hits[0].t, t[0], 1e-6 * t[0]) << "ray " << k;
-    EXPECT_NEAR(hits[1].t, t[1], 1e-6 * t[1]) << "ray " << k;
-    HitRecord closest;
-    ASSERT_TRUE(intersect(patch, r, kInfinity, closest, 0u));
-    EXPECT_NEAR(closest.t, t[0], 1e-6 * t[0]) << "ray " << k;
+    expect_two_crossings(patch, r, t, k);
   }
   EXPECT_GT(checked, 400);
 }
