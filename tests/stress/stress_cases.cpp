@@ -1186,16 +1186,17 @@ const BoundsException kExceptions[] = {
     // (seeds 0-59; 1111-1204 wrong before); Algorithm 1010 gets about a quarter wrong.
     {"quartic: isolation", "4 real, separated", {0, 1e-8, 0}},
     {"quartic: isolation", "2 real + complex pair", {0, 1e-5, 0}},
-    {"quartic: Alg. 1010", "2 real + complex pair", {0, 1e-5, 0}},
-    {"quartic: Alg. 1010", "4 real, separated", {0, 1e-8, 0}},
+    // Algorithm 1010 over seeds 0..299 (2026-12-07, its rows alone): 7 seeds had one wrong
+    // count on a complex pair close to the axis (seed 167's case, in the README), and a
+    // separated root's error reached 1.06e-8 of the largest root.
+    {"quartic: Alg. 1010", "2 real + complex pair", {3, 2e-5, 0}},
+    {"quartic: Alg. 1010", "4 real, separated", {0, 5e-8, 0}},
     {"quartic: isolation", "2 close pairs 1e-6..1e-3", {12, 2e-4, 12}},
     {"quartic: Alg. 1010", "2 close pairs 1e-6..1e-3", {15, 5e-4, 15}},
     {"quartic: isolation", "near-double 1e-9..1e-7", {6, 2e-4, 6}},
     {"quartic: isolation", "complex pair beside a root", {0, 2e-4, 0}},
     {"quartic: Alg. 1010", "near-double 1e-9..1e-7", {1800, 100.0, 1800}},
     {"quartic: isolation", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
-    // One wrong root count in 480,000 (seed 146), not investigated.
-    {"quartic: Alg. 1010", "huge root 1e80..1e300", {3, 1e-7, 0}},
     {"quartic: Alg. 1010", "magnitudes 1e-4..1e4", {0, 1e-11, 0}},
     // A complex pair 1e-6..1 off the axis beside the real root makes that root
     // ill-conditioned, as in the quartic's row (measured 1.3e-7 at the table's seed); when

@@ -1,6 +1,7 @@
 // Polynomial solvers against analytic roots.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -193,6 +194,43 @@ TEST(SolveQuartic, RootsBeyondOneScalingAreSolvedByIsolation) {
   ASSERT_EQ(solve_quartic(1.0, -1e300, 0.0, 1.0, -1e300, roots), 2);
   EXPECT_NEAR(roots[0], -1.0, 1e-15);
   EXPECT_NEAR(roots[1] / 1e300, 1.0, 1e-15);
+}
+
+// A huge root H = +-2^330..2^345 beside three dyadic roots in [-1, 1] (every coefficient
+// exact but for the small terms the huge ones absorb): the scaled constant term lands below
+// the normal range yet is exact, which the scaling used to accept, and Algorithm 1010's
+// small factor then came out complex for 155 of these 896 quartics. Such scalings go to
+// isolation now; so does the quartic of the stress suite's seed 146 (its huge-root row),
+// whose root -0.2168 was lost the same way.
+TEST(SolveQuartic, ExactButSubnormalScalingsAreSolvedByIsolation) {
+  const double small[] = {-0.625, -0.21875, 0.8125, 0.375, -0.90625, 0.15625, -0.46875, 0.71875};
+  for (int k = 330; k <= 345; ++k)
+    for (int i = 0; i < 8; ++i)
+      for (int j = i + 1; j < 8; ++j)
+        for (int l = j + 1; l < 8; ++l) {
+          const double H = std::ldexp(k % 2 ? -1.0 : 1.0, k);
+          const double r1 = small[i], r2 = small[j], r3 = small[l];
+          const double c3 = -(H + r1 + r2 + r3);
+          const double c2 = H * (r1 + r2 + r3) + (r1 * r2 + r1 * r3 + r2 * r3);
+          const double c1 = -(H * (r1 * r2 + r1 * r3 + r2 * r3) + r1 * r2 * r3);
+          const double c0 = H * r1 * r2 * r3;
+          double roots[4];
+          ASSERT_EQ(solve_quartic(1.0, c3, c2, c1, c0, roots), 4) << k << " " << i << j << l;
+          std::array<double, 4> expected = {H, r1, r2, r3};
+          std::sort(expected.begin(), expected.end());
+          for (int m = 0; m < 4; ++m)
+            EXPECT_NEAR(roots[m], expected[m], 1e-14 * std::fabs(expected[m]))
+                << k << " " << i << j << l;
+        }
+  // Seed 146's quartic (monic; ascending powers in the stress suite's hex), against the
+  // stress suite's __float128 roots.
+  double roots[4];
+  ASSERT_EQ(solve_quartic(1.0, 0x1.b70bcb540ec2cp+339, -0x1.76844d1926976p+333,
+                          -0x1.e8a352daf6c73p+338, -0x1.81c7b93bc3e18p+336, roots),
+            4);
+  const double expected[4] = {-1.9206076753036495e+102, -0.60591181850618758, -0.21681740086524948,
+                              0.83605771814384733};
+  for (int m = 0; m < 4; ++m) EXPECT_NEAR(roots[m], expected[m], 1e-14 * std::fabs(expected[m]));
 }
 
 TEST(RootsInInterval, NonConvergenceIsReportedNotReturned) {

@@ -146,16 +146,15 @@ TESSERA_HD TESSERA_INLINE void balance_betas(T d, T& beta1, T& beta2) {
   }
 }
 
-// value * 2^-shift, and whether that kept every digit (false: it underflowed below the
-// normal range, where digits are lost; a power-of-two scale is otherwise exact).
+// value * 2^-shift, and whether it stayed in the normal range (or was 0). A power-of-two
+// scale is exact there; below it the value may lose digits, and even where it does not,
+// the factorization's products of it do: (x + 2^341)(x + 0.625)(x + 0.21875)(x - 0.15625)
+// scales d exactly to -1.5e-311, and Algorithm 1010 then found two of the four roots.
 template <typename T>
-TESSERA_HD TESSERA_INLINE bool scale_exactly(T& value, int shift) {
-  const T scaled = std::ldexp(value, -shift);
-  // Only a result below the normal range can have lost digits; the round trip decides.
-  const bool exact =
-      !(std::fabs(scaled) < std::numeric_limits<T>::min()) || std::ldexp(scaled, shift) == value;
-  value = scaled;
-  return exact;
+TESSERA_HD TESSERA_INLINE bool scale_in_normal_range(T& value, int shift) {
+  const bool zero = value == T(0);
+  value = std::ldexp(value, -shift);
+  return zero || std::fabs(value) >= std::numeric_limits<T>::min();
 }
 
 }  // namespace detail
@@ -189,8 +188,10 @@ TESSERA_HD int solve_quartic(T c4, T c3, T c2, T c1, T c0, T roots[4]) {
     return roots_in_interval(original, -bound, bound, roots);
   };
   const int exponent = detail::root_scale_exponent(a, b, c, d);
-  if (!detail::scale_exactly(a, exponent) || !detail::scale_exactly(b, 2 * exponent) ||
-      !detail::scale_exactly(c, 3 * exponent) || !detail::scale_exactly(d, 4 * exponent))
+  if (!detail::scale_in_normal_range(a, exponent) ||
+      !detail::scale_in_normal_range(b, 2 * exponent) ||
+      !detail::scale_in_normal_range(c, 3 * exponent) ||
+      !detail::scale_in_normal_range(d, 4 * exponent))
     return isolate();
 
   const T phi0 = detail::quartic_phi0(a, b, c, d);
