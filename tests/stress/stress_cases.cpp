@@ -1141,11 +1141,6 @@ const BoundsException kExceptions[] = {
     {"torus horn r=R", "origin on surface", {8, 2e-3, 8}},
     {"torus spindle r=1.5R", "random near", {0, 5e-7, 0}},
     {"torus spindle r=1.5R", "along axis", {17, 1e-7, 24}},
-    // An origin on the surface: the instance decides the start-surface band
-    // (is_start_surface_root) from the object-space ray it hands over; one ray in 480,000
-    // (seed 148), leaving at a grazing angle, met its own surface at t = 0.24 with the
-    // midpoint inside the reference's band, and was reported. Not investigated.
-    {"instance(cylinder)", "origin on surface", {3, 1e-7, 3}},
     // Sphere tracing (bounded: 512 steps, a step floor growing from 1e-6 of the size):
     // crossings with a chord shorter than the floor are stepped over. The plain box's
     // "grazing" and "axis-aligned" rays are mostly such: surface samples land on edges and

@@ -57,10 +57,11 @@ TESSERA_HD TESSERA_INLINE HitCandidates<4> cone_candidates(const Cone& c, const 
   // coefficients; a shift along the ray changes no root, only the digits kept.
   const dvec3 to_middle = dvec3(0.0, 0.0, 0.5 * h) - local.origin;
   const double t_shift = glm::dot(to_middle, local.direction) / dd;
-  lateral_roots(local, t_shift, r0, (r1 - r0) / h, h, band, out);
+  const double slope = (r1 - r0) / h;
+  lateral_roots(local, t_shift, r0, slope, h, c.capped != 0, band, out);
   if (c.capped != 0) {
-    cap_root(local, 0.0, r0, kPartBottomCap, band, out);
-    cap_root(local, h, r1, kPartTopCap, band, out);
+    cap_root(local, 0.0, r0, r0, slope, kPartBottomCap, band, out);
+    cap_root(local, h, r1, r0, slope, kPartTopCap, band, out);
   }
   return out;
 }

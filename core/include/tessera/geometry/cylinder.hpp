@@ -46,6 +46,36 @@ TESSERA_HD TESSERA_INLINE Aabb bounds(const Cylinder& c) {
 
 namespace detail {
 
+// A root on one part of a capped cylinder or cone is a start-surface root also when the
+// ray starts on, and runs along, another part: a ray that starts on a cap and runs in its
+// plane meets the side at the rim (stress seed 148 reported that rim 0.24 away as a hit),
+// and one along a ruling of the side meets a cap's rim. These are the two parts' distances
+// in the local frame, and cheap tests of whether the origin is near each.
+// normalisation: 1 / sqrt(1 + slope^2), the side's distance per unit of radius.
+TESSERA_HD TESSERA_INLINE double side_distance(const dvec3& p, double r0, double slope,
+                                               double normalisation) {
+  return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
+}
+
+TESSERA_HD TESSERA_INLINE double cap_distance(const dvec3& p, double r0, double slope,
+                                              double height) {
+  const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+  const auto disk = [&](double z_cap, double radius) {
+    const double outside = glm::max(rho - radius, 0.0);
+    return std::sqrt((p.z - z_cap) * (p.z - z_cap) + outside * outside);
+  };
+  return glm::min(disk(0.0, r0), disk(height, r0 + slope * height));
+}
+
+// Whether p may lie within `band` of the side: |rho - r| <= band implies
+// |rho^2 - r^2| <= band (rho + |r|) <= band (|x| + |y| + |r|), without a square root.
+TESSERA_HD TESSERA_INLINE bool may_be_near_side(const dvec3& p, double r0, double slope,
+                                                double band) {
+  const double r = r0 + slope * p.z;
+  return std::fabs(p.x * p.x + p.y * p.y - r * r) <=
+         band * (std::fabs(p.x) + std::fabs(p.y) + std::fabs(r) + band);
+}
+
 // Side roots of the circular cone/cylinder x^2 + y^2 = (r0 + k z)^2, 0 <= z <= height, for
 // the local ray. The origin is first moved along the ray to `t_shift` (near the shape) so
 // that the coefficients are formed from small numbers, and the constant term is written
@@ -53,7 +83,7 @@ namespace detail {
 // stable one (q = -(b + sign(b) sqrt(disc)) / 2).
 template <int N>
 TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, double slope,
-                              double height, double band, HitCandidates<N>& out) {
+                              double height, bool capped, double band, HitCandidates<N>& out) {
   const dvec3 o = ray.origin + t_shift * ray.direction;
   const dvec3& d = ray.direction;
   const double radius_at_o = r0 + slope * o.z;
@@ -77,9 +107,13 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
   const double radius_scale = std::fabs(r0) + std::fabs(r0 + slope * height);
   const double normalisation = 1.0 / std::sqrt(1.0 + slope * slope);
   const auto distance = [r0, slope, normalisation](const dvec3& p) {
-    return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
+    return side_distance(p, r0, slope, normalisation);
   };
   const double origin_distance = n > 0 ? distance(ray.origin) : 0.0;
+  const bool origin_on_cap =
+      capped && n > 0 &&
+      glm::min(std::fabs(ray.origin.z), std::fabs(ray.origin.z - height)) <= band &&
+      cap_distance(ray.origin, r0, slope, height) <= band;
   for (int i = 0; i < n; ++i) {
     const double z = o.z + s[i] * d.z;
     const double t = t_shift + s[i];
@@ -91,21 +125,35 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
       const double other_z = o.z + s[1 - i] * d.z;
       if (slope * (z - other_z) < 0.0 || (z == other_z && i == 1)) continue;
     }
-    if ((in_range || at_apex) && !is_start_surface_root(distance, origin_distance, ray, t, band))
-      out.add(t, kPartSide);
+    if (!(in_range || at_apex) || is_start_surface_root(distance, origin_distance, ray, t, band))
+      continue;
+    if (origin_on_cap &&
+        cap_distance(ray.origin + (0.5 * t) * ray.direction, r0, slope, height) <= band)
+      continue;
+    out.add(t, kPartSide);
   }
 }
 
-// Cap at local height z_cap with radius cap_radius (a disk perpendicular to the axis).
+// Cap at local height z_cap with radius cap_radius (a disk perpendicular to the axis) of
+// the side of radius r0 + slope z.
 template <int N>
-TESSERA_HD void cap_root(const LocalRay& ray, double z_cap, double cap_radius, std::uint32_t part,
-                         double band, HitCandidates<N>& out) {
+TESSERA_HD void cap_root(const LocalRay& ray, double z_cap, double cap_radius, double r0,
+                         double slope, std::uint32_t part, double band, HitCandidates<N>& out) {
   if (!(cap_radius > 0.0)) return;
   double t;
   if (!local_plane_root(ray, z_cap, band, t)) return;
   const double x = ray.origin.x + t * ray.direction.x;
   const double y = ray.origin.y + t * ray.direction.y;
-  if (x * x + y * y <= cap_radius * cap_radius) out.add(t, part);
+  if (!(x * x + y * y <= cap_radius * cap_radius)) return;
+  // Along the side to the cap's rim: the surface the ray starts on.
+  if (may_be_near_side(ray.origin, r0, slope, band)) {
+    const double normalisation = 1.0 / std::sqrt(1.0 + slope * slope);
+    const auto distance = [r0, slope, normalisation](const dvec3& p) {
+      return side_distance(p, r0, slope, normalisation);
+    };
+    if (is_start_surface_root(distance, distance(ray.origin), ray, t, band)) return;
+  }
+  out.add(t, part);
 }
 
 TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c,
@@ -121,11 +169,11 @@ TESSERA_HD TESSERA_INLINE HitCandidates<4> cylinder_candidates(const Cylinder& c
     // Closest approach to the axis: the side roots are symmetric around it.
     const double t_shift =
         -(local.origin.x * local.direction.x + local.origin.y * local.direction.y) / a;
-    lateral_roots(local, t_shift, c.radius, 0.0, c.height, band, out);
+    lateral_roots(local, t_shift, c.radius, 0.0, c.height, c.capped != 0, band, out);
   }
   if (c.capped != 0) {
-    cap_root(local, 0.0, c.radius, kPartBottomCap, band, out);
-    cap_root(local, c.height, c.radius, kPartTopCap, band, out);
+    cap_root(local, 0.0, c.radius, c.radius, 0.0, kPartBottomCap, band, out);
+    cap_root(local, c.height, c.radius, c.radius, 0.0, kPartTopCap, band, out);
   }
   return out;
 }
