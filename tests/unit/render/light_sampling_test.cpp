@@ -37,8 +37,10 @@ struct LightCase {
   double radius = 0.0, inner = 0.0;
 };
 
-// A unit square seen from 3 units away, 2 cm above its plane (1/1300 sr, spherical map).
-const LightCase kGrazingRectangle{"RectangleGrazing", Shape::kQuad, {3.0, 0.2, 0.02},
+// A unit square seen from 1.2 units beside its centre, 2 cm above its plane (about 1/500 sr):
+// the spherical map, within the 1.5 edge lengths where rectangle_spherical uses it, and in
+// double (sample_near_plane), its corners being more than 16 heights away.
+const LightCase kGrazingRectangle{"RectangleGrazing", Shape::kQuad, {1.2, 0.2, 0.02},
                                   {-0.5, -0.5, 0.0},  {1, 0, 0},    {0, 1, 0}};
 
 std::vector<LightCase> light_cases() {
@@ -53,8 +55,10 @@ std::vector<LightCase> light_cases() {
       {"SphereOneAndAHalf", Shape::kSphere, {0.0, 0.9, 1.2}, o, o, o, 1.0},
       {"SphereJustPastRootTwo", Shape::kSphere, {0.0, 0.6 * 1.42, 0.8 * 1.42}, o, o, o, 1.0},
       {"SphereInside", Shape::kSphere, {0.3, 0.2, -0.4}, o, o, o, 1.0},
-      // 1 / 30^2 sr: the spherical rectangle.
+      // 1 / 30^2 sr: by area (past 1.5 edge lengths from the centre). The next, 1.487 edge
+      // lengths away, is just within the spherical map's reach.
       {"RectangleFar", Shape::kQuad, {0.2, 0.1, 30.0}, square_corner, x, y},
+      {"RectangleAtOneAndAHalfEdges", Shape::kQuad, {0.8, 0.6, 1.1}, square_corner, x, y},
       // 1e-4 sr, below the spherical map's 3e-4: sampled by area.
       {"RectangleVeryFar", Shape::kQuad, {0.1, -0.2, 100.0}, square_corner, x, y},
       {"RectangleNear", Shape::kQuad, {0.3, -0.2, 0.8}, square_corner, x, y},
