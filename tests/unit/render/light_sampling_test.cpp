@@ -542,6 +542,32 @@ TEST(LightSampling, GrazingRectangleDirectionsFollowLightPdf) {
   check_light_sampler(kGrazingRectangle, true);
 }
 
+// A rectangle is sampled by its spherical map (the same pdf, 1 / solid angle, for every
+// direction) within 1.5 longer edges of its centre, and by area (pdf r^2 / (A cos), which
+// differs between directions) farther away, where the map's set-up costs more than it saves
+// (bench/converge/README.md, "Cost per sample of the light transport"). A 2 x 1 rectangle,
+// from points 1.45 and 1.55 longer edges from its centre, beside it and above it.
+TEST(LightSampling, RectanglesUseTheSphericalMapOnlyWithinOneAndAHalfLongerEdges) {
+  const Quad q = Quad::make(vec3(-1.0f, -0.5f, 0.0f), vec3(2, 0, 0), vec3(0, 1, 0), 0);
+  const float area = 2.0f;
+  for (const vec3 direction : {vec3(0.6f, 0.0f, 0.8f), vec3(0.0f, 0.28f, 0.96f)}) {
+    for (const float edges : {1.45f, 1.55f}) {
+      const vec3 ref = (edges * 2.0f) * direction;
+      LightSample a, b;
+      ASSERT_TRUE(sample_emitter(q, area, ref, 0.1f, 0.2f, a));
+      ASSERT_TRUE(sample_emitter(q, area, ref, 0.9f, 0.7f, b));
+      const float by_area = a.distance * a.distance / (std::fabs(a.wi.z) * area);
+      if (edges < 1.5f) {
+        EXPECT_FLOAT_EQ(a.pdf, b.pdf) << "at " << edges << " edges: not the spherical map";
+        EXPECT_GT(std::fabs(a.pdf - by_area), 1e-3f * by_area);
+      } else {
+        EXPECT_NEAR(a.pdf, by_area, 1e-4f * by_area) << "at " << edges << " edges: not by area";
+        EXPECT_GT(std::fabs(a.pdf - b.pdf), 1e-3f * a.pdf);
+      }
+    }
+  }
+}
+
 TEST(LightSampling, PowerHeuristic) {
   EXPECT_FLOAT_EQ(power_heuristic(1.0f, 1.0f), 0.5f);
   EXPECT_FLOAT_EQ(power_heuristic(3.0f, 1.0f), 0.9f);
