@@ -37,7 +37,7 @@ struct LightCase {
   double radius = 0.0, inner = 0.0;
 };
 
-// A unit square seen from 1.2 units beside its centre, 2 cm above its plane (about 1/500 sr):
+// A unit square seen from 1.2 units beside its centre, 2 cm above its plane (about 1/70 sr):
 // the spherical map, within the 1.5 edge lengths where rectangle_spherical uses it, and in
 // double (sample_near_plane), its corners being more than 16 heights away.
 const LightCase kGrazingRectangle{"RectangleGrazing", Shape::kQuad, {1.2, 0.2, 0.02},

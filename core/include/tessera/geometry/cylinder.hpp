@@ -51,11 +51,16 @@ namespace detail {
 // plane meets the side at the rim (stress seed 148 reported that rim 0.24 away as a hit),
 // and one along a ruling of the side meets a cap's rim. These are the two parts' distances
 // in the local frame, and cheap tests of whether the origin is near each.
-// normalisation: 1 / sqrt(1 + slope^2), the side's distance per unit of radius.
-TESSERA_HD TESSERA_INLINE double side_distance(const dvec3& p, double r0, double slope,
-                                               double normalisation) {
-  return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
-}
+// The signed distance to the side of radius r0 + slope z (first order: the radial gap times
+// 1 / sqrt(1 + slope^2), the side's distance per unit of radius).
+struct SideDistance {
+  double r0, slope, normalisation;
+  TESSERA_HD SideDistance(double r0_, double slope_)
+      : r0(r0_), slope(slope_), normalisation(1.0 / std::sqrt(1.0 + slope_ * slope_)) {}
+  TESSERA_HD double operator()(const dvec3& p) const {
+    return (std::sqrt(p.x * p.x + p.y * p.y) - (r0 + slope * p.z)) * normalisation;
+  }
+};
 
 TESSERA_HD TESSERA_INLINE double cap_distance(const dvec3& p, double r0, double slope,
                                               double height) {
@@ -105,10 +110,7 @@ TESSERA_HD void lateral_roots(const LocalRay& ray, double t_shift, double r0, do
   // A root at a pointed end (radius 0: the apex) is a near-double root, known only to about
   // sqrt(epsilon) of the size, and may land that far outside [0, height].
   const double radius_scale = std::fabs(r0) + std::fabs(r0 + slope * height);
-  const double normalisation = 1.0 / std::sqrt(1.0 + slope * slope);
-  const auto distance = [r0, slope, normalisation](const dvec3& p) {
-    return side_distance(p, r0, slope, normalisation);
-  };
+  const SideDistance distance(r0, slope);
   const double origin_distance = n > 0 ? distance(ray.origin) : 0.0;
   const bool origin_on_cap =
       capped && n > 0 &&
@@ -147,10 +149,7 @@ TESSERA_HD void cap_root(const LocalRay& ray, double z_cap, double cap_radius, d
   if (!(x * x + y * y <= cap_radius * cap_radius)) return;
   // Along the side to the cap's rim: the surface the ray starts on.
   if (may_be_near_side(ray.origin, r0, slope, band)) {
-    const double normalisation = 1.0 / std::sqrt(1.0 + slope * slope);
-    const auto distance = [r0, slope, normalisation](const dvec3& p) {
-      return side_distance(p, r0, slope, normalisation);
-    };
+    const SideDistance distance(r0, slope);
     if (is_start_surface_root(distance, distance(ray.origin), ray, t, band)) return;
   }
   out.add(t, part);
