@@ -224,8 +224,8 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       const bool spatial = accel.stats_.spatial_split_budget > 0.0f;
       if (spatial) accel.stats_.presplit_budget = 0.0f;
       const bool presplit = accel.stats_.presplit_budget > 0.0f;
-      std::vector<Aabb> piece_bounds;
-      std::vector<std::uint32_t> piece_ids;
+      HugePageVector<Aabb> piece_bounds;
+      HugePageVector<std::uint32_t> piece_ids;
       if (presplit)
         presplit_triangles(triangles, ids, bounds, accel.bounds_, accel.stats_.presplit_budget,
                            piece_bounds, piece_ids);

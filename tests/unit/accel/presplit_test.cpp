@@ -101,8 +101,8 @@ TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
   const PresplitInput in(tris);
   const auto& [ids, boxes, scene] = in;
   for (const float budget : {0.25f, 1.0f, 4.0f}) {
-    std::vector<Aabb> pieces;
-    std::vector<std::uint32_t> piece_ids;
+    HugePageVector<Aabb> pieces;
+    HugePageVector<std::uint32_t> piece_ids;
     presplit_triangles(tris, ids, boxes, scene, budget, pieces, piece_ids);
     ASSERT_EQ(pieces.size(), piece_ids.size());
     EXPECT_GT(pieces.size(), tris.size());
@@ -132,19 +132,43 @@ TEST(Presplit, PiecesCoverEachTriangleWithinTheBudget) {
   }
 }
 
+// The cuts clip each piece's polygon by one plane at a time rather than the whole triangle by
+// the piece's box; both are the same part of the triangle, so each piece must be as tight as
+// an independent clip of the triangle to it (within the outward rounding: an ulp or so per
+// bound). A piece left loose (its parent's box) would still cover the triangle, and the test
+// above would pass; this one would not.
+TEST(Presplit, PiecesAreTheBoxesOfTheTrianglesPartsInThem) {
+  const auto tris = slivers(2000, 39);
+  const PresplitInput in(tris);
+  const auto& [ids, boxes, scene] = in;
+  HugePageVector<Aabb> pieces;
+  HugePageVector<std::uint32_t> piece_ids;
+  presplit_triangles(tris, ids, boxes, scene, 4.0f, pieces, piece_ids);
+  ASSERT_GT(pieces.size(), 3 * tris.size());
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const Aabb fresh = clipped_triangle_bounds(tris[piece_ids[k]], pieces[k]);
+    ASSERT_FALSE(fresh.empty()) << k;
+    const float slack = 4e-7f * (glm::length(pieces[k].extent()) + 1.0f);
+    for (int axis = 0; axis < 3; ++axis) {
+      ASSERT_NEAR(pieces[k].lower[axis], fresh.lower[axis], slack) << k;
+      ASSERT_NEAR(pieces[k].upper[axis], fresh.upper[axis], slack) << k;
+    }
+  }
+}
+
 // The cuts run in parallel over chunks of triangles: the pieces, their order included, must
 // not depend on the thread count, or the tree (and a render's image) would not either.
 TEST(Presplit, PiecesAreTheSameForAnyThreadCount) {
   const auto tris = slivers(10000, 38);  // several chunks of the parallel loop
   const PresplitInput in(tris);
   const auto& [ids, boxes, scene] = in;
-  const auto pieces_with = [&](int threads, std::vector<Aabb>& pieces,
-                               std::vector<std::uint32_t>& piece_ids) {
+  const auto pieces_with = [&](int threads, HugePageVector<Aabb>& pieces,
+                               HugePageVector<std::uint32_t>& piece_ids) {
     tbb::task_arena arena(threads);
     arena.execute([&] { presplit_triangles(tris, ids, boxes, scene, 2.0f, pieces, piece_ids); });
   };
-  std::vector<Aabb> one, four;
-  std::vector<std::uint32_t> one_ids, four_ids;
+  HugePageVector<Aabb> one, four;
+  HugePageVector<std::uint32_t> one_ids, four_ids;
   pieces_with(1, one, one_ids);
   pieces_with(4, four, four_ids);
   ASSERT_GT(one.size(), tris.size());

@@ -3,6 +3,7 @@
 #include <span>
 #include <vector>
 
+#include "tessera/accel/huge_page_allocator.hpp"
 #include "tessera/geometry/aabb.hpp"
 #include "tessera/geometry/triangle.hpp"
 
@@ -26,7 +27,7 @@ namespace tessera {
 // boxes are conservative (rounded outwards) and lie within the triangle's own box.
 void presplit_triangles(std::span<const Triangle> triangles, std::span<const std::uint32_t> ids,
                         std::span<const Aabb> bounds, const Aabb& scene, float budget,
-                        std::vector<Aabb>& out_bounds, std::vector<std::uint32_t>& out_ids);
+                        HugePageVector<Aabb>& out_bounds, HugePageVector<std::uint32_t>& out_ids);
 
 // How poorly a triangle set fills its boxes: the summed surface areas of the triangles'
 // boxes over twice their summed areas (a box's surface counts both faces, and so does the
