@@ -178,7 +178,7 @@ class SpatialBuilder {
     if (!near_depth_cap) {
       const ObjectSplit object = find_object_split(refs);
       SpatialSplit spatial;
-      if (object.axis >= 0 && budget > 0 &&
+      if (object.axis >= 0 && budget > 0 && count >= options_.min_spatial_references &&
           intersection(object.left, object.right).surface_area() >
               options_.min_overlap * root_area_)
         spatial = find_spatial_split(refs, bounds, budget);

@@ -100,6 +100,7 @@ TEST(Sbvh, SliversGetSpatialSplitsWithinTheBudgetAndBoxesHoldTheirParts) {
     SpatialSplitOptions options;
     options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
     options.max_extra_references = budget;
+    options.min_spatial_references = 0;  // 600 slivers split only in small nodes
     const Bvh bvh = build_sbvh(tris, all_ids(tris.size()), options);
     check_tree(bvh, tris, budget);
     if (budget == 0.0f) {
@@ -108,6 +109,24 @@ TEST(Sbvh, SliversGetSpatialSplitsWithinTheBudgetAndBoxesHoldTheirParts) {
       EXPECT_GT(bvh.primitives.size(), tris.size()) << "budget " << budget;
     }
   }
+}
+
+// Nodes of fewer references than min_spatial_references get no spatial search: above the
+// input's size, none at all, so no extra references whatever the budget; the default still
+// splits a larger sliver soup.
+TEST(Sbvh, SmallNodesGetNoSpatialSearch) {
+  const auto tris = slivers(600, 5);
+  SpatialSplitOptions options;
+  options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
+  options.max_extra_references = 1.0f;
+  options.min_spatial_references = 601;
+  const Bvh none = build_sbvh(tris, all_ids(tris.size()), options);
+  check_tree(none, tris, 1.0f);
+  EXPECT_EQ(none.primitives.size(), tris.size());
+  const auto more = slivers(6000, 6);
+  const Bvh split = build_sbvh(more, all_ids(more.size()), SpatialSplitOptions{});
+  check_tree(split, more, SpatialSplitOptions{}.max_extra_references);
+  EXPECT_GT(split.primitives.size(), more.size());
 }
 
 TEST(Sbvh, EvenMeshAndGridStayValid) {
