@@ -117,7 +117,7 @@ float choose_spatial_split_budget(std::size_t triangle_count, float presplit_bud
 
 float choose_presplit_budget(double fill_ratio) {
   if (!(fill_ratio >= kAutoPresplitMinFillRatio)) return 0.0f;  // NaN too
-  return static_cast<float>(std::fmin(fill_ratio / kAutoPresplitMinFillRatio,
+  return static_cast<float>(std::fmin(fill_ratio / kAutoPresplitFillRatioPerReference,
                                       static_cast<double>(kAutoPresplitMaxBudget)));
 }
 

@@ -207,8 +207,11 @@ TEST(Presplit, BudgetGrowsWithTheFillRatioUpToTheCap) {
   EXPECT_EQ(choose_presplit_budget(0.0), 0.0f);
   EXPECT_EQ(choose_presplit_budget(5.0), 0.0f);
   EXPECT_EQ(choose_presplit_budget(std::nan("")), 0.0f);
-  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio), 1.0f);
-  EXPECT_EQ(choose_presplit_budget(2.0 * kAutoPresplitMinFillRatio), 2.0f);
+  // Spatial splits below the threshold; from it, one reference per step of the ratio.
+  EXPECT_EQ(choose_presplit_budget(std::nextafter(kAutoPresplitMinFillRatio, 0.0)), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio),
+            static_cast<float>(kAutoPresplitMinFillRatio / kAutoPresplitFillRatioPerReference));
+  EXPECT_EQ(choose_presplit_budget(3.0 * kAutoPresplitFillRatioPerReference), 3.0f);
   EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio), kAutoPresplitMaxBudget);
 }
 

@@ -84,15 +84,20 @@ struct AccelBuildOptions {
 };
 
 // The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
-// `fill_ratio`: none below kAutoPresplitMinFillRatio, then one extra reference per triangle
-// for every kAutoPresplitMinFillRatio of ratio, up to kAutoPresplitMaxBudget. Measured on the
+// `fill_ratio`: none below kAutoPresplitMinFillRatio (spatial splits instead,
+// choose_spatial_split_budget), then one extra reference per triangle for every
+// kAutoPresplitFillRatioPerReference of ratio, up to kAutoPresplitMaxBudget. Measured on the
 // suite of bench/accel/README.md (1 thread, against the same Embree build): evenly
 // tessellated meshes (ratio 2.9-5.2) lose up to 19% from a budget of 1; on tubes of long thin
-// triangles the break-even ratio is about 13, and above it every doubling of the budget up to
-// 4 gains (ratio 31: +21% with 1, +42% with 4; ratio 520: +67% with 1, +300% with 4). 4
-// keeps the build within Embree's high-quality build time and the memory at five references
-// per triangle (250 bytes).
-inline constexpr double kAutoPresplitMinFillRatio = 16.0;
+// triangles the break-even against the binned builder is a ratio of about 13, and above it
+// every doubling of the budget up to 4 gains (ratio 31: +21% with 1, +42% with 4; ratio 520:
+// +67% with 1, +300% with 4). Against spatial splits the break-even is higher: on held-out
+// grass fields and tubes of ratio 17-32 spatial splits were as fast or faster on 9 of 10
+// ray sets (up to 20% on diffuse rays at 22), and pre-splitting won from 42 up (grass at 43:
+// +36% primary, +60% diffuse). 4 keeps the build within Embree's high-quality build time and
+// the memory at five references per triangle (250 bytes).
+inline constexpr double kAutoPresplitMinFillRatio = 32.0;
+inline constexpr double kAutoPresplitFillRatioPerReference = 16.0;
 inline constexpr float kAutoPresplitMaxBudget = 4.0f;
 float choose_presplit_budget(double fill_ratio);
 
