@@ -115,8 +115,11 @@ float choose_spatial_split_budget(std::size_t triangle_count, float presplit_bud
   return kAutoSpatialSplitBudget;
 }
 
-float choose_presplit_budget(double fill_ratio) {
-  if (!(fill_ratio >= kAutoPresplitMinFillRatio)) return 0.0f;  // NaN too
+float choose_presplit_budget(double fill_ratio, std::size_t triangle_count) {
+  const double threshold = triangle_count <= kAutoSpatialSplitMaxTriangles
+                               ? kAutoPresplitMinFillRatio
+                               : kAutoPresplitMinFillRatioWithoutSpatialSplits;
+  if (!(fill_ratio >= threshold)) return 0.0f;  // NaN too
   return static_cast<float>(std::fmin(fill_ratio / kAutoPresplitFillRatioPerReference,
                                       static_cast<double>(kAutoPresplitMaxBudget)));
 }
@@ -215,8 +218,8 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
       // several references (boxes) per poorly fitting triangle.
       accel.stats_.fill_ratio = box_fill_ratio(triangles, ids, bounds);
       accel.stats_.presplit_chosen = !options.presplit_budget.has_value();
-      accel.stats_.presplit_budget =
-          options.presplit_budget.value_or(choose_presplit_budget(accel.stats_.fill_ratio));
+      accel.stats_.presplit_budget = options.presplit_budget.value_or(
+          choose_presplit_budget(accel.stats_.fill_ratio, ids.size()));
       // Spatial splits, given or chosen, replace pre-splitting.
       accel.stats_.spatial_split_chosen = !options.spatial_split_budget.has_value();
       accel.stats_.spatial_split_budget = options.spatial_split_budget.value_or(

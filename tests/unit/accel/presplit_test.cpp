@@ -204,15 +204,33 @@ TEST(Presplit, BoxFillRatioMeasuresHowPoorlyTrianglesFillTheirBoxes) {
 }
 
 TEST(Presplit, BudgetGrowsWithTheFillRatioUpToTheCap) {
-  EXPECT_EQ(choose_presplit_budget(0.0), 0.0f);
-  EXPECT_EQ(choose_presplit_budget(5.0), 0.0f);
-  EXPECT_EQ(choose_presplit_budget(std::nan("")), 0.0f);
+  constexpr std::size_t kSmall = 1000;  // spatial splits are the alternative
+  EXPECT_EQ(choose_presplit_budget(0.0, kSmall), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(5.0, kSmall), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(std::nan(""), kSmall), 0.0f);
   // Spatial splits below the threshold; from it, one reference per step of the ratio.
-  EXPECT_EQ(choose_presplit_budget(std::nextafter(kAutoPresplitMinFillRatio, 0.0)), 0.0f);
-  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio),
+  EXPECT_EQ(choose_presplit_budget(std::nextafter(kAutoPresplitMinFillRatio, 0.0), kSmall), 0.0f);
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatio, kSmall),
             static_cast<float>(kAutoPresplitMinFillRatio / kAutoPresplitFillRatioPerReference));
-  EXPECT_EQ(choose_presplit_budget(3.0 * kAutoPresplitFillRatioPerReference), 3.0f);
-  EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio), kAutoPresplitMaxBudget);
+  EXPECT_EQ(choose_presplit_budget(3.0 * kAutoPresplitFillRatioPerReference, kSmall), 3.0f);
+  EXPECT_EQ(choose_presplit_budget(1000.0 * kAutoPresplitMinFillRatio, kSmall),
+            kAutoPresplitMaxBudget);
+}
+
+TEST(Presplit, MeshesTooLargeForSpatialSplitsPreSplitFromALowerRatio) {
+  // Past kAutoSpatialSplitMaxTriangles the binned builder is the alternative, which
+  // pre-splitting beats from a lower ratio than it beats spatial splits.
+  constexpr std::size_t kLarge = kAutoSpatialSplitMaxTriangles + 1;
+  static_assert(kAutoPresplitMinFillRatioWithoutSpatialSplits < kAutoPresplitMinFillRatio);
+  EXPECT_EQ(choose_presplit_budget(
+                std::nextafter(kAutoPresplitMinFillRatioWithoutSpatialSplits, 0.0), kLarge),
+            0.0f);
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatioWithoutSpatialSplits, kLarge),
+            static_cast<float>(kAutoPresplitMinFillRatioWithoutSpatialSplits /
+                               kAutoPresplitFillRatioPerReference));
+  EXPECT_EQ(choose_presplit_budget(kAutoPresplitMinFillRatioWithoutSpatialSplits,
+                                   kAutoSpatialSplitMaxTriangles),
+            0.0f);
 }
 
 // Pre-splitting belongs to the binned builder: spatial splits stay off unless asked for.
@@ -231,7 +249,7 @@ TEST(Presplit, ChosenForThinTrianglesAndNotForAnEvenMesh) {
   EXPECT_TRUE(thin_auto.presplit_chosen);
   EXPECT_TRUE(thin_auto.spatial_split_chosen);
   EXPECT_EQ(thin_auto.spatial_split_budget, 0.0f);  // pre-split instead
-  EXPECT_EQ(thin_auto.presplit_budget, choose_presplit_budget(thin_auto.fill_ratio));
+  EXPECT_EQ(thin_auto.presplit_budget, choose_presplit_budget(thin_auto.fill_ratio, thin.size()));
   EXPECT_GE(thin_auto.presplit_budget, 1.0f);
   EXPECT_GT(thin_auto.fill_ratio, kAutoPresplitMinFillRatio);
   EXPECT_GT(thin_auto.leaf_references, thin.size());  // pieces of one triangle in several leaves

@@ -83,9 +83,11 @@ struct AccelBuildOptions {
   KernelIsa max_isa = preferred_kernel_isa();
 };
 
-// The pre-split budget for a triangle set whose box_fill_ratio (presplit.hpp) is
-// `fill_ratio`: none below kAutoPresplitMinFillRatio (spatial splits instead,
-// choose_spatial_split_budget), then one extra reference per triangle for every
+// The pre-split budget for a set of `triangle_count` triangles whose box_fill_ratio
+// (presplit.hpp) is `fill_ratio`: none below kAutoPresplitMinFillRatio where the mesh is small
+// enough for spatial splits (choose_spatial_split_budget), or below
+// kAutoPresplitMinFillRatioWithoutSpatialSplits where the binned builder is the alternative,
+// then one extra reference per triangle for every
 // kAutoPresplitFillRatioPerReference of ratio, up to kAutoPresplitMaxBudget. Measured on the
 // suite of bench/accel/README.md (1 thread, against the same Embree build): evenly
 // tessellated meshes (ratio 2.9-5.2) lose up to 19% from a budget of 1; on tubes of long thin
@@ -97,9 +99,10 @@ struct AccelBuildOptions {
 // +36% primary, +60% diffuse). 4 keeps the build within Embree's high-quality build time and
 // the memory at five references per triangle (250 bytes).
 inline constexpr double kAutoPresplitMinFillRatio = 32.0;
+inline constexpr double kAutoPresplitMinFillRatioWithoutSpatialSplits = 16.0;
 inline constexpr double kAutoPresplitFillRatioPerReference = 16.0;
 inline constexpr float kAutoPresplitMaxBudget = 4.0f;
-float choose_presplit_budget(double fill_ratio);
+float choose_presplit_budget(double fill_ratio, std::size_t triangle_count);
 
 // The spatial-split budget for a mesh of `triangle_count` kept triangles whose pre-split
 // budget (given or chosen) is `presplit_budget`: kAutoSpatialSplitBudget where nothing is
