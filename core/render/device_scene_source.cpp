@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tessera/render/baked_placements.hpp"
 #include "tessera/render/prepared_scene.hpp"
 
 namespace tessera {
@@ -25,13 +26,23 @@ DeviceBuffer buffer_for(const std::vector<T>& array) {
   return b;
 }
 
+// The array of primitive type `kTag` the device copies: triangles from `triangles`, which is
+// the scene's own or those with the baked placements after them.
+template <PrimitiveType kTag>
+const auto& device_array(const PrimitiveArrays& arrays, const std::vector<Triangle>& triangles) {
+  if constexpr (kTag == PrimitiveType::kTriangle)
+    return triangles;
+  else
+    return arrays.of<kTag>();
+}
+
 // One buffer per stored primitive type that has any.
 template <typename... P>
 void add_shape_buffers(scene_detail::PrimitiveList<P...>, const PrimitiveArrays& arrays,
-                       std::vector<DeviceBuffer>& buffers) {
+                       const std::vector<Triangle>& triangles, std::vector<DeviceBuffer>& buffers) {
   const auto add = [&](auto primitive) {
     using Primitive = decltype(primitive);
-    const auto& array = arrays.of<Primitive::tag>();
+    const auto& array = device_array<Primitive::tag>(arrays, triangles);
     if (!array.empty()) buffers.push_back(buffer_for<Primitive::array>(array));
   };
   (add(P{}), ...);
@@ -61,9 +72,11 @@ const DeviceSceneSource& PreparedScene::device_source() const {
                             to_string(settings_.integrator) + " integrator";
     if (source->unsupported.empty())
       source->unsupported = unsupported_shapes(scene_detail::StoredPrimitives{}, arrays_);
+    const std::vector<Triangle>& own_triangles = arrays_.of<PrimitiveType::kTriangle>();
     if (source->unsupported.empty() && !mesh_placements_.empty())
-      source->unsupported =
-          "meshes placed more than once share a two-level structure the device does not walk";
+      source->unsupported = baked_placements_refusal(
+          baked_placement_triangles(mesh_placements_, instanced_triangles_.size()),
+          own_triangles.size());
     if (!source->unsupported.empty()) {  // nothing to upload: no BVH build
       device_source_ = std::move(source);
       return;
@@ -74,10 +87,38 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     std::vector<std::uint32_t> references(bvh_.primitives.begin(), bvh_.primitives.end());
     references.insert(references.end(), simd_triangle_references_.begin(),
                       simd_triangle_references_.end());
+    if (!mesh_placements_.empty()) {
+      // The device has no instance level: every placement becomes triangles of its own,
+      // after the scene's, and visible (placements of shared geometry are).
+      BakedPlacements baked =
+          bake_placements(mesh_placements_, instanced_triangles_, instanced_attributes_);
+      if (!baked.attributes.empty() && triangle_attributes_.size() != own_triangles.size())
+        throw std::logic_error("device_source: shared meshes store attributes, baked ones do not");
+      source->triangles.reserve(own_triangles.size() + baked.triangles.size());
+      source->triangles.assign(own_triangles.begin(), own_triangles.end());
+      for (std::size_t i = 0; i < baked.triangles.size(); ++i)
+        references.push_back(make_primitive_ref(
+            PrimitiveType::kTriangle, static_cast<std::uint32_t>(source->triangles.size() + i)));
+      source->triangles.insert(source->triangles.end(), baked.triangles.begin(),
+                               baked.triangles.end());
+      if (!baked.attributes.empty()) {
+        source->triangle_attributes.reserve(source->triangles.size());
+        source->triangle_attributes.assign(triangle_attributes_.begin(),
+                                           triangle_attributes_.end());
+        source->triangle_attributes.insert(source->triangle_attributes.end(),
+                                           baked.attributes.begin(), baked.attributes.end());
+      }
+    }
+    const std::vector<Triangle>& triangles =
+        mesh_placements_.empty() ? own_triangles : source->triangles;
+    const std::vector<TriangleAttributes>& triangle_attributes =
+        source->triangle_attributes.empty() ? triangle_attributes_ : source->triangle_attributes;
     std::vector<Aabb> boxes(references.size());
+    SceneView with_baked = host;
+    with_baked.triangles = triangles.data();
     for (std::size_t i = 0; i < references.size(); ++i)
       boxes[i] = scene_detail::dispatch<kAllShapes>(
-          host, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
+          with_baked, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
     source->bvh = build_bvh(boxes, references);
 
     SceneView& v = source->view;
@@ -90,13 +131,18 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     v.instanced_attributes = nullptr;
     v.mesh_placements = nullptr;
     v.mesh_placement_count = 0;
+    if (!mesh_placements_.empty()) {
+      v.triangles = source->triangles.data();
+      if (!source->triangle_attributes.empty())
+        v.triangle_attributes = source->triangle_attributes.data();
+    }
 
     std::vector<DeviceBuffer>& b = source->buffers;
-    add_shape_buffers(scene_detail::StoredPrimitives{}, arrays_, b);
+    add_shape_buffers(scene_detail::StoredPrimitives{}, arrays_, triangles, b);
     const auto add = [&b](const DeviceBuffer& buffer) {
       if (buffer.bytes > 0) b.push_back(buffer);
     };
-    add(buffer_for<&SceneView::triangle_attributes>(triangle_attributes_));
+    add(buffer_for<&SceneView::triangle_attributes>(triangle_attributes));
     add(buffer_for<&SceneView::materials>(materials_));
     add(buffer_for<&SceneView::textures>(textures_));
     add(buffer_for<&SceneView::texels>(texels_));

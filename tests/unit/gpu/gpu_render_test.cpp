@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "tessera/gpu/gpu_renderer.hpp"
@@ -48,15 +49,57 @@ TEST(Gpu, ScenesTheDeviceCannotRenderAreRefusedWithTheReason) {
   }
 }
 
+// A ridged 16 x 16 grid placed three times, turned and stretched (the CPU shares it through
+// an instance level; the device layout bakes each placement), beside a sphere light.
+std::shared_ptr<const PreparedScene> shared_mesh_scene() {
+  SceneDescription scene;
+  scene.camera.position = {0.0, 1.0, 4.0};
+  scene.camera.look_at = {0.0, 0.0, 0.0};
+  MaterialDesc white;
+  white.name = "white";
+  MaterialDesc light;
+  light.name = "light";
+  light.type = MaterialType::kLight;
+  light.emission = glm::dvec3(6.0);
+  scene.materials = {white, light};
+  TriangleMeshDesc grid;
+  constexpr std::uint32_t kCells = 16, kRow = kCells + 1;
+  for (std::uint32_t j = 0; j <= kCells; ++j)
+    for (std::uint32_t i = 0; i <= kCells; ++i)
+      grid.positions.push_back({-1.0 + 2.0 * i / kCells, 0.1 * (i % 2), -1.0 + 2.0 * j / kCells});
+  for (std::uint32_t j = 0; j < kCells; ++j)
+    for (std::uint32_t i = 0; i < kCells; ++i)
+      for (std::uint32_t k : {0u, 1u, kRow, 1u, kRow + 1, kRow})
+        grid.indices.push_back(j * kRow + i + k);
+  for (int c = 0; c < 3; ++c) {
+    TriangleMeshDesc& placed = scene.meshes.emplace_back(grid);
+    placed.transform = TransformDesc{.translate = {0.0, -0.6 + 0.5 * c, 0.0},
+                                     .rotate_axis = {0.0, 1.0, 0.0},
+                                     .rotate_degrees = 30.0 * c,
+                                     .scale = {1.0 + 0.2 * c, 1.0, 0.9}};
+  }
+  SphereDesc lamp{.center = {0.0, 2.0, 1.0}, .radius = 0.4};
+  lamp.material = 1;
+  scene.spheres.push_back(lamp);
+  scene.render.width = 48;
+  scene.render.height = 32;
+  scene.render.samples_per_pixel = 8;
+  scene.render.max_depth = 6;
+  scene.render.tile_size = 16;
+  auto prepared = PreparedScene::build(scene);
+  EXPECT_EQ(prepared->shared_mesh_placements(), 3u);
+  return prepared;
+}
+
 // The device draws the samples the CPU draws, through the same layout: images agree up to
 // float differences (nvcc contracts multiply-adds), which can send a path another way, so
 // the bound is on the image mean (1%) and on how many pixels differ by more than 1e-3
 // relative (5%).
 TEST(Gpu, TilesMatchTheCpuRenderOfTheDeviceLayout) {
   if (gpu::list_devices().empty()) GTEST_SKIP() << "no CUDA device on this machine";
-  for (const char* name : {"cornell.yaml", "shapes.yaml", "textures.yaml"}) {
+  for (const char* name : {"cornell.yaml", "shapes.yaml", "textures.yaml", "shared meshes"}) {
     SCOPED_TRACE(name);
-    const auto scene = example(name);
+    const auto scene = std::string(name) == "shared meshes" ? shared_mesh_scene() : example(name);
     gpu::TileRenderer renderer(0, scene);
     EXPECT_GT(renderer.uploaded_bytes(), 0u);
     const RenderSettings& r = scene->settings();

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "scene_materials.hpp"
+#include "tessera/render/baked_placements.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -29,8 +30,11 @@ const std::filesystem::path kRayonDir = std::filesystem::path(TESSERA_SHARED_DIR
 struct Comparison {
   std::size_t pixels = 0;
   std::size_t differing = 0;  // pixels whose RGBA is not bit for bit the same
-  double mean_cpu = 0.0;      // mean of the CPU image's RGB
-  double mean_device = 0.0;   // mean of the device-layout image's RGB
+  // pixels with a channel apart by more than float rounding could explain: 1e-4 of the
+  // larger value (or 1e-4 absolute, for values below 1)
+  std::size_t far_apart = 0;
+  double mean_cpu = 0.0;     // mean of the CPU image's RGB
+  double mean_device = 0.0;  // mean of the device-layout image's RGB
 };
 
 Comparison compare_layouts(const PreparedScene& scene) {
@@ -41,9 +45,14 @@ Comparison compare_layouts(const PreparedScene& scene) {
     scene.render_tile(tile, cpu);
     scene.render_tile_device_layout(tile, device);
     for (std::size_t p = 0; p < tile.pixel_count(); ++p) {
-      bool same = true;
-      for (int k = 0; k < 4; ++k) same = same && cpu[4 * p + k] == device[4 * p + k];
+      bool same = true, close = true;
+      for (int k = 0; k < 4; ++k) {
+        const float a = cpu[4 * p + k], b = device[4 * p + k];
+        same = same && a == b;
+        close = close && std::fabs(a - b) <= 1e-4f * std::max({1.0f, std::fabs(a), std::fabs(b)});
+      }
       c.differing += same ? 0 : 1;
+      c.far_apart += close ? 0 : 1;
       for (int k = 0; k < 3; ++k) {
         c.mean_cpu += cpu[4 * p + k];
         c.mean_device += device[4 * p + k];
@@ -150,14 +159,113 @@ TEST(DeviceLayout, MeshTrianglesJoinTheDeviceBvh) {
   expect_same_image(*scene, "one mesh");
 }
 
-TEST(DeviceLayout, SharedMeshesNeedBaking) {
-  const SceneDescription description = mesh_scene(2);
+TEST(DeviceLayout, SharedMeshesAreBakedForTheDevice) {
+  SceneDescription description = mesh_scene(3);
+  // Vertex normals of the height field, and placements turned and stretched, so that the
+  // baked normals go through each placement's inverse transpose.
+  for (std::size_t m = 0; m < description.meshes.size(); ++m) {
+    TriangleMeshDesc& mesh = description.meshes[m];
+    mesh.normals.clear();
+    for (const dvec3& p : mesh.positions)
+      mesh.normals.push_back(
+          glm::normalize(dvec3(-0.6 * std::cos(3.0 * p.x) * std::cos(2.0 * p.z), 1.0,
+                               0.4 * std::sin(3.0 * p.x) * std::sin(2.0 * p.z))));
+    mesh.transform->rotate_axis = {0.2, 1.0, 0.1};
+    mesh.transform->rotate_degrees = 35.0 * static_cast<double>(m);
+    mesh.transform->scale = {1.0 + 0.3 * static_cast<double>(m), 1.0, 0.8};
+  }
   const auto shared = PreparedScene::build(description);
-  ASSERT_GT(shared->shared_mesh_placements(), 0u);
-  EXPECT_NE(shared->device_source().unsupported, "");
+  ASSERT_EQ(shared->shared_mesh_placements(), 3u);
+  const DeviceSceneSource& source = shared->device_source();
+  ASSERT_EQ(source.unsupported, "");
+  EXPECT_EQ(source.view.bvh.instances, nullptr);
+  EXPECT_EQ(source.view.mesh_placement_count, 0u);
+  // The two spheres in the shape BVH, and each placement's 1,152 triangles of its own.
+  ASSERT_EQ(source.bvh.primitives.size(), 2u + 3u * 1152u);
+  ASSERT_EQ(source.triangles.size(), 3u * 1152u);
+  for (std::uint32_t reference : source.bvh.primitives) {
+    if (primitive_type(reference) == PrimitiveType::kTriangle) {
+      ASSERT_LT(primitive_index(reference), source.triangles.size());
+    }
+  }
+  // The placements' triangles are intersected in world space here and in object space on
+  // the CPU, so hits differ in their last bits and a path near a silhouette may take
+  // another turn: pixels agree to within float rounding but for a few, and the means agree.
+  const Comparison c = compare_layouts(*shared);
+  EXPECT_LE(c.far_apart, c.pixels / 50) << c.far_apart << " of " << c.pixels << " pixels";
+  EXPECT_NEAR(c.mean_device, c.mean_cpu, 0.01 * c.mean_cpu);
+  EXPECT_GT(c.mean_cpu, 0.0);
+
+  // Baked on the CPU too (instancing off), the scene renders through its layout as there.
   PrepareOptions bake;
   bake.instancing = false;
   expect_same_image(*PreparedScene::build(description, bake), "baked placements");
+}
+
+TEST(DeviceLayout, BakedPlacementsCarryTheirTransformNormalsAndMaterial) {
+  // Two geometries back to back (one triangle, then two), the first placed twice.
+  const std::vector<Triangle> object = {Triangle{vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0), 0},
+                                        Triangle{vec3(0, 0, 0), vec3(0, 0, 1), vec3(1, 0, 0), 0},
+                                        Triangle{vec3(1, 0, 0), vec3(0, 0, 1), vec3(1, 0, 1), 0}};
+  std::vector<TriangleAttributes> attributes(3);
+  for (TriangleAttributes& a : attributes)
+    a = TriangleAttributes{vec3(0, 0, 1), glm::normalize(vec3(1, 0, 1)),
+                           vec3(0),       vec2(0.25f, 0.5f),
+                           vec2(1, 0),    vec2(0, 1)};
+  const auto placement = [](std::uint32_t first_triangle, std::uint32_t material,
+                            const AffineTransform& to_world) {
+    MeshPlacement p;
+    p.first_triangle = first_triangle;
+    p.material = material;
+    p.object_to_world = to_world;
+    p.world_to_object = to_world.inverse();
+    return p;
+  };
+  AffineTransform moved;
+  moved.translation = dvec3(10.0, 0.0, 0.0);
+  AffineTransform turned;  // a quarter turn about y, scaled by 2 along x first
+  turned.linear = glm::dmat3(dvec3(0, 0, -2), dvec3(0, 1, 0), dvec3(1, 0, 0));
+  const std::vector<MeshPlacement> placements = {placement(0, 4, moved), placement(1, 5, moved),
+                                                 placement(0, 6, turned)};
+  EXPECT_EQ(baked_placement_triangles(placements, object.size()), 1u + 2u + 1u);
+
+  const BakedPlacements baked = bake_placements(placements, object, attributes);
+  ASSERT_EQ(baked.triangles.size(), 4u);
+  ASSERT_EQ(baked.attributes.size(), 4u);
+  EXPECT_EQ(baked.triangles[0].p1, vec3(11, 0, 0));
+  EXPECT_EQ(baked.triangles[0].material, 4u);
+  EXPECT_EQ(baked.triangles[1].p1, vec3(10, 0, 1));  // the second geometry's first
+  EXPECT_EQ(baked.triangles[2].p2, vec3(11, 0, 1));
+  EXPECT_EQ(baked.triangles[2].material, 5u);
+  EXPECT_EQ(baked.triangles[3].p1, vec3(0, 0, -2));  // x = (1, 0, 0) goes to (0, 0, -2)
+  EXPECT_EQ(baked.triangles[3].material, 6u);
+  // A normal stays perpendicular to the placed surface: n1 = (1, 0, 1) / sqrt(2) to the
+  // placed images of its tangents (0, 1, 0) and (1, 0, -1), which the stretch along x
+  // would tilt it against if it were placed as a direction; and it stays unit length.
+  const dvec3 n1 = dvec3(baked.attributes[3].n1);
+  EXPECT_NEAR(glm::dot(n1, turned.vector(dvec3(0, 1, 0))), 0.0, 1e-6);
+  EXPECT_NEAR(glm::dot(n1, turned.vector(dvec3(1, 0, -1))), 0.0, 1e-6);
+  EXPECT_NEAR(glm::length(n1), 1.0, 1e-6);
+  EXPECT_NEAR(baked.attributes[3].n0.x, 1.0f, 1e-6f);  // (0, 0, 1) goes to x
+  EXPECT_EQ(baked.attributes[3].n2, vec3(0.0f));       // none stored stays none
+  EXPECT_EQ(baked.attributes[3].uv0, vec2(0.25f, 0.5f));
+  EXPECT_TRUE(bake_placements(placements, object, {}).attributes.empty());
+}
+
+TEST(DeviceLayout, BakingPlacementsIsBounded) {
+  EXPECT_EQ(baked_placements_refusal(1000, 500, 1000), "");
+  const std::string over = baked_placements_refusal(1001, 500, 1000);
+  EXPECT_NE(over.find("1001 triangles"), std::string::npos) << over;
+  EXPECT_NE(over.find("limit of 1000"), std::string::npos) << over;
+  const std::string references =
+      baked_placements_refusal(std::size_t{1} << 26, std::size_t{1} << 26, std::size_t{1} << 30);
+  EXPECT_EQ(references, "");
+  EXPECT_NE(baked_placements_refusal((std::size_t{1} << 26) + 1, std::size_t{1} << 26,
+                                     std::size_t{1} << 30)
+                .find("primitive reference"),
+            std::string::npos);
+  EXPECT_EQ(baked_placements_refusal(kMaxDeviceBakedTriangles, 0), "");
+  EXPECT_NE(baked_placements_refusal(kMaxDeviceBakedTriangles + 1, 0), "");
 }
 
 TEST(DeviceLayout, BuffersCoverEveryArrayTheViewPointsTo) {

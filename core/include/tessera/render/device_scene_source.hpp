@@ -4,7 +4,9 @@
 // code walks one binary BVH (traverse_bvh) and reads nothing else. The device layout is
 // therefore a second binary BVH over every visible bounded primitive, mesh triangles
 // included, beside the flat arrays the CPU already has, and a list of the buffers to copy:
-// each one a host array and the SceneView pointer its device copy replaces.
+// each one a host array and the SceneView pointer its device copy replaces. Meshes placed
+// more than once, which the CPU traces through an instance level, are baked into world
+// triangles there.
 //
 // PreparedScene::device_source builds it; PreparedScene::render_tile_device_layout renders
 // through it on the CPU, so the layout is tested on machines without a GPU (the walk, the
@@ -31,6 +33,12 @@ struct DeviceSceneSource {
   SceneView view;
   std::vector<DeviceBuffer> buffers;
   Bvh bvh;  // over every visible bounded primitive; `view.bvh` and a buffer point into it
+  // When meshes are placed more than once: the scene's triangles with every placement baked
+  // after them (render/baked_placements.hpp), and their attributes when any are stored;
+  // `view.triangles` and `view.triangle_attributes` and their buffers point here. Otherwise
+  // empty, and they point at the scene's own.
+  std::vector<Triangle> triangles;
+  std::vector<TriangleAttributes> triangle_attributes;
   // Empty when the device path renders this scene as the CPU does; otherwise why it cannot
   // (the scheduler then keeps the job's tiles on the CPU), and nothing else is built.
   std::string unsupported;

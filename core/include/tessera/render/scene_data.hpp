@@ -185,6 +185,17 @@ struct SceneShapes {
   std::uint32_t mesh_placement_count = 0;
 };
 
+// A shared mesh's vertex normal `n` in world space: by the placement's inverse transpose
+// `normal_matrix` (transpose(world_to_object.linear)), renormalised; a zero normal (none
+// stored) stays zero. Instanced hits and the device layout's baked placements
+// (render/baked_placements.hpp) both place normals with it, as bake_mesh does a mesh entry's.
+TESSERA_HD TESSERA_INLINE vec3 placed_vertex_normal(const glm::dmat3& normal_matrix,
+                                                    const vec3& n) {
+  const dvec3 w = normal_matrix * dvec3(n);
+  const double len2 = glm::dot(w, w);
+  return len2 > 0.0 ? vec3(w / std::sqrt(len2)) : vec3(0.0f);
+}
+
 // The surface of a shared-geometry triangle hit, in world space: the placement holding the
 // virtual id is found by binary search, the object-space ray gives the mesh triangle's
 // surface (shading normal and uv interpolated when stored), and position and normals go
@@ -219,15 +230,12 @@ TESSERA_HD inline SurfaceInteraction instanced_triangle_surface(const SceneShape
     // Vertex normals go to world space one by one (renormalised) before they are
     // interpolated, as baking them does, so both give the same shading.
     const TriangleAttributes& a = s.instanced_attributes[triangle];
-    const auto world_normal = [&](const vec3& n) {
-      const dvec3 w = normal_matrix * dvec3(n);
-      const double len2 = glm::dot(w, w);
-      return len2 > 0.0 ? vec3(w / std::sqrt(len2)) : vec3(0.0f);
-    };
-    apply_attributes(si,
-                     TriangleAttributes{world_normal(a.n0), world_normal(a.n1), world_normal(a.n2),
-                                        a.uv0, a.uv1, a.uv2},
-                     hit);
+    apply_attributes(
+        si,
+        TriangleAttributes{placed_vertex_normal(normal_matrix, a.n0),
+                           placed_vertex_normal(normal_matrix, a.n1),
+                           placed_vertex_normal(normal_matrix, a.n2), a.uv0, a.uv1, a.uv2},
+        hit);
   }
   si.material = placement.material;
   return si;
