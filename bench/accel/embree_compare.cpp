@@ -180,6 +180,10 @@ int main(int argc, char** argv) {
                  "binned build; default: chosen from the mesh)")
       ->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--traversal-cost", traversal_cost, "tuning: SAH node cost per block cost");
+  std::size_t dump_mismatches = 0;
+  app.add_option("--dump-mismatches", dump_mismatches,
+                 "print up to this many rays that one Embree build hits and ours misses, or the "
+                 "reverse (origin, direction, t_min, both t), to judge them exactly");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -272,6 +276,14 @@ int main(int argc, char** argv) {
         const bool ch = !std::isinf(c.t[i]), oh = !std::isinf(tessera.t[i]);
         hits += ch ? 1 : 0;
         if (ch != oh) {
+          if (&c != &tessera && hit_mismatch < dump_mismatches) {
+            const Ray& r = rays[i];
+            std::printf(
+                "mismatch %s ray %zu: origin %.9g %.9g %.9g direction %.9g %.9g %.9g "
+                "t_min %.9g, theirs %.9g, ours %.9g\n",
+                c.name.c_str(), i, r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y,
+                r.direction.z, r.t_min, c.t[i], tessera.t[i]);
+          }
           ++hit_mismatch;
         } else if (ch &&
                    std::fabs(c.t[i] - tessera.t[i]) > 1e-4f * std::max(1.0f, std::fabs(c.t[i]))) {
