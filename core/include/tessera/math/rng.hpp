@@ -58,7 +58,7 @@ class SampleStream {
   // they are stratified jointly, not just each on its own. Starts at the next even
   // dimension, skipping one if the count is odd, for either kind so that both give a
   // bounce the same dimension numbers.
-  TESSERA_HD void next_2d(float& a, float& b) {
+  TESSERA_HD TESSERA_FORCE_INLINE void next_2d(float& a, float& b) {
     dimension_ += dimension_ & 1U;
     if (kind_ == SamplerKind::kSobol) {
       const SobolPairSeeds seeds = pair_seeds(dimension_ >> 1);
@@ -71,7 +71,7 @@ class SampleStream {
   // As next_2d, and for Sobol keeps the pair's shuffled index, so that the pair joined to it
   // later (next_2d_joined) starts from it instead of forming it again: the pairs that lead
   // to a vertex (the camera's position in the pixel, a BSDF direction) draw with this.
-  TESSERA_HD void next_2d_kept(float& a, float& b) {
+  TESSERA_HD TESSERA_FORCE_INLINE void next_2d_kept(float& a, float& b) {
     dimension_ += dimension_ & 1U;
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     kept_pair_ = dimension_ >> 1;
@@ -87,7 +87,7 @@ class SampleStream {
   // permutation and one mirror fewer on the light sample's chain), and its seeds come from
   // the memo where there is one; the values are the same either way. The independent
   // sampler draws it as next_2d does.
-  TESSERA_HD void next_2d_joined(std::uint32_t partner, float& a, float& b) {
+  TESSERA_HD TESSERA_FORCE_INLINE void next_2d_joined(std::uint32_t partner, float& a, float& b) {
     if (kind_ != SamplerKind::kSobol) return next_2d(a, b);
     dimension_ += dimension_ & 1U;
     const std::uint32_t partner_pair = partner >> 1;
