@@ -1,36 +1,36 @@
 #include "tessera/render/baked_placements.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace tessera {
 
 namespace {
 
-// The triangle count of the geometry starting at `first`: up to the next geometry's start.
-std::size_t geometry_size(std::span<const std::uint32_t> starts, std::uint32_t first,
-                          std::size_t object_triangle_count) {
-  const auto next = std::upper_bound(starts.begin(), starts.end(), first);
-  return (next == starts.end() ? object_triangle_count : *next) - first;
-}
-
-std::vector<std::uint32_t> geometry_starts(std::span<const MeshPlacement> placements) {
+// Each placement's triangle count: its geometry runs from its first_triangle to the next
+// geometry's start (placements of one geometry share first_triangle) or to the end.
+std::vector<std::size_t> placement_sizes(std::span<const MeshPlacement> placements,
+                                         std::size_t object_triangle_count) {
   std::vector<std::uint32_t> starts;
   starts.reserve(placements.size());
   for (const MeshPlacement& p : placements) starts.push_back(p.first_triangle);
   std::sort(starts.begin(), starts.end());
   starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
-  return starts;
+  std::vector<std::size_t> sizes;
+  sizes.reserve(placements.size());
+  for (const MeshPlacement& p : placements) {
+    const auto next = std::upper_bound(starts.begin(), starts.end(), p.first_triangle);
+    sizes.push_back((next == starts.end() ? object_triangle_count : *next) - p.first_triangle);
+  }
+  return sizes;
 }
 
 }  // namespace
 
 std::size_t baked_placement_triangles(std::span<const MeshPlacement> placements,
                                       std::size_t object_triangle_count) {
-  const std::vector<std::uint32_t> starts = geometry_starts(placements);
-  std::size_t total = 0;
-  for (const MeshPlacement& p : placements)
-    total += geometry_size(starts, p.first_triangle, object_triangle_count);
-  return total;
+  const std::vector<std::size_t> sizes = placement_sizes(placements, object_triangle_count);
+  return std::accumulate(sizes.begin(), sizes.end(), std::size_t{0});
 }
 
 std::string baked_placements_refusal(std::size_t baked, std::size_t stored_triangles,
@@ -48,17 +48,17 @@ std::string baked_placements_refusal(std::size_t baked, std::size_t stored_trian
 BakedPlacements bake_placements(std::span<const MeshPlacement> placements,
                                 std::span<const Triangle> object_triangles,
                                 std::span<const TriangleAttributes> object_attributes) {
-  const std::vector<std::uint32_t> starts = geometry_starts(placements);
+  const std::vector<std::size_t> sizes = placement_sizes(placements, object_triangles.size());
   const bool attributes = !object_attributes.empty();
+  const std::size_t total = std::accumulate(sizes.begin(), sizes.end(), std::size_t{0});
   BakedPlacements out;
-  const std::size_t total = baked_placement_triangles(placements, object_triangles.size());
   out.triangles.reserve(total);
   if (attributes) out.attributes.reserve(total);
-  for (const MeshPlacement& p : placements) {
+  for (std::size_t k = 0; k < placements.size(); ++k) {
+    const MeshPlacement& p = placements[k];
     const auto world = [&p](const vec3& v) { return vec3(p.object_to_world.point(dvec3(v))); };
     const glm::dmat3 normal_matrix = glm::transpose(p.world_to_object.linear);
-    const std::size_t count = geometry_size(starts, p.first_triangle, object_triangles.size());
-    for (std::size_t i = p.first_triangle; i < p.first_triangle + count; ++i) {
+    for (std::size_t i = p.first_triangle; i < p.first_triangle + sizes[k]; ++i) {
       const Triangle& t = object_triangles[i];
       out.triangles.push_back(Triangle{world(t.p0), world(t.p1), world(t.p2), p.material});
       if (!attributes) continue;

@@ -84,16 +84,21 @@ const DeviceSceneSource& PreparedScene::device_source() const {
 
     // One BVH over the shape BVH's primitives and the triangles kept apart from it.
     const SceneView host = view();
+    SceneView& v = source->view;
+    v = host;
     std::vector<std::uint32_t> references(bvh_.primitives.begin(), bvh_.primitives.end());
     references.insert(references.end(), simd_triangle_references_.begin(),
                       simd_triangle_references_.end());
     if (!mesh_placements_.empty()) {
       // The device has no instance level: every placement becomes triangles of its own,
-      // after the scene's, and visible (placements of shared geometry are).
-      BakedPlacements baked =
+      // after the scene's, and visible (placements of shared geometry are). Shared and
+      // baked meshes store attributes alike (stores_triangle_attributes decides for all).
+      const BakedPlacements baked =
           bake_placements(mesh_placements_, instanced_triangles_, instanced_attributes_);
-      if (!baked.attributes.empty() && triangle_attributes_.size() != own_triangles.size())
-        throw std::logic_error("device_source: shared meshes store attributes, baked ones do not");
+      const bool stores_attributes = !baked.attributes.empty();
+      if (stores_attributes ? triangle_attributes_.size() != own_triangles.size()
+                            : !triangle_attributes_.empty())
+        throw std::logic_error("device_source: shared and baked meshes store attributes unlike");
       source->triangles.reserve(own_triangles.size() + baked.triangles.size());
       source->triangles.assign(own_triangles.begin(), own_triangles.end());
       for (std::size_t i = 0; i < baked.triangles.size(); ++i)
@@ -101,12 +106,14 @@ const DeviceSceneSource& PreparedScene::device_source() const {
             PrimitiveType::kTriangle, static_cast<std::uint32_t>(source->triangles.size() + i)));
       source->triangles.insert(source->triangles.end(), baked.triangles.begin(),
                                baked.triangles.end());
-      if (!baked.attributes.empty()) {
+      v.triangles = source->triangles.data();
+      if (stores_attributes) {
         source->triangle_attributes.reserve(source->triangles.size());
         source->triangle_attributes.assign(triangle_attributes_.begin(),
                                            triangle_attributes_.end());
         source->triangle_attributes.insert(source->triangle_attributes.end(),
                                            baked.attributes.begin(), baked.attributes.end());
+        v.triangle_attributes = source->triangle_attributes.data();
       }
     }
     const std::vector<Triangle>& triangles =
@@ -114,15 +121,11 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     const std::vector<TriangleAttributes>& triangle_attributes =
         source->triangle_attributes.empty() ? triangle_attributes_ : source->triangle_attributes;
     std::vector<Aabb> boxes(references.size());
-    SceneView with_baked = host;
-    with_baked.triangles = triangles.data();
     for (std::size_t i = 0; i < references.size(); ++i)
       boxes[i] = scene_detail::dispatch<kAllShapes>(
-          with_baked, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
+          v, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
     source->bvh = build_bvh(boxes, references);
 
-    SceneView& v = source->view;
-    v = host;
     v.bvh = source->bvh.view();                  // no SIMD triangles, instance level or wide nodes
     v.bvh.hidden_nodes = host.bvh.hidden_nodes;  // the hidden shapes' tree, as on the CPU
     v.bvh.hidden_primitives = host.bvh.hidden_primitives;
@@ -131,11 +134,6 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     v.instanced_attributes = nullptr;
     v.mesh_placements = nullptr;
     v.mesh_placement_count = 0;
-    if (!mesh_placements_.empty()) {
-      v.triangles = source->triangles.data();
-      if (!source->triangle_attributes.empty())
-        v.triangle_attributes = source->triangle_attributes.data();
-    }
 
     std::vector<DeviceBuffer>& b = source->buffers;
     add_shape_buffers(scene_detail::StoredPrimitives{}, arrays_, triangles, b);
