@@ -56,7 +56,7 @@ struct FirstHitRayGeneration {
 
   TESSERA_HD Ray generate(std::uint32_t x, std::uint32_t y, std::uint32_t sample,
                           Payload& payload) const {
-    payload.samples = SampleStream(seed, x, y, sample, sampler, sobol_memo);
+    payload.samples.restart(seed, x, y, sample, sampler, sobol_memo);
     return camera.generate_sample(x, y, payload.samples);
   }
   TESSERA_HD void on_result(std::uint32_t x, std::uint32_t y, std::uint32_t,
