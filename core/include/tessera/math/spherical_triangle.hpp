@@ -19,6 +19,15 @@ struct SphericalTriangle {
   TESSERA_HD static SphericalTriangle make(const vec3& p0, const vec3& p1, const vec3& p2,
                                            const vec3& origin) {
     SphericalTriangle t;
+    t.set(p0, p1, p2, origin);
+    return t;
+  }
+
+  // make(...) written into this one, for a light sampler's caller-held triangle: assigning
+  // make's result copied it through stores and wider loads that stall
+  // (SphericalRectangle::set says more).
+  TESSERA_HD void set(const vec3& p0, const vec3& p1, const vec3& p2, const vec3& origin) {
+    SphericalTriangle& t = *this;
     t.a = unit(p0 - origin);
     t.b = unit(p1 - origin);
     t.c = unit(p2 - origin);
@@ -33,7 +42,6 @@ struct SphericalTriangle {
     const float gamma = angle_between(n_ca, -n_bc);
     t.cos_c = glm::dot(t.a, t.b);
     t.solid_angle = glm::max(0.0f, t.alpha + beta + gamma - kPi);
-    return t;
   }
 
   // The unit direction for (u1, u2) in [0, 1)^2; uniform in solid angle.

@@ -52,13 +52,6 @@ namespace light_detail {
 inline constexpr float kMinSphericalSolidAngle = 3e-4f;
 inline constexpr float kMaxSphericalSolidAngle = 6.22f;
 
-// The solid angle of a rectangle (Quad::is_rectangle: |u . v| <= 1e-4 |u| |v|) from its
-// frame, which the quad keeps.
-TESSERA_HD TESSERA_INLINE SphericalRectangle spherical_rectangle(const Quad& q, const vec3& ref) {
-  return SphericalRectangle::make(q.corner, q.u_direction, q.v_direction, q.normal, q.u_length,
-                                  q.v_length, ref);
-}
-
 // Triangles take the spherical map from a larger solid angle: its area is the angle sum
 // minus pi, whose float rounding (~1e-7 of pi per angle) is 3e-5 of 1e-2 sr but 1e-3 of
 // 3e-4 sr; below 1e-2 sr a triangle is far enough for area sampling to be nearly as good.
@@ -78,7 +71,7 @@ TESSERA_HD TESSERA_INLINE bool triangle_spherical(const Triangle& t, const vec3&
   const vec3 n = glm::cross(e0, e1);
   const float height = glm::dot(t.p0 - ref, n);
   if (longest2 * glm::dot(n, n) <= height * height) return false;
-  sph = SphericalTriangle::make(t.p0, t.p1, t.p2, ref);
+  sph.set(t.p0, t.p1, t.p2, ref);
   return triangle_spherical_usable(sph.solid_angle);
 }
 
@@ -103,7 +96,7 @@ TESSERA_HD TESSERA_INLINE bool rectangle_spherical(const Quad& q, const vec3& re
   const vec3 from_centre = ref - (q.corner + 0.5f * (q.u + q.v));
   const float longest = glm::max(q.u_length, q.v_length);
   if (glm::dot(from_centre, from_centre) > 2.25f * longest * longest) return false;
-  rect = spherical_rectangle(q, ref);
+  rect.set(q.corner, q.u_direction, q.v_direction, q.normal, q.u_length, q.v_length, ref);
   return spherical_usable(rect.solid_angle);
 }
 
