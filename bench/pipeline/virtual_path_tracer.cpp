@@ -291,11 +291,12 @@ class VirtualScene {
   LightPick pick_light(const vec3& p, const vec3& n, float u) const {
     if (!light_tree.empty()) {  // tested per pick at run time
       const TreePick t = light_tree_pick(light_tree.data(), p, n, u);
-      return LightPick{t.light, t.pmf};
+      return LightPick{t.light, t.pmf, t.u};
     }
+    float rest = 0.0f;
     const std::uint32_t index =
-        alias_pick(light_alias.data(), static_cast<std::uint32_t>(lights.size()), u);
-    return LightPick{index, lights[index].pmf};
+        alias_pick(light_alias.data(), static_cast<std::uint32_t>(lights.size()), u, rest);
+    return LightPick{index, lights[index].pmf, rest};
   }
   float pick_pmf(const vec3& p, const vec3& n, const Light& light) const {
     if (!light_tree.empty())
@@ -307,12 +308,14 @@ class VirtualScene {
   // weighted against BSDF sampling as `strategy` says.
   vec3 estimate_direct(const SurfaceInteraction& si, const Frame& frame, const vec3& wo,
                        const BsdfModel& bsdf, const BounceSamples& u, std::uint32_t& rays) const {
-    const LightPick pick = pick_light(si.position, si.geometric_normal, u.light_pick);
+    const LightPick pick = pick_light(si.position, si.geometric_normal,
+                                      u.pick_with_light_point ? u.light_u1 : u.light_pick);
     if (!(pick.pmf > 0.0f)) return vec3(0.0f);
     const Light& light = lights[pick.index];
     if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return vec3(0.0f);
     LightSample ls;
-    if (!light.shape->sample_light(si.position, light.area, u.light_u1, u.light_u2, ls))
+    const float light_u1 = u.pick_with_light_point ? pick.reused_u : u.light_u1;
+    if (!light.shape->sample_light(si.position, light.area, light_u1, u.light_u2, ls))
       return vec3(0.0f);
     ls.radiance = materials[light.shape->material()].emission;
     const float side = glm::dot(ls.wi, si.geometric_normal);
@@ -378,8 +381,10 @@ class VirtualScene {
     const vec3 wo = frame.to_local(-ray.direction);
     BounceSamples u;
     const bool sample_lights = !lights.empty() && bsdf.has_non_specular();
-    if (sample_lights || bsdf.uses_lobe_sample())
+    if (bsdf.uses_lobe_sample())
       BounceSamples::draw(rng, path.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+    else
+      u.pick_with_light_point = true;
     if (sample_lights) {
       BounceSamples::draw(rng, path.depth, BouncePair::kLightPoint, u.light_u1, u.light_u2);
       path.radiance += path.throughput * estimate_direct(si, frame, wo, bsdf, u, path.rays);

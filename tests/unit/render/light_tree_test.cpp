@@ -9,6 +9,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -130,6 +132,67 @@ TEST(LightTree, PicksFollowTheirProbabilities) {
     EXPECT_GT(chi2.p_value, test::bonferroni_alpha(static_cast<int>(points.size())))
         << chi2.summary;
   }
+}
+
+// What a pick leaves of its u (LightPick::reused_u), which a diffuse vertex's light sampler
+// takes as its first coordinate: given the light, it must be uniform on [0, 1), or the point
+// on the light would follow another density than the sampler's pdf says. Chi-square over
+// (light, eighth of [0, 1)) cells, by the tree, by power alone (the alias table) and with
+// lights at infinity; and by the tree, where each light's picks come from one interval of
+// u, it must also keep u's order there, which keeps the light point stratified.
+TEST(LightTree, WhatAPickLeavesOfItsUIsUniformForEachLight) {
+  SceneDescription infinite = many_triangle_lights(40, false, 21);
+  infinite.lights.push_back(LightDesc{.type = "sun",
+                                      .direction = {0.2, -1, 0.1},
+                                      .irradiance = 2.0,
+                                      .angular_radius_degrees = 1.0});
+  infinite.environment = EnvironmentDesc{.type = "gradient", .intensity = 0.5};
+  struct Case {
+    const char* name;
+    std::shared_ptr<const PreparedScene> prepared;
+  };
+  const Case cases[] = {
+      {"tree", PreparedScene::build(many_triangle_lights(200, false, 12))},
+      {"power", PreparedScene::build(many_triangle_lights(60, false, 14), {.light_tree = false})},
+      {"tree and infinite", PreparedScene::build(infinite)}};
+  constexpr int kBins = 8, kPicks = 400000;
+  const Probe probe = probes()[0];
+  for (std::size_t c = 0; c < std::size(cases); ++c) {
+    const SceneView view = cases[c].prepared->view();
+    ASSERT_EQ(view.light_tree != nullptr, c != 1);
+    const std::size_t cells = std::size_t{view.light_count} * kBins;
+    std::vector<double> expected(cells), observed(cells, 0.0);
+    for (std::uint32_t i = 0; i < view.light_count; ++i)
+      for (int b = 0; b < kBins; ++b)
+        expected[i * kBins + b] = kPicks * light_pick_pmf(view, probe.p, probe.n, i) / kBins;
+    test::UniformFloats u(300 + c);
+    int outside = 0;
+    for (int k = 0; k < kPicks; ++k) {
+      const LightPick pick = pick_light(view, probe.p, probe.n, u());
+      ASSERT_GT(pick.pmf, 0.0f);
+      if (!(pick.reused_u >= 0.0f && pick.reused_u < 1.0f)) {
+        ++outside;
+        continue;
+      }
+      observed[pick.index * kBins + static_cast<std::size_t>(pick.reused_u * kBins)] += 1.0;
+    }
+    EXPECT_EQ(outside, 0);
+    const test::Chi2Result chi2 = test::pearson_chi2(observed, expected);
+    std::printf("[chi2] u left by a pick, %-17s p = %.4g (%s)\n", cases[c].name, chi2.p_value,
+                chi2.summary.c_str());
+    EXPECT_GT(chi2.p_value, test::bonferroni_alpha(static_cast<int>(std::size(cases))))
+        << cases[c].name << ": " << chi2.summary;
+  }
+  // Order: sweeping u upwards, each light's reused u never falls.
+  const SceneView view = cases[0].prepared->view();
+  std::vector<float> last(view.light_count, -1.0f);
+  int fell = 0;
+  for (int k = 0; k < 1 << 20; ++k) {
+    const LightPick pick = pick_light(view, probe.p, probe.n, static_cast<float>(k) * 0x1p-20f);
+    if (pick.reused_u < last[pick.index]) ++fell;
+    last[pick.index] = pick.reused_u;
+  }
+  EXPECT_EQ(fell, 0);
 }
 
 // Lights the receiving surface cannot see (all below its horizon) get no samples, and a

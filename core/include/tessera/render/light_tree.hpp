@@ -136,11 +136,12 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, 
 struct TreePick {
   std::uint32_t light = 0;
   float pmf = 0.0f;  // 0: no emitter can light p
+  float u = 0.0f;    // the pick's u stretched back to [0, 1) within the light's share
 };
 
 // Descends from the root with `u` in [0, 1), reusing it at each level: at a node, child
 // k is taken when u falls in its share of the summed importances, and u is rescaled to
-// that share.
+// that share (what is left of it at the leaf is TreePick::u).
 TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, const vec3& p,
                                                    const vec3& n, float u) {
   std::uint32_t at = 0;
@@ -166,7 +167,7 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
     pmf *= importance[slot] / total;
     u = glm::min(glm::max(0.0f, (target - before) / importance[slot]), 0x1.fffffep-1f);
     const std::uint32_t child = node.child[slot];
-    if (LightTreeNode::is_leaf(child)) return TreePick{LightTreeNode::light_of(child), pmf};
+    if (LightTreeNode::is_leaf(child)) return TreePick{LightTreeNode::light_of(child), pmf, u};
     at = child;
   }
 }

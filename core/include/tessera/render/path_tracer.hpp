@@ -149,6 +149,10 @@ struct BounceSamples {
   float light_pick = 0.0f, lobe = 0.0f;
   float light_u1 = 0.0f, light_u2 = 0.0f;
   float bsdf_u1 = 0.0f, bsdf_u2 = 0.0f;
+  // The light is picked with light_u1, which the picked light's sampler then takes as what
+  // is left of it (LightPick::reused_u), instead of with light_pick: a diffuse vertex, which
+  // needs no lobe, then skips the (lobe, light pick) pair.
+  bool pick_with_light_point = false;
 
   TESSERA_HD static void draw(SampleStream& rng, std::uint32_t depth, BouncePair pair, float& a,
                               float& b) {
@@ -321,10 +325,13 @@ TESSERA_HD vec3 begin_direct(const SceneView& scene, const SurfaceInteraction& s
                                              scene.lights[scene.every_vertex_lights[i]], 1.0f, u,
                                              strategy, tracer, front_origin, rays);
   if (!scene.pick_lights) return direct;
-  const LightPick pick = pick_light(scene, si.position, si.geometric_normal, u.light_pick);
-  if (pick.pmf > 0.0f)
-    prepare_light_sample(scene, si, frame, wo, bsdf, scene.lights[pick.index], pick.pmf, u,
-                         strategy, front_origin, rays, picked);
+  const LightPick pick = pick_light(scene, si.position, si.geometric_normal,
+                                    u.pick_with_light_point ? u.light_u1 : u.light_pick);
+  if (!(pick.pmf > 0.0f)) return direct;
+  BounceSamples point = u;
+  if (u.pick_with_light_point) point.light_u1 = pick.reused_u;
+  prepare_light_sample(scene, si, frame, wo, bsdf, scene.lights[pick.index], pick.pmf, point,
+                       strategy, front_origin, rays, picked);
   return direct;
 }
 
@@ -459,11 +466,13 @@ struct PathHit {
     if constexpr (kFeatures.direct_lighting)
       sample_lights = scene.light_count > 0 && bsdf.has_non_specular();
     SampleStream& rng = payload.samples;
-    // The (lobe, light pick) pair is drawn only when something reads it: a pick among
-    // several lights, or a BSDF with more than one lobe. A diffuse vertex lit by a single
-    // light skips a third of its samples' cost, and its image is the same.
-    if ((sample_lights && scene.light_count > 1) || bsdf.kind != BsdfKind::kDiffuse)
+    // The (lobe, light pick) pair is drawn only for a BSDF with more than one lobe; a
+    // diffuse vertex picks its light with the light point's first coordinate
+    // (BounceSamples::pick_with_light_point) and skips a third of its samples' cost.
+    if (bsdf.kind != BsdfKind::kDiffuse)
       BounceSamples::draw(rng, payload.depth, BouncePair::kLobeAndPick, u.lobe, u.light_pick);
+    else
+      u.pick_with_light_point = true;
     // Next-event estimation in two halves with the BSDF's sample between them, so that
     // it runs while the light sample's square roots and divisions are still in flight
     // (prepare_light_sample); the picked light's shadow ray is traced after it.
