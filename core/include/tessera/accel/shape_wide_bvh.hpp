@@ -40,12 +40,10 @@ namespace shape_walk_detail {
 // sign). Formed on four lanes at once: per axis in scalar code (three divisions, ten
 // broadcasts from memory, six row words) it was much of the walk's cost in a room of a few
 // shapes, whose rays then test one node.
+// The ray is read one float at a time (ray_lanes in accel/wide_node_sse.hpp says why).
 inline wide_node_sse::BoxRay box_ray_of(const Ray& ray) {
-  static_assert(sizeof(Ray) == 32 && offsetof(Ray, direction) == 12,
-                "origin and direction are read as four lanes each");
-  // (ox, oy, oz, dx) and (dx, dy, dz, t_min): the fourth lane is never used.
-  const __m128 origin = _mm_loadu_ps(&ray.origin.x);
-  const __m128 inverse = _mm_div_ps(_mm_set1_ps(1.0f), _mm_loadu_ps(&ray.direction.x));
+  const __m128 origin = wide_node_sse::ray_lanes(ray.origin);
+  const __m128 inverse = _mm_div_ps(_mm_set1_ps(1.0f), wide_node_sse::ray_lanes(ray.direction));
   return wide_node_sse::BoxRay(origin, inverse, ray.t_min);
 }
 
