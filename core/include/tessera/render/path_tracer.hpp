@@ -133,8 +133,10 @@ struct BackgroundMiss {
 // of kBounceDimensions, so a dimension means the same decision in every sample of a pixel
 // and the low-discrepancy sampler stratifies it. A block is three 2D pairs: the BSDF
 // direction, the point on the light, and (lobe, light pick). Each pair is drawn only when
-// the vertex uses it (a Sobol pair costs two scrambles and a shuffle); Russian roulette
-// takes white noise, which stratifying would not improve.
+// the vertex uses it (a Sobol pair costs two scrambles and a shuffle); a diffuse vertex
+// picks its light with the light point's first coordinate instead
+// (BounceSamples::pick_with_light_point). Russian roulette takes white noise, which
+// stratifying would not improve.
 // The point on the light is joined to the pair that led to the vertex (SampleStream::
 // next_2d_joined): the camera's position in the pixel at the first vertex, the previous
 // vertex's BSDF direction after that. Each such 4D set is stratified as a whole, so where
