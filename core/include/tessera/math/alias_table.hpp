@@ -14,20 +14,10 @@ struct AliasSlot {
   std::uint32_t alias = 0;
 };
 
-// `u` in [0, 1) -> an index of `slots` (count > 0).
-TESSERA_HD TESSERA_INLINE std::uint32_t alias_pick(const AliasSlot* slots, std::uint32_t count,
-                                                   float u) {
-  const float scaled = u * static_cast<float>(count);
-  std::uint32_t i = static_cast<std::uint32_t>(scaled);
-  if (i >= count) i = count - 1;
-  const float fraction = scaled - static_cast<float>(i);
-  return fraction < slots[i].threshold ? i : slots[i].alias;
-}
-
-// alias_pick, and in `rest` what is left of u: its fraction within the slot, stretched from
-// the part of the slot that chose the index back to [0, 1). Given the index, `rest` is
-// uniform on [0, 1) (each part of [0, 1) that picks it covers [0, 1) once), so a sampler
-// can take it as a coordinate.
+// `u` in [0, 1) -> an index of `slots` (count > 0), and in `rest` what is left of u: its
+// fraction within the slot, stretched from the part of the slot that chose the index back
+// to [0, 1). Given the index, `rest` is uniform on [0, 1) (each part of [0, 1) that picks it
+// covers [0, 1) once), so a sampler can take it as a coordinate.
 TESSERA_HD TESSERA_INLINE std::uint32_t alias_pick(const AliasSlot* slots, std::uint32_t count,
                                                    float u, float& rest) {
   const float scaled = u * static_cast<float>(count);
@@ -40,6 +30,12 @@ TESSERA_HD TESSERA_INLINE std::uint32_t alias_pick(const AliasSlot* slots, std::
   // NaN (a fraction at 1 past a threshold of 1) and rounding past the ends are clamped.
   rest = stretched > 0.0f ? (stretched < 0x1.fffffep-1f ? stretched : 0x1.fffffep-1f) : 0.0f;
   return own ? i : slots[i].alias;
+}
+
+TESSERA_HD TESSERA_INLINE std::uint32_t alias_pick(const AliasSlot* slots, std::uint32_t count,
+                                                   float u) {
+  float rest = 0.0f;
+  return alias_pick(slots, count, u, rest);
 }
 
 // Vose's construction, in double so long lists of nearly equal weights stay exact enough.
