@@ -7,12 +7,16 @@
 #
 #   bench/converge/per_sample_cost.sh OLD_TESSERA NEW_TESSERA [ROUNDS (6)] [SPP (128)]
 #
+# ALL=1 adds the other converge scenes the old binary can read (rough_materials, mesh_250k,
+# many_lights and emissive_triangles, whose 1,024-triangle grid is generated into a temporary
+# folder); a scene either binary cannot render is skipped with a note.
+#
 # Wall clock on a shared machine is noisy; callgrind instruction counts of render_tile are the
 # repeatable figure (see the README's "Cost per sample" paragraph for that command).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-[ $# -ge 2 ] || { sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 2 ] || { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 old=$1 new=$2 rounds=${3:-6} spp=${4:-128}
 box="$root/../shared/rayon-scenes/09_color_bleed_box.yaml"
 scenes=("$root/bench/converge/scenes/glossy_glass.yaml" "$root/bench/converge/scenes/two_lights.yaml")
@@ -20,6 +24,24 @@ scenes=("$root/bench/converge/scenes/glossy_glass.yaml" "$root/bench/converge/sc
 cpu=$(($(nproc) - 1))
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+if [ "${ALL:-0}" = 1 ]; then
+  mkdir -p "$out/scenes"
+  cp "$root/bench/converge/scenes/emissive_triangles.yaml" "$out/scenes/"
+  /usr/bin/python3 "$root/bench/converge/scenes/make_emissive_grid.py" \
+    "$out/scenes/emissive_grid.obj" > /dev/null
+  for scene in "$root/bench/converge/scenes/rough_materials.yaml" \
+    "$root/bench/converge/scenes/mesh_250k.yaml" "$root/bench/converge/scenes/many_lights.yaml" \
+    "$out/scenes/emissive_triangles.yaml"; do
+    if "$old" render --local --threads 1 --width 16 --height 16 --spp 1 "$scene" \
+      -o "$out/probe.exr" > /dev/null 2>&1 &&
+      "$new" render --local --threads 1 --width 16 --height 16 --spp 1 "$scene" \
+        -o "$out/probe.exr" > /dev/null 2>&1; then
+      scenes+=("$scene")
+    else
+      echo "skipped $(basename "$scene" .yaml): a binary cannot render it" >&2
+    fi
+  done
+fi
 
 # The seconds the CLI reports for one local render.
 render_seconds() {
