@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "tessera/math/vec.hpp"
 
@@ -20,7 +21,8 @@ struct Ray {
   float t_min = 0.0f;
   float t_max = kInfinity;
 };
-static_assert(sizeof(Ray) == 8 * sizeof(float), "store_ray writes a ray as eight floats");
+static_assert(sizeof(Ray) == 8 * sizeof(float) && std::is_standard_layout_v<Ray>,
+              "store_ray writes a ray as eight floats");
 
 // `to` = Ray{origin, direction, t_min, t_max}, written on the host as two 16-byte stores.
 // A ray a hit program leaves for the pipeline's next trace is copied out as two 16-byte
@@ -31,9 +33,12 @@ static_assert(sizeof(Ray) == 8 * sizeof(float), "store_ray writes a ray as eight
 TESSERA_HD TESSERA_FORCE_INLINE void store_ray(Ray& to, const vec3& origin, const vec3& direction,
                                                float t_min, float t_max) {
 #if defined(TESSERA_RAY_SSE)
-  float* out = &to.origin.x;
-  _mm_storeu_ps(out, _mm_setr_ps(origin.x, origin.y, origin.z, direction.x));
-  _mm_storeu_ps(out + 4, _mm_setr_ps(direction.y, direction.z, t_min, t_max));
+  // The two halves by byte offset into the ray (standard layout, eight floats).
+  char* bytes = reinterpret_cast<char*>(&to);
+  _mm_storeu_ps(reinterpret_cast<float*>(bytes),
+                _mm_setr_ps(origin.x, origin.y, origin.z, direction.x));
+  _mm_storeu_ps(reinterpret_cast<float*>(bytes + 16),
+                _mm_setr_ps(direction.y, direction.z, t_min, t_max));
 #else
   to = Ray{origin, direction, t_min, t_max};
 #endif
