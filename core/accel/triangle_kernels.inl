@@ -69,9 +69,14 @@ TESSERA_KERNEL_INLINE bool enters_root_box(__m128 origin, __m128 inv_direction, 
 // child's, so it never rejects a ray test_node would let in.
 template <bool kRootTest>
 TESSERA_KERNEL_INLINE bool prepare(const Ray& ray, const float* root_box, PreparedRay& r) {
-  // (ox, oy, oz, oz) and (dx, dy, dz, dz), one float at a time (ray_lanes says why).
-  const __m128 origin = wide_node_sse::ray_lanes(ray.origin);
-  const __m128 direction = wide_node_sse::ray_lanes(ray.direction);
+  static_assert(sizeof(Ray) == 32 && offsetof(Ray, direction) == 12,
+                "origin and direction are read as four lanes each");
+  // (ox, oy, oz, oz) and (dx, dy, dz, dz): the z lane repeated where the loads read the
+  // next field.
+  const __m128 o4 = _mm_loadu_ps(&ray.origin.x);
+  const __m128 d4 = _mm_loadu_ps(&ray.direction.x);
+  const __m128 origin = _mm_shuffle_ps(o4, o4, _MM_SHUFFLE(2, 2, 1, 0));
+  const __m128 direction = _mm_shuffle_ps(d4, d4, _MM_SHUFFLE(2, 2, 1, 0));
   const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   const __m128 infinity = _mm_set1_ps(kInfinity);
   const __m128 finite = _mm_and_ps(_mm_cmplt_ps(_mm_and_ps(origin, magnitude), infinity),
