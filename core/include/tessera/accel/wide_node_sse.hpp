@@ -19,21 +19,6 @@ namespace tessera::wide_node_sse {
 // or a box entered at the same distance, up to rounding, as the hit found so far.
 inline constexpr float kFarScale = 1.0f + 2.0f * 1.1920929e-07f;
 
-// A ray's origin or direction as (x, y, z, z) lanes, read one float at a time, for the
-// shape walk. Rays are usually written just before they are traced, by stores of whatever
-// width the compiler chose; a 16-byte load across more than one of them cannot take its
-// data from the store buffer and waits for the stores to reach the cache. The walk read the
-// direction as one load at offset 12 of the ray, which spans both halves of a ray written
-// as two 16-byte stores (store_ray) or copied as such: perf annotate of the converge scene
-// two_lights (Zen 5) put 1.7% of the samples on it. Three scalar loads forward from any
-// stores that cover them; the time per sample moved by less than the timing's noise
-// (0.98-1.00x), as the other work of the walk's first node overlapped much of the wait. The
-// triangle kernels keep their two 16-byte loads: read this way, elephant's rays in the
-// Embree comparison (from memory, nothing to forward) ran 0.5-0.8% slower.
-inline __m128 ray_lanes(const vec3& v) {
-  return _mm_setr_ps(v.x, v.y, v.z, v.z);
-}
-
 // Per-ray constants of the slab tests, four lanes each. Rows: bounds[2 * axis] holds the
 // children's lower planes; near_row/far_row say which row is the near and which the far
 // plane per axis (the upper row is near for a negative direction).

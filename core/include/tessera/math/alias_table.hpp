@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tessera/math/host_device.hpp"
+#include "tessera/math/sampling.hpp"
 
 namespace tessera {
 
@@ -26,9 +27,8 @@ TESSERA_HD TESSERA_INLINE std::uint32_t alias_pick(const AliasSlot* slots, std::
   const float fraction = scaled - static_cast<float>(i);
   const float threshold = slots[i].threshold;
   const bool own = fraction < threshold;
-  const float stretched = own ? fraction / threshold : (fraction - threshold) / (1.0f - threshold);
   // NaN (a fraction at 1 past a threshold of 1) and rounding past the ends are clamped.
-  rest = stretched > 0.0f ? (stretched < 0x1.fffffep-1f ? stretched : 0x1.fffffep-1f) : 0.0f;
+  rest = clamp_below_one(own ? fraction / threshold : (fraction - threshold) / (1.0f - threshold));
   return own ? i : slots[i].alias;
 }
 

@@ -6,6 +6,12 @@
 
 namespace tessera {
 
+// `x` clamped into [0, 1) as a float, NaN to 0: a uniform number stretched back to [0, 1) from
+// a part of it (a light pick's remainder), whose rounding can reach 1 or fall below 0.
+TESSERA_HD TESSERA_INLINE float clamp_below_one(float x) {
+  return glm::min(glm::max(0.0f, x), 0x1.fffffep-1f);
+}
+
 // Cosine-weighted direction about +z; pdf = cos(theta) / pi.
 TESSERA_HD TESSERA_INLINE vec3 sample_cosine_hemisphere(float u1, float u2) {
   const float r = std::sqrt(u1);

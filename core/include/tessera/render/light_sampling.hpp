@@ -139,8 +139,6 @@ TESSERA_HD TESSERA_INLINE float one_minus_cos_cone(float sin2_max) {
 // probability infinite_pick between them, uniformly. pmf 0 means no light can light p.
 TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, const vec3& p, const vec3& n,
                                                float u) {
-  // Below 1 as a float, for the stretched u's.
-  const auto below_one = [](float x) { return glm::min(glm::max(0.0f, x), 0x1.fffffep-1f); };
   if (scene.light_tree != nullptr) {
     const std::uint32_t infinite = scene.light_count - scene.first_infinite_light;
     if (u < scene.infinite_pick) {
@@ -148,7 +146,7 @@ TESSERA_HD TESSERA_INLINE LightPick pick_light(const SceneView& scene, const vec
       const std::uint32_t k = glm::min(static_cast<std::uint32_t>(share), infinite - 1);
       return LightPick{scene.first_infinite_light + k,
                        scene.infinite_pick / static_cast<float>(infinite),
-                       below_one(share - static_cast<float>(k))};
+                       clamp_below_one(share - static_cast<float>(k))};
     }
     const float bounded = 1.0f - scene.infinite_pick;
     u = glm::min((u - scene.infinite_pick) / bounded, 0x1.fffffep-1f);

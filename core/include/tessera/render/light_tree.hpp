@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "tessera/math/sampling.hpp"
 #include "tessera/math/vec.hpp"
 
 #if !defined(__CUDA_ARCH__) && (defined(__SSE2__) || defined(_M_X64))
@@ -165,7 +166,7 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
       if (target < running) break;
     }
     pmf *= importance[slot] / total;
-    u = glm::min(glm::max(0.0f, (target - before) / importance[slot]), 0x1.fffffep-1f);
+    u = clamp_below_one((target - before) / importance[slot]);
     const std::uint32_t child = node.child[slot];
     if (LightTreeNode::is_leaf(child)) return TreePick{LightTreeNode::light_of(child), pmf, u};
     at = child;

@@ -229,23 +229,22 @@ struct ShadowQuery {
 };
 
 // The first half of one light's sample at the point (direct_from_light): the direction,
-// f cos Li and the shadow ray, everything but the trace. `pmf` is the probability the light
-// was chosen (1 for a light sampled at every vertex). The path tracer does the BSDF's own
+// f cos Li and the shadow ray, everything but the trace, from the point on the light that
+// (u1, u2) give. `pmf` is the probability the light was chosen (1 for a light sampled at
+// every vertex). The path tracer does the BSDF's own
 // sample between the two halves: the light samplers end in chains of dependent square roots
 // and divisions that the shadow ray's walk waits on, and work placed before that walk runs
 // while they do.
 TESSERA_HD inline void prepare_light_sample(const SceneView& scene, const SurfaceInteraction& si,
                                             const Frame& frame, const vec3& wo, const Bsdf& bsdf,
-                                            const LightSource& light, float pmf,
-                                            const BounceSamples& u, LightStrategy strategy,
-                                            const vec3& front_origin, std::uint32_t& rays,
-                                            ShadowQuery& query) {
+                                            const LightSource& light, float pmf, float u1, float u2,
+                                            LightStrategy strategy, const vec3& front_origin,
+                                            std::uint32_t& rays, ShadowQuery& query) {
   query.pending = false;
   // BSDF sampling finds every emitter a ray can hit; delta lights only light sampling finds.
   if (strategy == LightStrategy::kBsdf && light.hit_by_rays) return;
   LightSample ls;
-  if (!sample_light(scene, light, si.position, u.light_u1, u.light_u2, ls, si.geometric_normal))
-    return;
+  if (!sample_light(scene, light, si.position, u1, u2, ls, si.geometric_normal)) return;
   // Shading normals must not let light through the geometric surface: the light must be on
   // the side the shading frame puts it, and behind the surface only for a BSDF that
   // transmits (rough glass).
@@ -306,8 +305,8 @@ TESSERA_HD vec3 direct_from_light(const SceneView& scene, const SurfaceInteracti
                                   LightStrategy strategy, const T& tracer, const vec3& front_origin,
                                   std::uint32_t& rays) {
   ShadowQuery query;
-  prepare_light_sample(scene, si, frame, wo, bsdf, light, pmf, u, strategy, front_origin, rays,
-                       query);
+  prepare_light_sample(scene, si, frame, wo, bsdf, light, pmf, u.light_u1, u.light_u2, strategy,
+                       front_origin, rays, query);
   return finish_light_sample<kFilmShapes>(scene, wo, bsdf, tracer, query);
 }
 
@@ -330,10 +329,9 @@ TESSERA_HD vec3 begin_direct(const SceneView& scene, const SurfaceInteraction& s
   const LightPick pick = pick_light(scene, si.position, si.geometric_normal,
                                     u.pick_with_light_point ? u.light_u1 : u.light_pick);
   if (!(pick.pmf > 0.0f)) return direct;
-  BounceSamples point = u;
-  if (u.pick_with_light_point) point.light_u1 = pick.reused_u;
-  prepare_light_sample(scene, si, frame, wo, bsdf, scene.lights[pick.index], pick.pmf, point,
-                       strategy, front_origin, rays, picked);
+  prepare_light_sample(scene, si, frame, wo, bsdf, scene.lights[pick.index], pick.pmf,
+                       u.pick_with_light_point ? pick.reused_u : u.light_u1, u.light_u2, strategy,
+                       front_origin, rays, picked);
   return direct;
 }
 
