@@ -142,19 +142,18 @@ struct TreeBuild {
       LightTreeNode& node = nodes[index];
       if (k >= used) {
         // An empty slot: no power, so it is never taken.
-        node.lower_x[k] = node.lower_y[k] = node.lower_z[k] = 0.0f;
-        node.upper_x[k] = node.upper_y[k] = node.upper_z[k] = 0.0f;
+        node.centre_x[k] = node.centre_y[k] = node.centre_z[k] = node.radius2[k] = 0.0f;
         node.power[k] = 0.0f;
         node.child[k] = LightTreeNode::kLeaf;
         continue;
       }
       const BinaryNode& b = binary[slots[k]];
-      node.lower_x[k] = b.box.lower.x;
-      node.lower_y[k] = b.box.lower.y;
-      node.lower_z[k] = b.box.lower.z;
-      node.upper_x[k] = b.box.upper.x;
-      node.upper_y[k] = b.box.upper.y;
-      node.upper_z[k] = b.box.upper.z;
+      // The box's circumscribed sphere.
+      const vec3 half = 0.5f * (b.box.upper - b.box.lower);
+      node.centre_x[k] = 0.5f * (b.box.lower.x + b.box.upper.x);
+      node.centre_y[k] = 0.5f * (b.box.lower.y + b.box.upper.y);
+      node.centre_z[k] = 0.5f * (b.box.lower.z + b.box.upper.z);
+      node.radius2[k] = (half.x * half.x + half.y * half.y) + half.z * half.z;
       node.power[k] = static_cast<float>(b.power);
       const std::uint64_t child_path = path | (std::uint64_t{k} << (kLightTreePathBits * depth));
       if (b.leaf) {

@@ -216,10 +216,9 @@ TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
     float importance[4];
     light_tree_importance(root, probe.p, probe.n, importance);
     for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
-      const vec3 lower(root.lower_x[k], root.lower_y[k], root.lower_z[k]);
-      const vec3 upper(root.upper_x[k], root.upper_y[k], root.upper_z[k]);
-      const double radius2 = glm::dot(glm::dvec3(upper - lower), glm::dvec3(upper - lower)) / 4;
-      const glm::dvec3 to = 0.5 * glm::dvec3(lower + upper) - glm::dvec3(probe.p);
+      const double radius2 = root.radius2[k];
+      const glm::dvec3 to =
+          glm::dvec3(root.centre_x[k], root.centre_y[k], root.centre_z[k]) - glm::dvec3(probe.p);
       const double d2 = glm::dot(to, to);
       double cos_bound = 1.0;
       if (d2 > radius2) {
@@ -234,6 +233,45 @@ TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
       EXPECT_NEAR(importance[k], expected, 1e-4 * expected + 1e-30) << "slot " << k;
     }
   }
+}
+
+// The importance bound holds only if a node's sphere encloses every emitter below it: each
+// corner of each light's box lies in the sphere of every slot on its root-to-leaf path
+// (to the float rounding of the centre: a few units in the last place of its coordinates).
+TEST(LightTree, EverySphereOnAPathEnclosesItsLight) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(300, false, 18));
+  const SceneView view = prepared->view();
+  ASSERT_NE(view.light_tree, nullptr);
+  std::uint32_t checked = 0;
+  for (std::uint32_t i = 0; i < view.light_count; ++i) {
+    Aabb box;
+    light_detail::with_emitter(view, view.lights[i], [&](const auto& shape) {
+      box = bounds(shape);
+      return true;
+    });
+    ASSERT_FALSE(box.empty()) << "light " << i;
+    std::uint32_t at = 0;
+    for (std::uint32_t level = 0; level < view.lights[i].tree_depth; ++level) {
+      const auto slot = static_cast<std::uint32_t>(
+          (view.lights[i].tree_path >> (kLightTreePathBits * level)) & 3u);
+      const LightTreeNode& node = view.light_tree[at];
+      const dvec3 centre(node.centre_x[slot], node.centre_y[slot], node.centre_z[slot]);
+      const double rounding =
+          4.0 *
+          std::ldexp(std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)}), -23);
+      for (int corner = 0; corner < 8; ++corner) {
+        const dvec3 q((corner & 1) ? box.upper.x : box.lower.x,
+                      (corner & 2) ? box.upper.y : box.lower.y,
+                      (corner & 4) ? box.upper.z : box.lower.z);
+        EXPECT_LE(glm::length(q - centre), std::sqrt(double{node.radius2[slot]}) + rounding)
+            << "light " << i << " level " << level << " corner " << corner;
+        ++checked;
+      }
+      at = node.child[slot];
+    }
+    EXPECT_EQ(at, view.lights[i].tree_depth == 0 ? 0u : (i | LightTreeNode::kLeaf));
+  }
+  EXPECT_GT(checked, 300u * 8u * 4u);
 }
 
 // The host's SSE importances equal the portable ones (the device's) bit for bit, at every
@@ -268,11 +306,8 @@ TEST(LightTree, HostImportancesEqualThePortableOnes) {
         ++compared;
         // Narrowed by the cone: lit, yet below power / max(d2, r2).
         const LightTreeNode& node = view.light_tree[at];
-        const vec3 lower(node.lower_x[k], node.lower_y[k], node.lower_z[k]);
-        const vec3 upper(node.upper_x[k], node.upper_y[k], node.upper_z[k]);
-        const vec3 to = 0.5f * (lower + upper) - p;
-        const float unbounded =
-            node.power[k] / std::max(glm::dot(to, to), glm::dot(upper - lower, upper - lower) / 4);
+        const vec3 to = vec3(node.centre_x[k], node.centre_y[k], node.centre_z[k]) - p;
+        const float unbounded = node.power[k] / std::max(glm::dot(to, to), node.radius2[k]);
         if (portable[k] > 0.0f && portable[k] < 0.999f * unbounded) ++narrowed;
         if (node.power[k] > 0.0f && portable[k] == 0.0f) ++unlit;
       }
