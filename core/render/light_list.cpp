@@ -149,10 +149,10 @@ struct TreeBuild {
       }
       const BinaryNode& b = binary[slots[k]];
       // The box's circumscribed sphere.
-      const vec3 half = 0.5f * (b.box.upper - b.box.lower);
-      node.centre_x[k] = 0.5f * (b.box.lower.x + b.box.upper.x);
-      node.centre_y[k] = 0.5f * (b.box.lower.y + b.box.upper.y);
-      node.centre_z[k] = 0.5f * (b.box.lower.z + b.box.upper.z);
+      const vec3 centre = b.box.centroid(), half = 0.5f * b.box.extent();
+      node.centre_x[k] = centre.x;
+      node.centre_y[k] = centre.y;
+      node.centre_z[k] = centre.z;
       node.radius2[k] = (half.x * half.x + half.y * half.y) + half.z * half.z;
       node.power[k] = static_cast<float>(b.power);
       const std::uint64_t child_path = path | (std::uint64_t{k} << (kLightTreePathBits * depth));
