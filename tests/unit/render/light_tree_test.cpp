@@ -207,32 +207,122 @@ TEST(LightTree, LightsBelowTheHorizonAreNeverPicked) {
     EXPECT_EQ(light_pick_pmf(view, above, up, i), 0.0f);
 }
 
+// The importance of `node`'s child k from (p, n), and whether the child is far, in double
+// precision from the angles themselves (not the walk's rearranged formula). `margin` is how
+// clearly the far test is decided: the smaller of its two comparisons' relative margins.
+struct ReferenceSlot {
+  double importance = 0.0;
+  bool far = false;
+  double margin = 0.0;
+};
+
+ReferenceSlot reference_slot(const LightTreeNode& node, std::uint32_t k, const vec3& p,
+                             const vec3& n) {
+  const double radius2 = node.radius2[k];
+  const glm::dvec3 to =
+      glm::dvec3(node.centre_x[k], node.centre_y[k], node.centre_z[k]) - glm::dvec3(p);
+  const double d2 = glm::dot(to, to);
+  ReferenceSlot r;
+  r.margin = 1.0;  // inside its sphere: clearly not far
+  double cos_bound = 1.0;
+  if (d2 > radius2) {
+    const double cos_n = glm::dot(glm::dvec3(n), to) / std::sqrt(d2);
+    const double sin_n = std::sqrt(std::max(0.0, 1.0 - cos_n * cos_n));
+    const double sin_u = std::sqrt(radius2 / d2), cos_u = std::sqrt(1.0 - radius2 / d2);
+    if (cos_n < cos_u) cos_bound = cos_n * cos_u + sin_n * sin_u;
+    // Far: small for its distance, and cos(theta_n + theta_u) at least 1/spread of
+    // cos(theta_n - theta_u).
+    const double near_cos = cos_n * cos_u + sin_n * sin_u;
+    const double far_cos = cos_n * cos_u - sin_n * sin_u;
+    const double distance_margin = d2 / (kLightTreeFarDistance2 * radius2) - 1.0;
+    const double cosine_margin =
+        (kLightTreeFarCosineSpread * far_cos - near_cos) / std::max(1e-30, std::abs(near_cos));
+    r.far = distance_margin > 0.0 && cosine_margin >= 0.0;
+    r.margin = std::min(std::abs(distance_margin), std::abs(cosine_margin));
+  }
+  r.importance = node.power[k] > 0.0f && cos_bound > 0.0
+                     ? node.power[k] * cos_bound / std::max(d2, radius2)
+                     : 0.0;
+  return r;
+}
+
 TEST(LightTree, ImportancesAreTheSameOnEveryPath) {
-  // The SSE path (host) against the scalar formula written out here.
+  // The SSE path (host) against the formula from the angles.
   const auto prepared = PreparedScene::build(many_triangle_lights(64, false, 14));
   const SceneView view = prepared->view();
   const LightTreeNode& root = view.light_tree[0];
   for (const Probe& probe : probes()) {
     float importance[4];
-    light_tree_importance(root, probe.p, probe.n, importance);
+    std::uint32_t far_slots = 0;
+    light_tree_importance(root, probe.p, probe.n, importance, far_slots);
     for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
-      const double radius2 = root.radius2[k];
-      const glm::dvec3 to =
-          glm::dvec3(root.centre_x[k], root.centre_y[k], root.centre_z[k]) - glm::dvec3(probe.p);
-      const double d2 = glm::dot(to, to);
-      double cos_bound = 1.0;
-      if (d2 > radius2) {
-        const double cos_n = glm::dot(glm::dvec3(probe.n), to) / std::sqrt(d2);
-        const double sin_u = std::sqrt(radius2 / d2), cos_u = std::sqrt(1.0 - radius2 / d2);
-        if (cos_n < cos_u)
-          cos_bound = cos_n * cos_u + std::sqrt(std::max(0.0, 1.0 - cos_n * cos_n)) * sin_u;
+      const ReferenceSlot expected = reference_slot(root, k, probe.p, probe.n);
+      EXPECT_NEAR(importance[k], expected.importance, 1e-4 * expected.importance + 1e-30)
+          << "slot " << k;
+      if (expected.margin > 1e-4) {
+        EXPECT_EQ(((far_slots >> k) & 1u) != 0, expected.far) << "slot " << k;
       }
-      const double expected = root.power[k] > 0.0f && cos_bound > 0.0
-                                  ? root.power[k] * cos_bound / std::max(d2, radius2)
-                                  : 0.0;
-      EXPECT_NEAR(importance[k], expected, 1e-4 * expected + 1e-30) << "slot " << k;
     }
   }
+}
+
+// The whole rule, against a walk written out here in double precision: down to the first
+// far child each level weighs its children by importance, below it by power. From points
+// near and far (up to 300 units) from 300 lights, facing random directions, every light's
+// light_pick_pmf matches; lights whose path crosses a far test too close to call in float
+// are skipped. The counts check that both kinds of level occur.
+TEST(LightTree, BelowAFarChildLightsArePickedByPower) {
+  const auto prepared = PreparedScene::build(many_triangle_lights(300, false, 19));
+  const SceneView view = prepared->view();
+  ASSERT_NE(view.light_tree, nullptr);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::uint32_t compared = 0, power_levels = 0, importance_levels = 0;
+  for (int i = 0; i < 60; ++i) {
+    const float scale = i < 40 ? 6.0f : 300.0f;
+    const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
+    vec3 n(u(rng), u(rng), u(rng));
+    if (glm::dot(n, n) < 1e-4f) n = vec3(0, 1, 0);
+    n = glm::normalize(n);
+    for (std::uint32_t light = 0; light < view.light_count; ++light) {
+      double pmf = 1.0;
+      bool far = false, clear = true;
+      std::uint32_t at = 0, powers = 0, importances = 0;
+      for (std::uint32_t level = 0; level < view.lights[light].tree_depth; ++level) {
+        const LightTreeNode& node = view.light_tree[at];
+        const auto slot = static_cast<std::uint32_t>(
+            (view.lights[light].tree_path >> (kLightTreePathBits * level)) & 3u);
+        double weight[4], total = 0.0;
+        bool slot_far = false;
+        for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
+          if (far) {
+            weight[k] = node.power[k];
+          } else {
+            const ReferenceSlot r = reference_slot(node, k, p, n);
+            weight[k] = r.importance;
+            if (k == slot) {
+              slot_far = r.far;
+              clear = clear && r.margin > 1e-3;
+            }
+          }
+          total += weight[k];
+        }
+        (far ? powers : importances) += 1;
+        pmf = total > 0.0 ? pmf * weight[slot] / total : 0.0;
+        far = far || slot_far;
+        at = node.child[slot];
+      }
+      if (!clear) continue;
+      const double got = light_pick_pmf(view, p, n, light);
+      EXPECT_NEAR(got, pmf, 2e-4 * pmf + 1e-12) << "light " << light << " from point " << i;
+      ++compared;
+      power_levels += powers;
+      importance_levels += importances;
+    }
+  }
+  EXPECT_GT(compared, 60u * 300u * 3 / 4);
+  EXPECT_GT(power_levels, 10000u);
+  EXPECT_GT(importance_levels, 10000u);
 }
 
 // The importance bound holds only if a node's sphere encloses every emitter below it: each
@@ -289,7 +379,7 @@ TEST(LightTree, HostImportancesEqualThePortableOnes) {
       if (!LightTreeNode::is_leaf(c) && c + 1 > nodes) nodes = c + 1;
   std::mt19937 rng(17);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::uint32_t compared = 0, narrowed = 0, unlit = 0;
+  std::uint32_t compared = 0, narrowed = 0, unlit = 0, far = 0;
   for (int i = 0; i < 400; ++i) {
     const float scale = i < 300 ? 5.0f : 1e4f;
     const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
@@ -298,8 +388,11 @@ TEST(LightTree, HostImportancesEqualThePortableOnes) {
     n = glm::normalize(n);
     for (std::uint32_t at = 0; at < nodes; ++at) {
       float host[4], portable[4];
-      light_tree_importance(view.light_tree[at], p, n, host);
-      light_tree_importance_portable(view.light_tree[at], p, n, portable);
+      std::uint32_t host_far = 0, portable_far = 0;
+      light_tree_importance(view.light_tree[at], p, n, host, host_far);
+      light_tree_importance_portable(view.light_tree[at], p, n, portable, portable_far);
+      EXPECT_EQ(host_far, portable_far) << "node " << at;
+      far += static_cast<std::uint32_t>(std::popcount(portable_far));
       for (int k = 0; k < 4; ++k) {
         EXPECT_EQ(std::bit_cast<std::uint32_t>(host[k]), std::bit_cast<std::uint32_t>(portable[k]))
             << "node " << at << " slot " << k << ": " << host[k] << " against " << portable[k];
@@ -315,7 +408,9 @@ TEST(LightTree, HostImportancesEqualThePortableOnes) {
   }
   EXPECT_GT(compared, 10000u);
   EXPECT_GT(narrowed, 1000u);  // the cone's bound is exercised,
-  EXPECT_GT(unlit, 1000u);     // and so are clusters below the horizon
+  EXPECT_GT(unlit, 1000u);     // and so are clusters below the horizon,
+  EXPECT_GT(far, 1000u);       // and far ones, picked below by power
+  EXPECT_LT(far, compared / 2);
 }
 
 // Every light at one point: the split search cannot separate them, median splits take

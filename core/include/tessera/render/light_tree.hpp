@@ -63,11 +63,26 @@ inline constexpr std::uint32_t kLightTreeMaxDepth = 64 / kLightTreePathBits;
 // angles' cosines and sines took four square roots and two divisions mostly one after
 // another: the same instructions, 2-4% less render time on scenes with a tree
 // (bench/converge/README.md).
+// A child is far when its sphere is small for its distance (d2 > kLightTreeFarDistance2 r2)
+// and wholly above the horizon with cosines that vary little across it: the cosine at the
+// cone's edge farthest from n, cos(theta_n + theta_u) d2 = t sqrt(d2 - r2) -
+// sqrt((d2 - t^2) r2), is at least 1 / kLightTreeFarCosineSpread of the one at its nearest
+// edge. Below a far child every light's importance is its power times a factor that differs
+// from light to light by at most the spread times ((1 + 1/sqrt(K)) / (1 - 1/sqrt(K)))^2, so
+// the walk picks below it by power alone: no square roots or divisions for the importance,
+// the same pick for any (p, n), and nothing below the horizon. Measured on the 1,024-emitter
+// scene and eight others (bench/converge/README.md, "Far clusters by power").
+inline constexpr float kLightTreeFarDistance2 = 6.0f;
+inline constexpr float kLightTreeFarCosineSpread = 3.0f;
+
 // The host's SSE path and light_tree_importance_portable compute the same IEEE operations
 // in the same order, so light_tree_pick and light_tree_pmf agree bit for bit on either.
+// `far_slots` gets bit k set when child k is far.
 TESSERA_HD TESSERA_INLINE void light_tree_importance_portable(const LightTreeNode& node,
                                                               const vec3& p, const vec3& n,
-                                                              float importance[4]) {
+                                                              float importance[4],
+                                                              std::uint32_t& far_slots) {
+  far_slots = 0;
   for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
     const float radius2 = node.radius2[k];
     const float tx = node.centre_x[k] - p.x;
@@ -77,21 +92,26 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance_portable(const LightTreeNod
     const float n_dot = (n.x * tx + n.y * ty) + n.z * tz;
     const float power = node.power[k];
     const float tangent = std::sqrt(fmaxf(0.0f, distance2 - radius2));
+    const float along = n_dot * tangent;
+    const float across = std::sqrt(fmaxf(0.0f, distance2 - n_dot * n_dot) * radius2);
     float value = power / fmaxf(distance2, radius2);
     bool lit = power > 0.0f;
     if (distance2 > radius2 && n_dot < tangent) {
-      const float cos_bound_d2 =
-          n_dot * tangent + std::sqrt(fmaxf(0.0f, distance2 - n_dot * n_dot) * radius2);
+      const float cos_bound_d2 = along + across;
       const float inverse2 = 1.0f / distance2;
       value = ((power * inverse2) * cos_bound_d2) * inverse2;
       lit = lit && cos_bound_d2 > 0.0f;
     }
     importance[k] = lit ? value : 0.0f;
+    if (distance2 > kLightTreeFarDistance2 * radius2 &&
+        (kLightTreeFarCosineSpread - 1.0f) * along >= (kLightTreeFarCosineSpread + 1.0f) * across)
+      far_slots |= 1u << k;
   }
 }
 
 TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, const vec3& p,
-                                                     const vec3& n, float importance[4]) {
+                                                     const vec3& n, float importance[4],
+                                                     std::uint32_t& far_slots) {
 #if defined(TESSERA_LIGHT_TREE_SSE)
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 power = _mm_load_ps(node.power);
@@ -107,13 +127,13 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, 
   // fmaxf(0, x) as _mm_max_ps(x, 0) (max returns its second operand for NaN, as fmaxf
   // returns the number).
   const __m128 tangent = _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(distance2, radius2), zero));
+  const __m128 along = _mm_mul_ps(n_dot, tangent);
+  const __m128 across = _mm_sqrt_ps(
+      _mm_mul_ps(_mm_max_ps(_mm_sub_ps(distance2, _mm_mul_ps(n_dot, n_dot)), zero), radius2));
   const __m128 inverse2 = _mm_div_ps(one, distance2);
   const __m128 wide_value = _mm_div_ps(power, _mm_max_ps(distance2, radius2));
   const __m128 narrow = _mm_and_ps(_mm_cmpgt_ps(distance2, radius2), _mm_cmplt_ps(n_dot, tangent));
-  const __m128 cos_bound_d2 =
-      _mm_add_ps(_mm_mul_ps(n_dot, tangent),
-                 _mm_sqrt_ps(_mm_mul_ps(
-                     _mm_max_ps(_mm_sub_ps(distance2, _mm_mul_ps(n_dot, n_dot)), zero), radius2)));
+  const __m128 cos_bound_d2 = _mm_add_ps(along, across);
   const __m128 narrow_value =
       _mm_mul_ps(_mm_mul_ps(_mm_mul_ps(power, inverse2), cos_bound_d2), inverse2);
   const __m128 value =
@@ -122,9 +142,27 @@ TESSERA_HD TESSERA_INLINE void light_tree_importance(const LightTreeNode& node, 
   const __m128 dark = _mm_andnot_ps(_mm_cmpgt_ps(cos_bound_d2, zero), narrow);
   const __m128 lit = _mm_andnot_ps(dark, _mm_cmpgt_ps(power, zero));
   _mm_storeu_ps(importance, _mm_and_ps(lit, value));
+  const __m128 far =
+      _mm_and_ps(_mm_cmpgt_ps(distance2, _mm_mul_ps(_mm_set1_ps(kLightTreeFarDistance2), radius2)),
+                 _mm_cmpge_ps(_mm_mul_ps(_mm_set1_ps(kLightTreeFarCosineSpread - 1.0f), along),
+                              _mm_mul_ps(_mm_set1_ps(kLightTreeFarCosineSpread + 1.0f), across)));
+  far_slots = static_cast<std::uint32_t>(_mm_movemask_ps(far));
 #else
-  light_tree_importance_portable(node, p, n, importance);
+  light_tree_importance_portable(node, p, n, importance, far_slots);
 #endif
+}
+
+// What the walk weighs node's children by: their importances from (p, n), or, below a far
+// child (`far`), their powers.
+TESSERA_HD TESSERA_INLINE void light_tree_weights(const LightTreeNode& node, const vec3& p,
+                                                  const vec3& n, bool far, float weight[4],
+                                                  std::uint32_t& far_slots) {
+  if (far) {
+    for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) weight[k] = node.power[k];
+    far_slots = 0;
+  } else {
+    light_tree_importance(node, p, n, weight, far_slots);
+  }
 }
 
 struct TreePick {
@@ -140,10 +178,12 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
                                                    const vec3& n, float u) {
   std::uint32_t at = 0;
   float pmf = 1.0f;
+  bool far = false;
   for (;;) {
     const LightTreeNode& node = nodes[at];
     float importance[4];
-    light_tree_importance(node, p, n, importance);
+    std::uint32_t far_slots;
+    light_tree_weights(node, p, n, far, importance, far_slots);
     const float total = ((importance[0] + importance[1]) + importance[2]) + importance[3];
     if (!(total > 0.0f)) return TreePick{0, 0.0f};
     const float target = u * total;
@@ -160,6 +200,7 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
     }
     pmf *= importance[slot] / total;
     u = clamp_below_one((target - before) / importance[slot]);
+    far = far || ((far_slots >> slot) & 1u) != 0;
     const std::uint32_t child = node.child[slot];
     if (LightTreeNode::is_leaf(child)) return TreePick{LightTreeNode::light_of(child), pmf, u};
     at = child;
@@ -173,14 +214,17 @@ TESSERA_HD TESSERA_INLINE float light_tree_pmf(const LightTreeNode* nodes, const
                                                std::uint32_t depth) {
   std::uint32_t at = 0;
   float pmf = 1.0f;
+  bool far = false;
   for (std::uint32_t level = 0; level < depth; ++level) {
     const LightTreeNode& node = nodes[at];
     float importance[4];
-    light_tree_importance(node, p, n, importance);
+    std::uint32_t far_slots;
+    light_tree_weights(node, p, n, far, importance, far_slots);
     const float total = ((importance[0] + importance[1]) + importance[2]) + importance[3];
     if (!(total > 0.0f)) return 0.0f;
     const auto slot = static_cast<std::uint32_t>((path >> (kLightTreePathBits * level)) & 3u);
     pmf *= importance[slot] / total;
+    far = far || ((far_slots >> slot) & 1u) != 0;
     at = node.child[slot];
   }
   return pmf;
