@@ -72,6 +72,14 @@ std::vector<LightCase> light_cases() {
       {"TriangleVeryNear", Shape::kTriangle, {0.35, 0.25, 0.1}, o, x, {0.2, 0.9, 0.3}},
       {"TriangleBehind", Shape::kTriangle, {0.3, 0.3, -0.02}, o, x, {0.2, 0.9, 0.3}},
       {"TriangleFar", Shape::kTriangle, {0.3, 0.3, 20.0}, o, x, {0.2, 0.9, 0.3}},
+      // 0.85 units from its plane, under its 1.24-unit longest edge, but 2.0 units (1.6
+      // edges) from its centroid, 0.05 sr: by area.
+      {"TriangleBesideBeyondOneAndAHalfEdges",
+       Shape::kTriangle,
+       {2.2, 0.3, 1.0},
+       o,
+       x,
+       {0.2, 0.9, 0.3}},
       {"Disk", Shape::kDisk, {0.2, 0.1, 1.2}, o, glm::normalize(dvec3(0.3, 0.2, 1.0)), o, 1.0},
       {"Annulus", Shape::kDisk, {0.0, 0.2, 0.7}, o, {0, 0, 1}, o, 1.0, 0.5},
   };

@@ -66,13 +66,22 @@ TESSERA_HD TESSERA_INLINE bool triangle_spherical_usable(float solid_angle) {
 }
 
 // Whether `t` is sampled by its spherical triangle from `ref` (then `sph` holds it): only
-// when the triangle is large for its distance (its longest edge longer than the distance
-// to its plane, the test Cycles uses), where area sampling's 1/r^2 and cosine vary over
-// the triangle; farther away area sampling is as good and costs no angles.
+// when the triangle is large for its distance, where area sampling's 1/r^2 and cosine vary
+// over the triangle; farther away area sampling is as good and costs no angles. Large: its
+// longest edge longer than the distance to its plane (the test Cycles uses), and, as for
+// rectangles, within 1.5 longest edges of its centroid. Without the second test a point
+// near the triangle's plane set up the spherical map for triangles metres away along it:
+// measured 2026-12-07 (128x128, one thread; relMSE at 64 spp over 4 seeds against
+// 4,096-8,192-spp references, time from 3 alternating runs), relMSE x time 0.96 on
+// emissive_triangles' 1,024 emitters 5 cm under a ceiling and 0.91 on a held-out room lit by
+// a two-triangle panel (relMSE +0.6% and +0.3%); sampling triangles by area alone instead
+// cost 18% more relMSE on the panel.
 TESSERA_HD TESSERA_INLINE bool triangle_spherical(const Triangle& t, const vec3& ref,
                                                   SphericalTriangle& sph) {
   const vec3 e0 = t.p1 - t.p0, e1 = t.p2 - t.p1, e2 = t.p0 - t.p2;
   const float longest2 = glm::max(glm::dot(e0, e0), glm::max(glm::dot(e1, e1), glm::dot(e2, e2)));
+  const vec3 from_centroid = ref - (t.p0 + t.p1 + t.p2) * (1.0f / 3.0f);
+  if (glm::dot(from_centroid, from_centroid) > 2.25f * longest2) return false;
   const vec3 n = glm::cross(e0, e1);
   const float height = glm::dot(t.p0 - ref, n);
   if (longest2 * glm::dot(n, n) <= height * height) return false;
