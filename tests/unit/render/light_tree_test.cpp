@@ -195,6 +195,29 @@ TEST(LightTree, WhatAPickLeavesOfItsUIsUniformForEachLight) {
   EXPECT_EQ(fell, 0);
 }
 
+// The ends of u's range, where the branch-free slot count meets the running sums' edges:
+// trees of 3 and 6 lights have nodes with empty slots at the end, and a pick at u = 0 or
+// just below 1 must still find a light (never an empty slot), with the pmf light_pick_pmf
+// gives it.
+TEST(LightTree, PicksAtTheEndsOfURangeFindALight) {
+  for (const int count : {3, 6, 300}) {
+    const auto prepared = PreparedScene::build(many_triangle_lights(count, false, 31));
+    const SceneView view = prepared->view();
+    ASSERT_NE(view.light_tree, nullptr);
+    for (const Probe& probe : probes()) {
+      if (!probe.all_above) continue;
+      for (const float u : {0.0f, 0x1.fffffep-1f, 0x1.fffffcp-1f}) {
+        const LightPick pick = pick_light(view, probe.p, probe.n, u);
+        ASSERT_GT(pick.pmf, 0.0f) << count << " lights, u " << u;
+        ASSERT_LT(pick.index, view.light_count);
+        EXPECT_EQ(pick.pmf, light_pick_pmf(view, probe.p, probe.n, pick.index));
+        EXPECT_GE(pick.reused_u, 0.0f);
+        EXPECT_LT(pick.reused_u, 1.0f);
+      }
+    }
+  }
+}
+
 // Lights the receiving surface cannot see (all below its horizon) get no samples, and a
 // point where no light can reach gets none at all.
 TEST(LightTree, LightsBelowTheHorizonAreNeverPicked) {

@@ -184,20 +184,23 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
     float importance[4];
     std::uint32_t far_slots;
     light_tree_weights(node, p, n, far, importance, far_slots);
-    const float total = ((importance[0] + importance[1]) + importance[2]) + importance[3];
+    // below[k]: the sum of the weights before slot k, added in the order `total` adds them.
+    const float below[4] = {0.0f, importance[0], importance[0] + importance[1],
+                            (importance[0] + importance[1]) + importance[2]};
+    const float total = below[3] + importance[3];
     if (!(total > 0.0f)) return TreePick{0, 0.0f};
     const float target = u * total;
-    // The first slot whose running sum passes the target; rounding can leave the target at
-    // the total, and then the last slot with any importance.
-    std::uint32_t slot = 0;
-    float before = 0.0f, running = 0.0f;
-    for (std::uint32_t k = 0; k < LightTreeNode::kWidth; ++k) {
-      if (!(importance[k] > 0.0f)) continue;
-      slot = k;
-      before = running;
-      running += importance[k];
-      if (target < running) break;
-    }
+    // The first slot whose running sum passes the target, counted without branches: where
+    // sibling weights are alike (equal emitters, or any subtree picked by power) the slot is
+    // as random as u and a branch per slot mispredicted most of the time. A slot with no
+    // weight adds nothing to the sums, so it is never the one reached while the target is
+    // below the total (u < 1 keeps it there); the loop after is a guard that would take the
+    // last slot with any weight.
+    std::uint32_t slot = static_cast<std::uint32_t>(target >= below[1]) +
+                         static_cast<std::uint32_t>(target >= below[2]) +
+                         static_cast<std::uint32_t>(target >= below[3]);
+    while (slot > 0 && !(importance[slot] > 0.0f)) --slot;
+    const float before = below[slot];
     pmf *= importance[slot] / total;
     u = clamp_below_one((target - before) / importance[slot]);
     far = far || ((far_slots >> slot) & 1u) != 0;
