@@ -199,7 +199,9 @@ TESSERA_HD TESSERA_INLINE TreePick light_tree_pick(const LightTreeNode* nodes, c
     std::uint32_t slot = static_cast<std::uint32_t>(target >= below[1]) +
                          static_cast<std::uint32_t>(target >= below[2]) +
                          static_cast<std::uint32_t>(target >= below[3]);
-    while (slot > 0 && !(importance[slot] > 0.0f)) --slot;
+    if (!(importance[slot] > 0.0f)) [[unlikely]] {  // one predictable test, not one on slot
+      while (slot > 0 && !(importance[slot] > 0.0f)) --slot;
+    }
     const float before = below[slot];
     pmf *= importance[slot] / total;
     u = clamp_below_one((target - before) / importance[slot]);
