@@ -70,6 +70,15 @@ std::vector<Probe> probes() {
           {vec3(6.0f, 2.0f, 0.0f), vec3(-1, 0, 0)}};
 }
 
+// A point within `scale` units of the lights' slab, facing a random direction.
+Probe random_receiver(std::mt19937& rng, float scale) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
+  vec3 n(u(rng), u(rng), u(rng));
+  if (glm::dot(n, n) < 1e-4f) n = vec3(0, 1, 0);
+  return {p, glm::normalize(n), false};
+}
+
 TEST(LightTree, PickProbabilitiesSumToOneAndMatchEachPick) {
   const auto prepared = PreparedScene::build(many_triangle_lights(700, false, 11));
   const SceneView view = prepared->view();
@@ -299,14 +308,11 @@ TEST(LightTree, BelowAFarChildLightsArePickedByPower) {
   const SceneView view = prepared->view();
   ASSERT_NE(view.light_tree, nullptr);
   std::mt19937 rng(23);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::uint32_t compared = 0, power_levels = 0, importance_levels = 0;
   for (int i = 0; i < 60; ++i) {
     const float scale = i < 40 ? 6.0f : 300.0f;
-    const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
-    vec3 n(u(rng), u(rng), u(rng));
-    if (glm::dot(n, n) < 1e-4f) n = vec3(0, 1, 0);
-    n = glm::normalize(n);
+    const Probe receiver = random_receiver(rng, scale);
+    const vec3 p = receiver.p, n = receiver.n;
     for (std::uint32_t light = 0; light < view.light_count; ++light) {
       double pmf = 1.0;
       bool far = false, clear = true;
@@ -401,14 +407,11 @@ TEST(LightTree, HostImportancesEqualThePortableOnes) {
     for (std::uint32_t c : view.light_tree[i].child)
       if (!LightTreeNode::is_leaf(c) && c + 1 > nodes) nodes = c + 1;
   std::mt19937 rng(17);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::uint32_t compared = 0, narrowed = 0, unlit = 0, far = 0;
   for (int i = 0; i < 400; ++i) {
     const float scale = i < 300 ? 5.0f : 1e4f;
-    const vec3 p(scale * u(rng), 2.0f + scale * u(rng), scale * u(rng));
-    vec3 n(u(rng), u(rng), u(rng));
-    if (glm::dot(n, n) < 1e-4f) n = vec3(0, 1, 0);
-    n = glm::normalize(n);
+    const Probe receiver = random_receiver(rng, scale);
+    const vec3 p = receiver.p, n = receiver.n;
     for (std::uint32_t at = 0; at < nodes; ++at) {
       float host[4], portable[4];
       std::uint32_t host_far = 0, portable_far = 0;
