@@ -5,10 +5,13 @@
 // the `_sbvh` variants of TriangleAccelTest.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include "accel_test_scenes.hpp"
+#include "tessera/accel/presplit.hpp"
 #include "tessera/accel/sbvh.hpp"
 #include "tessera/accel/triangle_accel.hpp"
 
@@ -177,6 +180,73 @@ TEST(Sbvh, SpatialSplitsLowerTheTreeCostOfSlivers) {
   const double spatial_cost = spatial.stats().sah.nodes + spatial.stats().sah.leaves;
   EXPECT_LT(spatial_cost, 0.9 * plain_cost);
   EXPECT_GT(spatial.stats().leaf_references, tris.size());
+}
+
+// A field of grass: blades of three long thin slanted triangles (a base quad and a tip),
+// 1-2 cm wide and 10-50 cm tall, leaning up to their height, scattered over `side` metres.
+std::vector<Triangle> grass(int blades, float side, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < blades; ++i) {
+    const vec3 base(side * unit(rng), 0.0f, side * unit(rng));
+    const float height = 0.1f + 0.4f * unit(rng), width = 0.01f + 0.01f * unit(rng);
+    const float face = 6.2832f * unit(rng), lean_angle = 6.2832f * unit(rng);
+    const vec3 across = 0.5f * width * vec3(std::cos(face), 0.0f, std::sin(face));
+    const vec3 lean = unit(rng) * height * vec3(std::cos(lean_angle), 0.0f, std::sin(lean_angle));
+    const vec3 middle = base + vec3(0.0f, 0.55f * height, 0.0f) + 0.3f * lean;
+    const vec3 tip = base + vec3(0.0f, height, 0.0f) + lean;
+    tris.push_back(Triangle{base - across, base + across, middle + 0.7f * across, 0});
+    tris.push_back(Triangle{base - across, middle + 0.7f * across, middle - 0.7f * across, 0});
+    tris.push_back(Triangle{middle - 0.7f * across, middle + 0.7f * across, tip, 0});
+  }
+  return tris;
+}
+
+// The binary tree's expected cost for a ray through its root box (surface area heuristic,
+// four-triangle blocks as the builder counts them).
+double binary_sah(const Bvh& bvh) {
+  const auto area = [](const BvhNode& n) {
+    const vec3 e = n.upper - n.lower;
+    return 2.0 * (static_cast<double>(e.x) * e.y + static_cast<double>(e.y) * e.z +
+                  static_cast<double>(e.z) * e.x);
+  };
+  double cost = 0.0;
+  for (const BvhNode& n : bvh.nodes)
+    cost += area(n) * (n.is_leaf() ? static_cast<double>((n.count + 3) / 4) : 1.0);
+  return cost / area(bvh.nodes[0]);
+}
+
+// Grass blades overlap at the scale of a few blades, far below min_overlap of a field's root
+// box: only the rule for references that fill their boxes poorly searches there, and its
+// splits make the tree cheaper. A field of 250,000 blades is too large for a unit test, so
+// this one is 4,000 blades on 2.5 m (the same density) with min_overlap raised to 5e-2, which
+// leaves the same few top levels to the root's rule.
+TEST(Sbvh, GrassGetsSpatialSplitsFarBelowTheRootScaleWhereBoxesFitPoorly) {
+  const auto field = grass(4000, 2.5f, 31);
+  SpatialSplitOptions deep;
+  deep.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
+  deep.max_extra_references = 1.0f;
+  deep.min_overlap = 5e-2f;
+  SpatialSplitOptions shallow = deep;
+  shallow.min_fill_ratio_deep = std::numeric_limits<float>::infinity();
+  const Bvh with = build_sbvh(field, all_ids(field.size()), deep);
+  const Bvh without = build_sbvh(field, all_ids(field.size()), shallow);
+  check_tree(with, field, deep.max_extra_references);
+  EXPECT_GT(with.primitives.size(), without.primitives.size() + field.size() / 10);
+  EXPECT_LT(binary_sah(with), 0.95 * binary_sah(without));
+
+  // The rule follows the references' fill ratio, node by node: a threshold above the
+  // field's own leaves fewer nodes to it.
+  std::vector<Aabb> boxes;
+  for (const Triangle& t : field) boxes.push_back(bounds(t));
+  const double fill = box_fill_ratio(field, all_ids(field.size()), boxes);
+  ASSERT_GT(fill, 2.0 * deep.min_fill_ratio_deep);
+  SpatialSplitOptions strict = deep;
+  strict.min_fill_ratio_deep = static_cast<float>(1.5 * fill);
+  const Bvh fewer = build_sbvh(field, all_ids(field.size()), strict);
+  EXPECT_LT(fewer.primitives.size(), with.primitives.size());
+  EXPECT_GT(fewer.primitives.size(), without.primitives.size());
 }
 
 TEST(Sbvh, SubsetOfIdsAndEmptyInput) {

@@ -24,6 +24,18 @@ struct SpatialSplitOptions {
   // 0.96 / 0.62 / 0.34 / 0.18 s to trees of SAH cost 27.4 / 27.6 / 28.0 / 29.5 (34.6 without
   // spatial splits), 1e-3 keeping the build within twice Embree's high-quality build.
   float min_overlap = 1e-3f;
+  // Below that, where the node's references fill their boxes poorly (their boxes' summed
+  // surface areas over their doubled areas, as box_fill_ratio counts, at least
+  // min_fill_ratio_deep) and the children overlap by more than min_overlap_of_node of the
+  // node's own surface area (Embree's share for its spatial splits). The root's rule ties the
+  // search to the scene's extent: a grass field 10-40 m across overlaps at the scale of a few
+  // blades, far below 1e-3 of its root, and the splits this rule finds there took four
+  // held-out fields from 0.91-0.98x Embree's high-quality build to 1.01-1.10x, for builds
+  // 1.3-2.0x Embree's (bench/accel/README.md). Evenly tessellated surfaces fill their boxes
+  // at 2-6 (the suite's meshes 2.9-5.2): of 17 such meshes only three trees changed, by under
+  // 0.3% of their cost.
+  float min_fill_ratio_deep = 8.0f;
+  float min_overlap_of_node = 0.1f;
   // Nor in nodes of fewer references than this: a spatial search splits every reference at
   // every bin plane it crosses on all three axes, which near the leaves costs far more than
   // the few references it could separate save. Measured (2026-12-07, one thread): CGAL's
