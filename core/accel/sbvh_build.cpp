@@ -338,6 +338,7 @@ class SpatialBuilder {
   }
 
   static constexpr std::uint32_t kParallelTaskSize = 4096;
+  static constexpr std::size_t kTrianglePrefetchDistance = 8;
 
   CentroidBins centroid_bins(const RefList& refs) const {
     CentroidBins m;
@@ -428,7 +429,12 @@ class SpatialBuilder {
     position[kSpatialBins] = kInfinity;
     Aabb boxes[kSpatialBins];
     std::uint32_t entries[kSpatialBins] = {}, exits[kSpatialBins] = {};
-    for (const Ref& r : refs) {
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const Ref& r = refs[i];
+      // The triangles are scattered through memory; their loads were a tenth of the build
+      // of a grass field.
+      if (i + kTrianglePrefetchDistance < refs.size())
+        __builtin_prefetch(&triangles_[refs[i + kTrianglePrefetchDistance].id]);
       // first: the lowest bin with a part of the reference (lower < its upper plane);
       // last: the highest (upper > its lower plane); a reference lying in a plane goes
       // to the bin above it, as partition_spatial sends it right.
