@@ -29,11 +29,11 @@ struct SpatialSplitOptions {
   // min_fill_ratio_deep) and the children overlap by more than min_overlap_of_node of the
   // node's own surface area (Embree's share for its spatial splits). The root's rule ties the
   // search to the scene's extent: a grass field 10-40 m across overlaps at the scale of a few
-  // blades, far below 1e-3 of its root, and the splits this rule finds there took four
-  // held-out fields from 0.91-0.98x Embree's high-quality build to 1.01-1.10x, for builds
-  // 1.3-2.0x Embree's (bench/accel/README.md). Evenly tessellated surfaces fill their boxes
-  // at 2-6 (the suite's meshes 2.9-5.2): of 17 such meshes only three trees changed, by under
-  // 0.3% of their cost.
+  // blades, far below 1e-3 of its root, and the splits this rule finds there (cutting only
+  // the references that fill their boxes poorly) took three held-out fields from 0.92-0.99x
+  // Embree's high-quality build to 0.98-1.07x, for builds 1.2-1.8x Embree's
+  // (bench/accel/README.md). Evenly tessellated surfaces fill their boxes at 2-6 (the suite's
+  // meshes 2.9-5.2): of 17 such meshes only three trees changed, by under 0.3% of their cost.
   float min_fill_ratio_deep = 8.0f;
   float min_overlap_of_node = 0.1f;
   // Nor in nodes of fewer references than this: a spatial search splits every reference at
