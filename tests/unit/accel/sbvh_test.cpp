@@ -217,17 +217,23 @@ double binary_sah(const Bvh& bvh) {
   return cost / area(bvh.nodes[0]);
 }
 
+// A field of 250,000 blades is too large for a unit test: the tests below take 4,000 blades
+// on 2.5 m (the same density) with min_overlap raised to 5e-2, which leaves the same few top
+// levels to the root's rule.
+SpatialSplitOptions dense_field_options() {
+  SpatialSplitOptions options;
+  options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
+  options.max_extra_references = 1.0f;
+  options.min_overlap = 5e-2f;
+  return options;
+}
+
 // Grass blades overlap at the scale of a few blades, far below min_overlap of a field's root
 // box: only the rule for references that fill their boxes poorly searches there, and its
-// splits make the tree cheaper. A field of 250,000 blades is too large for a unit test, so
-// this one is 4,000 blades on 2.5 m (the same density) with min_overlap raised to 5e-2, which
-// leaves the same few top levels to the root's rule.
+// splits make the tree cheaper.
 TEST(Sbvh, GrassGetsSpatialSplitsFarBelowTheRootScaleWhereBoxesFitPoorly) {
   const auto field = grass(4000, 2.5f, 31);
-  SpatialSplitOptions deep;
-  deep.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
-  deep.max_extra_references = 1.0f;
-  deep.min_overlap = 5e-2f;
+  const SpatialSplitOptions deep = dense_field_options();
   SpatialSplitOptions shallow = deep;
   shallow.min_fill_ratio_deep = std::numeric_limits<float>::infinity();
   const Bvh with = build_sbvh(field, all_ids(field.size()), deep);
@@ -260,10 +266,7 @@ TEST(Sbvh, DeepSearchesCutTheBladesButNotTheGroundBeneathThem) {
       Triangle{vec3(-0.1f, -0.01f, -0.1f), vec3(2.6f, -0.01f, -0.1f), vec3(2.6f, -0.01f, 2.6f), 0});
   field.push_back(
       Triangle{vec3(-0.1f, -0.01f, -0.1f), vec3(2.6f, -0.01f, 2.6f), vec3(-0.1f, -0.01f, 2.6f), 0});
-  SpatialSplitOptions deep;
-  deep.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
-  deep.max_extra_references = 1.0f;
-  deep.min_overlap = 5e-2f;
+  const SpatialSplitOptions deep = dense_field_options();
   SpatialSplitOptions shallow = deep;
   shallow.min_fill_ratio_deep = std::numeric_limits<float>::infinity();
   const auto count = [&](const Bvh& bvh, bool ground) {
