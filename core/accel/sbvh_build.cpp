@@ -74,6 +74,41 @@ Aabb intersection(const Aabb& a, const Aabb& b) {
   return Aabb{glm::max(a.lower, b.lower), glm::min(a.upper, b.upper)};
 }
 
+__m128 lanes(const vec3& p) {
+  return _mm_setr_ps(p.x, p.y, p.z, 0.0f);
+}
+
+Aabb box_of_lanes(__m128 lower, __m128 upper) {
+  alignas(16) float out[2][4];
+  _mm_store_ps(out[0], lower);
+  _mm_store_ps(out[1], upper);
+  return Aabb{vec3(out[0][0], out[0][1], out[0][2]), vec3(out[1][0], out[1][1], out[1][2])};
+}
+
+// All bits set in the lane of `axis`.
+__m128 axis_lane_mask(int axis) {
+  alignas(16) std::uint32_t axis_bits[4] = {};
+  axis_bits[axis] = ~0U;
+  return _mm_load_ps(reinterpret_cast<const float*>(axis_bits));
+}
+
+// Where the edge from `a` to `b` (`pa`, `pb` along the axis) crosses the plane at `plane`,
+// if it does: both ends on the plane along the axis (`plane_lane`: the plane's coordinate in
+// the axis lane, `on_axis` that lane's mask) and padded across it, so that boxes built from
+// them hold the true crossing (pad >= 0: low <= high).
+bool padded_crossing(__m128 a, __m128 b, float pa, float pb, float plane, __m128 on_axis,
+                     __m128 plane_lane, __m128& low, __m128& high) {
+  if (!((pa < plane && pb > plane) || (pa > plane && pb < plane))) return false;
+  const __m128 sign_bits = _mm_set1_ps(-0.0f);
+  const __m128 t = _mm_set1_ps((plane - pa) / (pb - pa));
+  const __m128 crossing = _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t));
+  const __m128 pad = _mm_mul_ps(
+      _mm_add_ps(_mm_andnot_ps(sign_bits, a), _mm_andnot_ps(sign_bits, b)), _mm_set1_ps(1e-6f));
+  low = _mm_or_ps(plane_lane, _mm_andnot_ps(on_axis, _mm_sub_ps(crossing, pad)));
+  high = _mm_or_ps(plane_lane, _mm_andnot_ps(on_axis, _mm_add_ps(crossing, pad)));
+  return true;
+}
+
 // Boxes of the parts of `triangle` within `box` on either side of the plane `axis` =
 // `position`. Edge crossings are padded by a few ulps across the plane's other axes, so the
 // boxes always hold the true parts (the leaves test the whole triangle; only the boxes are
@@ -85,19 +120,10 @@ Aabb intersection(const Aabb& a, const Aabb& b) {
 // per-component form it replaced, lane by lane, so the boxes are the same.
 void split_reference(const Triangle& triangle, const Aabb& box, int axis, float position,
                      Aabb& left, Aabb& right) {
-  const auto lanes = [](const vec3& p) { return _mm_setr_ps(p.x, p.y, p.z, 0.0f); };
   const __m128 vertices[3] = {lanes(triangle.p0), lanes(triangle.p1), lanes(triangle.p2)};
   const float along[3] = {triangle.p0[axis], triangle.p1[axis], triangle.p2[axis]};
-  const __m128 plane = _mm_set1_ps(position);
-  alignas(16) std::uint32_t axis_bits[4] = {};
-  axis_bits[axis] = ~0U;
-  const __m128 on_axis = _mm_load_ps(reinterpret_cast<const float*>(axis_bits));
-  // `point` with its coordinate along the axis replaced by the plane's.
-  const __m128 plane_lane = _mm_and_ps(on_axis, plane);
-  const auto onto_plane = [&](__m128 point) {
-    return _mm_or_ps(plane_lane, _mm_andnot_ps(on_axis, point));
-  };
-  const __m128 sign_bits = _mm_set1_ps(-0.0f);
+  const __m128 on_axis = axis_lane_mask(axis);
+  const __m128 plane_lane = _mm_and_ps(on_axis, _mm_set1_ps(position));
   __m128 left_lower = _mm_set1_ps(kInfinity), left_upper = _mm_set1_ps(-kInfinity);
   __m128 right_lower = left_lower, right_upper = left_upper;
   for (int i = 0; i < 3; ++i) {
@@ -112,14 +138,8 @@ void split_reference(const Triangle& triangle, const Aabb& box, int axis, float 
       right_lower = _mm_min_ps(right_lower, a);
       right_upper = _mm_max_ps(right_upper, a);
     }
-    if ((pa < position && pb > position) || (pa > position && pb < position)) {
-      const __m128 t = _mm_set1_ps((position - pa) / (pb - pa));
-      const __m128 crossing = _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t));
-      const __m128 pad = _mm_mul_ps(
-          _mm_add_ps(_mm_andnot_ps(sign_bits, a), _mm_andnot_ps(sign_bits, b)), _mm_set1_ps(1e-6f));
-      // Both ends on the plane along the axis, padded across it (pad >= 0: low <= high).
-      const __m128 low = onto_plane(_mm_sub_ps(crossing, pad));
-      const __m128 high = onto_plane(_mm_add_ps(crossing, pad));
+    __m128 low, high;
+    if (padded_crossing(a, b, pa, pb, position, on_axis, plane_lane, low, high)) {
       left_lower = _mm_min_ps(left_lower, low);
       left_upper = _mm_max_ps(left_upper, high);
       right_lower = _mm_min_ps(right_lower, low);
@@ -127,13 +147,8 @@ void split_reference(const Triangle& triangle, const Aabb& box, int axis, float 
     }
   }
   const __m128 box_lower = lanes(box.lower), box_upper = lanes(box.upper);
-  alignas(16) float out[4][4];
-  _mm_store_ps(out[0], _mm_max_ps(left_lower, box_lower));
-  _mm_store_ps(out[1], _mm_min_ps(left_upper, box_upper));
-  _mm_store_ps(out[2], _mm_max_ps(right_lower, box_lower));
-  _mm_store_ps(out[3], _mm_min_ps(right_upper, box_upper));
-  left = Aabb{vec3(out[0][0], out[0][1], out[0][2]), vec3(out[1][0], out[1][1], out[1][2])};
-  right = Aabb{vec3(out[2][0], out[2][1], out[2][2]), vec3(out[3][0], out[3][1], out[3][2])};
+  left = box_of_lanes(_mm_max_ps(left_lower, box_lower), _mm_min_ps(left_upper, box_upper));
+  right = box_of_lanes(_mm_max_ps(right_lower, box_lower), _mm_min_ps(right_upper, box_upper));
   left.upper[axis] = std::min(left.upper[axis], position);
   right.lower[axis] = std::max(right.lower[axis], position);
 }
@@ -141,20 +156,16 @@ void split_reference(const Triangle& triangle, const Aabb& box, int axis, float 
 // Adds to boxes[j], for each bin j from `first` to `last` (bin j lies between the planes
 // position[j] and position[j + 1] across `axis`), the box of the part of `triangle` within
 // `box` in that bin: the triangle's vertices inside the bin's slab and its cross-sections at
-// the slab's two planes, padded as split_reference pads them. Each cross-section is computed
-// once, for both bins it bounds; cutting the remainder plane after plane with
+// the slab's two planes, padded as split_reference's are (padded_crossing). Each cross-section is
+// computed once, for both bins it bounds; cutting the remainder plane after plane with
 // split_reference cost twice as much and was most of the spatial search on grass. The parts
 // are the same as or tighter than that chain's, and still hold the true parts: the triangle
 // within a slab is the polygon of exactly these points.
 void add_reference_parts(const Triangle& triangle, const Aabb& box, int axis, const float* position,
                          std::uint32_t first, std::uint32_t last, Aabb* boxes) {
-  const auto lanes = [](const vec3& p) { return _mm_setr_ps(p.x, p.y, p.z, 0.0f); };
   const __m128 vertices[3] = {lanes(triangle.p0), lanes(triangle.p1), lanes(triangle.p2)};
   const float along[3] = {triangle.p0[axis], triangle.p1[axis], triangle.p2[axis]};
-  alignas(16) std::uint32_t axis_bits[4] = {};
-  axis_bits[axis] = ~0U;
-  const __m128 on_axis = _mm_load_ps(reinterpret_cast<const float*>(axis_bits));
-  const __m128 sign_bits = _mm_set1_ps(-0.0f);
+  const __m128 on_axis = axis_lane_mask(axis);
   const __m128 box_lower = lanes(box.lower), box_upper = lanes(box.upper);
   const __m128 empty_lower = _mm_set1_ps(kInfinity), empty_upper = _mm_set1_ps(-kInfinity);
   // The cross-section at the bin's lower plane (none below the first bin).
@@ -176,18 +187,9 @@ void add_reference_parts(const Triangle& triangle, const Aabb& box, int axis, co
       below_upper = empty_upper;
       for (int i = 0; i < 3; ++i) {
         const int k = i == 2 ? 0 : i + 1;
-        const float pa = along[i], pb = along[k];
-        if ((pa < plane && pb > plane) || (pa > plane && pb < plane)) {
-          const __m128 a = vertices[i], b = vertices[k];
-          const __m128 t = _mm_set1_ps((plane - pa) / (pb - pa));
-          const __m128 crossing = _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t));
-          const __m128 pad =
-              _mm_mul_ps(_mm_add_ps(_mm_andnot_ps(sign_bits, a), _mm_andnot_ps(sign_bits, b)),
-                         _mm_set1_ps(1e-6f));
-          const __m128 low =
-              _mm_or_ps(plane_lane, _mm_andnot_ps(on_axis, _mm_sub_ps(crossing, pad)));
-          const __m128 high =
-              _mm_or_ps(plane_lane, _mm_andnot_ps(on_axis, _mm_add_ps(crossing, pad)));
+        __m128 low, high;
+        if (padded_crossing(vertices[i], vertices[k], along[i], along[k], plane, on_axis,
+                            plane_lane, low, high)) {
           below_lower = _mm_min_ps(below_lower, low);
           below_upper = _mm_max_ps(below_upper, high);
         }
@@ -195,10 +197,7 @@ void add_reference_parts(const Triangle& triangle, const Aabb& box, int axis, co
       lower = _mm_min_ps(lower, below_lower);
       upper = _mm_max_ps(upper, below_upper);
     }
-    alignas(16) float out[2][4];
-    _mm_store_ps(out[0], _mm_max_ps(lower, box_lower));
-    _mm_store_ps(out[1], _mm_min_ps(upper, box_upper));
-    Aabb part{vec3(out[0][0], out[0][1], out[0][2]), vec3(out[1][0], out[1][1], out[1][2])};
+    Aabb part = box_of_lanes(_mm_max_ps(lower, box_lower), _mm_min_ps(upper, box_upper));
     part.lower[axis] = std::max(part.lower[axis], slab_lower);
     part.upper[axis] = std::min(part.upper[axis], slab_upper);
     boxes[j].extend(part);
@@ -460,20 +459,21 @@ class SpatialBuilder {
         return static_cast<std::uint32_t>(
             std::clamp<std::int32_t>(j, 0, static_cast<std::int32_t>(kSpatialBins) - 1));
       };
-      std::uint32_t first = guess(lower);
-      while (first > 0 && lower < position[first]) --first;
-      while (first + 1 < kSpatialBins && lower >= position[first + 1]) ++first;
+      // The bin holding x: position[bin] <= x < position[bin + 1].
+      auto bin_of = [&](float x) {
+        std::uint32_t bin = guess(x);
+        while (bin > 0 && x < position[bin]) --bin;
+        while (bin + 1 < kSpatialBins && x >= position[bin + 1]) ++bin;
+        return bin;
+      };
+      std::uint32_t first = bin_of(lower);
       std::uint32_t last = guess(upper);
       while (last + 1 < kSpatialBins && upper > position[last + 1]) ++last;
       while (last > 0 && upper <= position[last]) --last;
       if (last < first) last = first;
       if (first != last && kept_whole(r, keep_whole_below)) {
         // In the bin of its centre, as partition_spatial sends it.
-        const float centre = 0.5f * (lower + upper);
-        std::uint32_t bin = guess(centre);
-        while (bin > 0 && centre < position[bin]) --bin;
-        while (bin + 1 < kSpatialBins && centre >= position[bin + 1]) ++bin;
-        first = last = bin;
+        first = last = bin_of(0.5f * (lower + upper));
       }
       ++entries[first];
       ++exits[last];
