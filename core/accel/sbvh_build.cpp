@@ -499,9 +499,11 @@ class SpatialBuilder {
       accumulated.extend(boxes[j - 1]);
       accumulated_count += entries[j - 1];
       const std::uint32_t right_count = right_counts[j];
-      if (accumulated_count == 0 || right_count == 0 || accumulated_count == refs.size() ||
-          right_count == refs.size())
-        continue;
+      // A side may hold every reference: where each one crosses the plane (the strips of a
+      // long slanted tube, all running the length of their node), cutting them all is the
+      // only split that shrinks their boxes. Excluding it left a held-out field of such
+      // tubes with 4% extra references and a tree of SAH cost 151, against 124 with it.
+      if (accumulated_count == 0 || right_count == 0) continue;
       if (accumulated_count + right_count - refs.size() > budget) continue;
       const float cost =
           side_cost(accumulated, accumulated_count) + side_cost(right_boxes[j], right_count);

@@ -217,6 +217,37 @@ double binary_sah(const Bvh& bvh) {
   return cost / area(bvh.nodes[0]);
 }
 
+// One slanted tube of 64 strips 2 long and 2 mm wide, each running the tube's whole length
+// (as a CAD tessellator emits a cylinder): every strip crosses every plane a spatial search
+// tries, so the only split that shrinks any box cuts all of them, leaving each side with
+// every reference; object splits only halve the ring around, to boxes as long as before.
+TEST(Sbvh, StripsRunningTheWholeNodeAreCutTogether) {
+  const vec3 along = glm::normalize(vec3(1.0f, 0.8f, 0.6f));
+  const vec3 u = glm::normalize(glm::cross(along, vec3(0.0f, 0.0f, 1.0f)));
+  const vec3 v = glm::cross(along, u);
+  constexpr int kStrips = 64;
+  constexpr float kRadius = 0.02f, kLength = 2.0f;
+  std::vector<Triangle> tube;
+  for (int i = 0; i < kStrips; ++i) {
+    const float a0 = 6.2832f * static_cast<float>(i) / kStrips;
+    const float a1 = 6.2832f * static_cast<float>(i + 1) / kStrips;
+    const vec3 p0 = kRadius * (std::cos(a0) * u + std::sin(a0) * v);
+    const vec3 p1 = kRadius * (std::cos(a1) * u + std::sin(a1) * v);
+    tube.push_back(Triangle{p0, p1, p1 + kLength * along, 0});
+    tube.push_back(Triangle{p0, p1 + kLength * along, p0 + kLength * along, 0});
+  }
+  SpatialSplitOptions options;
+  options.bvh = BvhBuildOptions{4, 4, 1.0f, 1.0f, 16, false};
+  options.max_extra_references = 4.0f;
+  const Bvh cut = build_sbvh(tube, all_ids(tube.size()), options);
+  options.max_extra_references = 0.0f;
+  const Bvh whole = build_sbvh(tube, all_ids(tube.size()), options);
+  check_tree(cut, tube, 4.0f);
+  EXPECT_GT(cut.primitives.size(), 2 * tube.size());
+  EXPECT_LT(binary_sah(cut), 0.5 * binary_sah(whole))
+      << binary_sah(cut) << " against " << binary_sah(whole);
+}
+
 // A field of 250,000 blades is too large for a unit test: the tests below take 4,000 blades
 // on 2.5 m (the same density) with min_overlap raised to 5e-2, which leaves the same few top
 // levels to the root's rule.
