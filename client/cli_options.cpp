@@ -136,6 +136,12 @@ class OverrideOptions {
                               "progressive passes: the server sends every tile after each pass "
                               "and the output is rewritten as each pass completes")
                   ->check(CLI::Range(0u, limits.max_samples_per_pixel));
+    accel_builder_ =
+        command
+            .add_option("--accel-builder", accel_builder_value_,
+                        "triangle structure: auto, spatial (spatial splits for every mesh) or "
+                        "binned (shortest build, for previews); never changes the image")
+            ->check(CLI::IsMember({"auto", "spatial", "binned"}));
   }
 
   RenderOverrides values() const {
@@ -147,6 +153,7 @@ class OverrideOptions {
     if (*tile_) o.tile_size = tile_value_;
     if (*seed_) o.seed = seed_value_;
     if (*passes_) o.passes = passes_value_;
+    if (*accel_builder_) o.accel_builder = accel_builder_value_;
     return o;
   }
 
@@ -154,7 +161,8 @@ class OverrideOptions {
   std::uint32_t width_value_ = 0, height_value_ = 0, spp_value_ = 0, depth_value_ = 0,
                 tile_value_ = 0, passes_value_ = 0;
   std::uint64_t seed_value_ = 0;
-  CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_, *passes_;
+  std::string accel_builder_value_;
+  CLI::Option *width_, *height_, *spp_, *depth_, *tile_, *seed_, *passes_, *accel_builder_;
 };
 
 // The PNG preview's exposure and tone curve (the EXR keeps the linear radiance).

@@ -48,6 +48,7 @@ struct RenderOverrides {
   std::optional<std::uint32_t> tile_size;
   std::optional<std::uint64_t> seed;
   std::optional<std::uint32_t> passes;
+  std::optional<std::string> accel_builder;  // auto, spatial or binned
 };
 
 // One parsed and validated `tessera` invocation.

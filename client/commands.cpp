@@ -229,6 +229,7 @@ void apply_overrides(RenderSettings& settings, const RenderOverrides& o) {
   if (o.tile_size) settings.tile_size = *o.tile_size;
   if (o.seed) settings.seed = *o.seed;
   if (o.passes) settings.passes = *o.passes;
+  if (o.accel_builder) settings.accel_builder = *o.accel_builder;
 }
 
 // "-" for a scene or an output file: standard input or output.

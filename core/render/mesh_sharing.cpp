@@ -1,5 +1,7 @@
 #include "mesh_sharing.hpp"
 
+#include "tessera/render/accel_builder.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -88,7 +90,8 @@ SharedMeshes share_mesh_geometry(const SceneDescription& description,
     }
     const std::span<const Triangle> object(shared.triangles.data() + first_triangle,
                                            shared.triangles.size() - first_triangle);
-    shared.geometries.push_back(TriangleAccel::build(object));
+    shared.geometries.push_back(
+        TriangleAccel::build(object, accel_build_options(description.render.accel_builder)));
     for (const std::size_t m : group) {
       const TriangleMeshDesc& entry = description.meshes[m];
       if (next_id + object.size() > std::uint64_t{kPrimitiveIndexMask} + 1)

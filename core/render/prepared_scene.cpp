@@ -15,6 +15,7 @@
 #include "shape_placement.hpp"
 #include "tessera/accel/shape_wide_bvh.hpp"
 #include "tessera/math/offset_ray.hpp"
+#include "tessera/render/accel_builder.hpp"
 #include "tessera/render/material_mapping.hpp"
 #include "texture_pool.hpp"
 #include "variant_choice.hpp"
@@ -146,9 +147,9 @@ std::shared_ptr<const PreparedScene> PreparedScene::build(const SceneDescription
   if (!scene_bounds.empty())
     scene->spawn_scale_ = spawn_scale_for_extent(
         max_component(glm::max(glm::abs(scene_bounds.lower), glm::abs(scene_bounds.upper))));
-  scene->simd_triangle_references_ =
-      primitives.build_accelerators(arrays.of<PrimitiveType::kTriangle>(), scene->triangle_accel_,
-                                    scene->bvh_, scene->hidden_bvh_);
+  scene->simd_triangle_references_ = primitives.build_accelerators(
+      arrays.of<PrimitiveType::kTriangle>(), accel_build_options(description.render.accel_builder),
+      scene->triangle_accel_, scene->bvh_, scene->hidden_bvh_);
 #if TESSERA_SHAPE_WIDE_WALK
   scene->shape_wide_bvh_ = collapse_shape_bvh(scene->bvh_);
 #endif

@@ -12,9 +12,9 @@ void PrimitiveList::add(PrimitiveType type, std::uint32_t index, const Aabb& box
   add_if_sampled_emitter(lights_, materials_[material], reference, light_area);
 }
 
-std::vector<std::uint32_t> PrimitiveList::build_accelerators(std::span<const Triangle> triangles,
-                                                             TriangleAccel& triangle_accel,
-                                                             Bvh& bvh, Bvh& hidden_bvh) {
+std::vector<std::uint32_t> PrimitiveList::build_accelerators(
+    std::span<const Triangle> triangles, const AccelBuildOptions& triangle_options,
+    TriangleAccel& triangle_accel, Bvh& bvh, Bvh& hidden_bvh) {
   const auto is_triangle = [](std::uint32_t reference) {
     return primitive_type(reference) == PrimitiveType::kTriangle;
   };
@@ -44,8 +44,7 @@ std::vector<std::uint32_t> PrimitiveList::build_accelerators(std::span<const Tri
   boxes_.resize(kept);
   references_.resize(kept);
   if (!visible_triangles.empty())
-    triangle_accel =
-        TriangleAccel::build(visible_triangles, AccelBuildOptions{}, triangle_references);
+    triangle_accel = TriangleAccel::build(visible_triangles, triangle_options, triangle_references);
   // One shape per leaf: a shape test (in double; ~140 instructions for a quad when this was
   // measured, before Quad::make precomputed its axes) costs far more than a box test, so a tight
   // box per shape pays even where the SAH's unit costs would share a leaf (measured: -9% render

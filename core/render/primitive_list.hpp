@@ -41,8 +41,10 @@ class PrimitiveList {
   // structure). Shapes hidden from camera rays go, triangles too, into `hidden_bvh`, left
   // empty when there are none. Once, after the last shape is stored: it reorders the list.
   // Returns the references of the triangles put into the SIMD structure (a GPU upload puts
-  // them into its own BVH: render/device_scene_source.hpp).
+  // them into its own BVH: render/device_scene_source.hpp). `triangle_options`: how the SIMD
+  // structure is built (render/accel_builder.hpp).
   std::vector<std::uint32_t> build_accelerators(std::span<const Triangle> triangles,
+                                                const AccelBuildOptions& triangle_options,
                                                 TriangleAccel& triangle_accel, Bvh& bvh,
                                                 Bvh& hidden_bvh);
 

@@ -334,6 +334,10 @@ class Offline(unittest.TestCase):
         request = tessera_client.submit_request(str(CORNELL), width=40, seed=9, passes=2)
         self.assertEqual((request.settings.width, request.settings.seed), (40, 9))
         self.assertEqual(request.settings.passes, 2)
+        request = tessera_client.submit_request(str(CORNELL), accel_builder="binned")
+        self.assertEqual(request.settings.accel_builder, "binned")
+        with self.assertRaises(tessera_client.SceneError):
+            tessera_client.submit_request(str(CORNELL), accel_builder="sbvh")
         with self.assertRaises(TypeError):
             tessera_client.submit_request(str(CORNELL), widht=40)
         with self.assertRaises(TypeError):

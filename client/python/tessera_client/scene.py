@@ -23,6 +23,7 @@ RENDER_OVERRIDES = {
     "tile_size": "--tile-size",
     "seed": "--seed",
     "passes": "--passes",
+    "accel_builder": "--accel-builder",
 }
 
 
@@ -92,7 +93,8 @@ def _arguments(name, priority, labels, submitter, lenient, overrides):
             raise TypeError(f"unknown render override {key!r}; expected one of "
                             + ", ".join(sorted(RENDER_OVERRIDES)))
         if value is not None:
-            args += [RENDER_OVERRIDES[key], str(int(value))]
+            # Choices (accel_builder) go as they are; the CLI checks them.
+            args += [RENDER_OVERRIDES[key], value if isinstance(value, str) else str(int(value))]
     if name is not None:
         args += ["--name", str(name)]
     if priority:

@@ -60,6 +60,21 @@ TEST(CliOptions, PassesOverrideTheSceneForRenderAndSubmit) {
   EXPECT_NE(p.err.find("--passes"), std::string::npos) << p.err;
 }
 
+TEST(CliOptions, AccelBuilderOverridesTheSceneAndIsOneOfItsChoices) {
+  Parsed p = parse({"render", "scene.yaml", "-o", "a.exr", "--accel-builder", "binned"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->overrides.accel_builder, "binned");
+  p = parse({"submit", "scene.yaml", "--accel-builder", "spatial"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_EQ(p.result.command->overrides.accel_builder, "spatial");
+  p = parse({"render", "scene.yaml", "-o", "a.exr"});
+  ASSERT_TRUE(p.result.command) << p.err;
+  EXPECT_FALSE(p.result.command->overrides.accel_builder.has_value());
+  p = parse({"render", "scene.yaml", "-o", "a.exr", "--accel-builder", "sbvh"});
+  EXPECT_FALSE(p.result.command);
+  EXPECT_NE(p.err.find("--accel-builder"), std::string::npos) << p.err;
+}
+
 TEST(CliOptions, DefaultsAndLocal) {
   const Parsed p = parse({"render", "scene.yaml", "-o", "a.exr", "--local", "--threads", "3"});
   ASSERT_TRUE(p.result.command) << p.err;

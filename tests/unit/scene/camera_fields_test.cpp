@@ -1,4 +1,4 @@
-// The camera, pixel filter, image and clamp fields through YAML: values land in the
+// The camera, pixel filter, image, clamp and structure fields through YAML: values land in the
 // description, and bad ones are errors naming the field and the reason.
 #include <gtest/gtest.h>
 
@@ -52,6 +52,15 @@ TEST(CameraFields, BadValuesNameTheFieldAndTheReason) {
   EXPECT_EQ(load_error("render: { pixel_filter: gauss }\n").field, "render.pixel_filter");
   EXPECT_EQ(load_error("render: { filter_width: 40 }\n").field, "render.filter_width");
   EXPECT_EQ(load_error("render: { clamp: -1 }\n").field, "render.clamp");
+}
+
+TEST(CameraFields, AccelBuilderIsOneOfItsChoices) {
+  EXPECT_EQ(load("render: { accel_builder: spatial }\n").scene.render.accel_builder, "spatial");
+  EXPECT_EQ(load("render: { accel_builder: binned }\n").scene.render.accel_builder, "binned");
+  EXPECT_EQ(load("render: { spp: 4 }\n").scene.render.accel_builder, "");  // auto
+  const SceneIssue bad = load_error("render: { accel_builder: sbvh }\n");
+  EXPECT_EQ(bad.field, "render.accel_builder");
+  EXPECT_NE(bad.message.find("binned"), std::string::npos) << bad.message;
 }
 
 }  // namespace

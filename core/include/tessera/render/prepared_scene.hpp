@@ -101,6 +101,12 @@ class PreparedScene {
   // was baked).
   std::size_t shared_mesh_placements() const { return mesh_placements_.size(); }
   std::size_t shared_mesh_geometries() const { return shared_meshes_.size(); }
+  // How the triangle structures were built (RenderSettings::accel_builder): the world one
+  // and each shared geometry's.
+  const AccelStats& triangle_accel_stats() const { return triangle_accel_.stats(); }
+  const AccelStats& shared_mesh_accel_stats(std::size_t geometry) const {
+    return shared_meshes_.at(geometry).stats();
+  }
 
  private:
   PreparedScene() = default;

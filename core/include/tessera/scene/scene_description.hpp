@@ -487,6 +487,12 @@ struct RenderSettings {
   // whole image, each tile's passes adding up to the single-pass image bit for bit (0 or 1:
   // one pass). Not with adaptive sampling.
   std::uint32_t passes = 1;
+  // How the triangles' acceleration structure is built: "auto" (also when empty; chosen per
+  // mesh from its size and how well its triangles fill their boxes), "spatial" (spatial
+  // splits for every mesh, whatever its size or its triangles' shape) or "binned" (the binned
+  // surface-area build alone: the shortest build, for previews). Only speed and memory
+  // change, never the image.
+  std::string accel_builder;
 
   bool adaptive() const { return target_error > 0.0; }
   std::uint32_t pass_count() const { return passes == 0 ? 1 : passes; }

@@ -311,6 +311,13 @@ struct RenderKind {
               "equal bit for bit to one pass (0 or 1: one pass; at most spp; not with "
               "target_error)",
        .zero_means_default = true},
+      {.name = "accel_builder",
+       .member = &Desc::accel_builder,
+       .rule = kOneOf,
+       .doc = "triangle structure: auto (default; chosen per mesh), spatial (spatial splits "
+              "for every mesh) or binned (shortest build, for previews); never changes the "
+              "image",
+       .choices = "auto|spatial|binned"},
   };
   static constexpr std::array<IgnoredKey, 0> ignored{};
 };
