@@ -109,6 +109,8 @@ v1::ServerInfo make_server_info(const DaemonConfig& config, const std::vector<st
   add_choices(field_choices<schema::RenderKind>("pixel_filter"),
               *capabilities.mutable_pixel_filters());
   add_choices(field_choices<schema::TextureKind>("type"), *capabilities.mutable_texture_types());
+  add_choices(field_choices<schema::RenderKind>("accel_builder"),
+              *capabilities.mutable_accel_builders());
   capabilities.set_progressive_passes(true);
   capabilities.set_adaptive_sampling(true);
   capabilities.set_idempotent_submit(true);

@@ -325,17 +325,21 @@ TriangleAccel TriangleAccel::build(std::span<const Triangle> triangles,
           : fmt::format(", {} degenerate dropped", accel.stats_.degenerate),
       kind != AccelKind::kWide ? std::string()
       : accel.stats_.spatial_split_budget > 0.0f
-          ? fmt::format(", spatial splits (budget {}, {}; box fill ratio {:.1f}) to {} references",
-                        accel.stats_.spatial_split_budget,
-                        accel.stats_.spatial_split_chosen ? "chosen" : "given",
-                        accel.stats_.fill_ratio, accel.stats_.leaf_references)
+          ? fmt::format(
+                ", spatial splits (budget {:.3g}, {}; box fill ratio {:.1f}) to {} references",
+                accel.stats_.spatial_split_budget,
+                accel.stats_.spatial_split_chosen ? "chosen" : "given", accel.stats_.fill_ratio,
+                accel.stats_.leaf_references)
       : accel.stats_.presplit_budget > 0.0f
-          ? fmt::format(", pre-split (budget {}, {}; box fill ratio {:.1f}) to {} references",
+          ? fmt::format(", pre-split (budget {:.3g}, {}; box fill ratio {:.1f}) to {} references",
                         accel.stats_.presplit_budget,
                         accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio,
                         accel.stats_.leaf_references)
-          : fmt::format(", not pre-split ({}; box fill ratio {:.1f})",
-                        accel.stats_.presplit_chosen ? "chosen" : "given", accel.stats_.fill_ratio),
+          : fmt::format(
+                ", binned build, no spatial splits or pre-split ({}; box fill ratio {:.1f})",
+                accel.stats_.presplit_chosen && accel.stats_.spatial_split_chosen ? "chosen"
+                                                                                  : "given",
+                accel.stats_.fill_ratio),
       accel.stats_.build_seconds,
       triangles.empty()
           ? 0.0

@@ -709,6 +709,8 @@ TEST_F(DaemonTest, GetServerInfoReportsVersionLimitsDevicesAndCapabilities) {
   EXPECT_TRUE(has(c.material_types(), "glass"));
   EXPECT_TRUE(has(c.pixel_filters(), "blackman_harris"));
   EXPECT_TRUE(has(c.texture_types(), "checker"));
+  EXPECT_EQ(std::vector<std::string>(c.accel_builders().begin(), c.accel_builders().end()),
+            (std::vector<std::string>{"auto", "spatial", "binned"}));
   // Every shape of the API's Geometry oneof, and nothing else.
   const auto* shape = v1::Geometry::descriptor()->FindOneofByName("shape");
   ASSERT_NE(shape, nullptr);

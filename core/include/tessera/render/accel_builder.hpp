@@ -9,10 +9,10 @@ namespace tessera {
 // empty (every choice left to TriangleAccel: spatial splits, pre-splitting where triangles
 // fill their boxes poorly, the binned build alone above kAutoSpatialSplitMaxTriangles),
 // "spatial" (spatial splits at kAutoSpatialSplitBudget for every mesh, never pre-splitting:
-// on held-out heads of hair, whose ribbons the automatic choice pre-splits, they measured
-// 1.02-1.09x Embree's high-quality build on diffuse rays against 0.79-0.92x) or "binned" (the
-// binned surface-area build alone, several times shorter, for previews and scenes rendered
-// for seconds). Throws std::invalid_argument naming the field for any other value (the scene
+// on three held-out heads of hair, whose ribbons the automatic choice pre-splits, diffuse
+// rays measured 0.99-1.05x Embree's high-quality build with them against 0.81-0.98x
+// pre-split, bench/accel/README.md) or "binned" (the binned surface-area build alone, 2-7
+// times shorter, for previews and scenes rendered for seconds). Throws std::invalid_argument naming the field for any other value (the scene
 // validation rejects those first).
 AccelBuildOptions accel_build_options(std::string_view accel_builder);
 
