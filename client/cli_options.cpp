@@ -10,6 +10,7 @@
 #include "client/cli_completion.hpp"
 #include "client/job_json.hpp"
 #include "tessera/scene/scene_description.hpp"
+#include "tessera/scene/schema/kinds.hpp"
 #include "tessera/scene/schema/suggest.hpp"
 
 namespace tessera {
@@ -141,7 +142,8 @@ class OverrideOptions {
             .add_option("--accel-builder", accel_builder_value_,
                         "triangle structure: auto, spatial (spatial splits for every mesh) or "
                         "binned (shortest build, for previews); never changes the image")
-            ->check(CLI::IsMember({"auto", "spatial", "binned"}));
+            ->check(CLI::IsMember(
+                schema::choice_names(schema::field_choices<schema::RenderKind>("accel_builder"))));
   }
 
   RenderOverrides values() const {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "tessera/scene/schema/kinds.hpp"
 
@@ -26,22 +27,9 @@ void add_names(std::span<const std::string_view> names,
   for (const std::string_view name : names) out.Add(std::string(name));
 }
 
-// "a|b|c" (a kOneOf field's choices) into its names.
+// A kOneOf field's choices ("a|b|c") into its names.
 void add_choices(std::string_view choices, google::protobuf::RepeatedPtrField<std::string>& out) {
-  while (!choices.empty()) {
-    const std::size_t bar = choices.find('|');
-    out.Add(std::string(choices.substr(0, bar)));
-    if (bar == std::string_view::npos) break;
-    choices.remove_prefix(bar + 1);
-  }
-}
-
-// The choices of the field `name` of a kind's declaration.
-template <typename Kind>
-std::string_view field_choices(std::string_view name) {
-  for (const auto& field : Kind::fields)
-    if (field.name == name) return field.choices;
-  return {};
+  for (std::string& name : schema::choice_names(choices)) out.Add(std::move(name));
 }
 
 // The CPU's model name from /proc/cpuinfo; empty where there is none.
@@ -106,10 +94,11 @@ v1::ServerInfo make_server_info(const DaemonConfig& config, const std::vector<st
   add_names(material_type_names(), *capabilities.mutable_material_types());
   schema::for_each_kind<schema::ShapeKinds>(
       [&](auto kind) { capabilities.add_geometry_kinds(std::string(decltype(kind)::proto_name)); });
-  add_choices(field_choices<schema::RenderKind>("pixel_filter"),
+  add_choices(schema::field_choices<schema::RenderKind>("pixel_filter"),
               *capabilities.mutable_pixel_filters());
-  add_choices(field_choices<schema::TextureKind>("type"), *capabilities.mutable_texture_types());
-  add_choices(field_choices<schema::RenderKind>("accel_builder"),
+  add_choices(schema::field_choices<schema::TextureKind>("type"),
+              *capabilities.mutable_texture_types());
+  add_choices(schema::field_choices<schema::RenderKind>("accel_builder"),
               *capabilities.mutable_accel_builders());
   capabilities.set_progressive_passes(true);
   capabilities.set_adaptive_sampling(true);

@@ -101,6 +101,17 @@ void sort_in_input_order(std::vector<SceneIssue>& issues, PathStyle style) {
                    [&](const SceneIssue& a, const SceneIssue& b) { return key(a) < key(b); });
 }
 
+std::vector<std::string> choice_names(std::string_view choices) {
+  std::vector<std::string> names;
+  while (!choices.empty()) {
+    const std::size_t bar = choices.find('|');
+    names.emplace_back(choices.substr(0, bar));
+    if (bar == std::string_view::npos) break;
+    choices.remove_prefix(bar + 1);
+  }
+  return names;
+}
+
 bool choice_allowed(std::string_view choices, std::string_view value) {
   while (!choices.empty()) {
     const std::size_t bar = choices.find('|');

@@ -61,9 +61,7 @@ SceneDescription strand_scene(const std::string& builder, bool two_placements) {
   scene.camera.position = {0.3, 0.6, 2.6};
   scene.camera.look_at = {0.0, 0.0, 0.0};
   scene.camera.fov_degrees = 45.0;
-  MaterialDesc white;
-  white.name = "white";
-  scene.materials.push_back(white);
+  scene.materials.push_back(test::lambertian_material("white"));
   scene.materials.push_back(test::light_material("light", glm::dvec3(4.0)));
   TriangleMeshDesc mesh = strands(17);
   if (two_placements) {

@@ -3,6 +3,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -88,5 +89,17 @@ struct IgnoredKey {
   std::string_view name;
   std::string_view reason;
 };
+
+// The choices of the field `name` in a kind's declaration ("a|b|c"; empty when it has none),
+// for what lists them outside the scene: the daemon's capabilities, the CLI's flags.
+template <typename Kind>
+constexpr std::string_view field_choices(std::string_view name) {
+  for (const auto& field : Kind::fields)
+    if (field.name == name) return field.choices;
+  return {};
+}
+
+// The names in a kOneOf field's choices: "a|b|c" -> {a, b, c}.
+std::vector<std::string> choice_names(std::string_view choices);
 
 }  // namespace tessera::schema
