@@ -125,8 +125,13 @@ const DeviceSceneSource& PreparedScene::device_source() const {
       boxes[i] = scene_detail::dispatch<kAllShapes>(
           v, references[i], Aabb{}, [](const auto& shape) { return bounds(shape); });
     source->bvh = build_bvh(boxes, references);
+    source->compressed = compress_bvh(source->bvh);
 
-    v.bvh = source->bvh.view();                  // no SIMD triangles, instance level or wide nodes
+    v.bvh = source->bvh.view();  // no SIMD triangles, instance level or wide nodes
+    if (!source->compressed.nodes.empty()) {
+      v.bvh.compressed_nodes = source->compressed.nodes.data();
+      v.bvh.compressed_primitives = source->compressed.primitives.data();
+    }
     v.bvh.hidden_nodes = host.bvh.hidden_nodes;  // the hidden shapes' tree, as on the CPU
     v.bvh.hidden_primitives = host.bvh.hidden_primitives;
     v.bvh.hidden_node_count = host.bvh.hidden_node_count;
@@ -163,6 +168,16 @@ const DeviceSceneSource& PreparedScene::device_source() const {
     add(sized(source->bvh.primitives.data(), source->bvh.primitives.size() * sizeof(std::uint32_t),
               [](SceneView& view, const void* copy) {
                 view.bvh.primitives = static_cast<const std::uint32_t*>(copy);
+              }));
+    add(sized(source->compressed.nodes.data(),
+              source->compressed.nodes.size() * sizeof(CompressedWideNode),
+              [](SceneView& view, const void* copy) {
+                view.bvh.compressed_nodes = static_cast<const CompressedWideNode*>(copy);
+              }));
+    add(sized(source->compressed.primitives.data(),
+              source->compressed.primitives.size() * sizeof(std::uint32_t),
+              [](SceneView& view, const void* copy) {
+                view.bvh.compressed_primitives = static_cast<const std::uint32_t*>(copy);
               }));
     add(sized(hidden_bvh_.nodes.data(), hidden_bvh_.nodes.size() * sizeof(BvhNode),
               [](SceneView& view, const void* copy) {

@@ -84,6 +84,13 @@ void expect_every_primitive_once(const PreparedScene& scene) {
     if (view.bvh.nodes[i].is_leaf()) expected += view.bvh.nodes[i].count;
   if (view.bvh.triangles != nullptr) expected += view.bvh.triangles->stats().triangles;
   EXPECT_EQ(source.bvh.primitives.size(), expected);
+  // Closest and any hits walk the compressed form: the same references, and the view
+  // points at it (so these images test that walk).
+  ASSERT_FALSE(source.compressed.nodes.empty());
+  EXPECT_EQ(source.view.bvh.compressed_nodes, source.compressed.nodes.data());
+  EXPECT_EQ(std::multiset<std::uint32_t>(source.compressed.primitives.begin(),
+                                         source.compressed.primitives.end()),
+            seen);
   EXPECT_EQ(source.view.bvh.triangles, nullptr);
   EXPECT_EQ(source.view.bvh.wide_nodes, nullptr);
   EXPECT_EQ(source.view.bvh.instances, nullptr);
@@ -329,6 +336,8 @@ TEST(DeviceLayout, BuffersCoverEveryArrayTheViewPointsTo) {
   EXPECT_NE(moved.materials, source.view.materials);
   EXPECT_NE(moved.bvh.nodes, source.view.bvh.nodes);
   EXPECT_NE(moved.bvh.primitives, source.view.bvh.primitives);
+  EXPECT_NE(moved.bvh.compressed_nodes, source.view.bvh.compressed_nodes);
+  EXPECT_NE(moved.bvh.compressed_primitives, source.view.bvh.compressed_primitives);
   EXPECT_NE(moved.textures, source.view.textures);
   EXPECT_NE(moved.texels, source.view.texels);
   EXPECT_GT(source.bytes(), 0u);

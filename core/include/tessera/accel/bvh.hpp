@@ -38,6 +38,7 @@ inline bool bvh_near_depth_cap(std::uint32_t depth, std::uint32_t count, std::ui
 class TriangleAccel;
 class InstanceAccel;
 struct WideBvhNode;
+struct CompressedWideNode;
 
 struct BvhView {
   const BvhNode* nodes = nullptr;
@@ -54,6 +55,11 @@ struct BvhView {
   // (accel/shape_wide_bvh.hpp), its leaves naming ranges of `primitives`; CPU tracers walk
   // it instead of `nodes` when it is set.
   const WideBvhNode* wide_nodes = nullptr;
+  // The device layout's form of the same tree (accel/compressed_wide_bvh.hpp), its leaves
+  // naming entries of `compressed_primitives`; tracers walk it instead of `nodes` for
+  // closest and any hits when it is set. The CPU's own scenes leave it null.
+  const CompressedWideNode* compressed_nodes = nullptr;
+  const std::uint32_t* compressed_primitives = nullptr;
   // Shapes hidden from camera rays (`visible: false`): a binary tree of its own, walked by
   // every other ray (reflections, bounces, shadow rays), so a hidden light still shows in a
   // mirror, casts and receives light and is weighed by MIS like any emitter. Device code

@@ -3,8 +3,8 @@
 // structure holds): the binary BVH collapsed into eight-wide nodes (accel/wide_bvh.hpp), so
 // one node tests the boxes of up to eight children with two SSE instructions per plane
 // instead of a scalar slab test per child. Its leaves are the binary leaves, ranges of
-// Bvh::primitives, so the same intersection program tests the same references; the binary
-// BVH stays the layout uploaded to GPUs, which walk it with traverse_bvh.
+// Bvh::primitives, so the same intersection program tests the same references. GPUs walk
+// their own tree in compressed nodes (accel/compressed_wide_bvh.hpp).
 #include <cstddef>
 #include <cstdint>
 

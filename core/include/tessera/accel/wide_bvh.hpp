@@ -10,7 +10,7 @@ namespace tessera {
 
 // Eight-wide BVH for CPU traversal: one node holds the boxes of up to eight children in
 // structure-of-arrays form, so one AVX2 instruction (or two SSE ones) tests a ray against
-// all of them. It is collapsed from the binary BVH, which stays the layout uploaded to GPUs.
+// all of them. It is collapsed from the binary BVH.
 inline constexpr std::uint32_t kWideBvhWidth = 8;
 
 // Child words. Bit 31 marks a leaf; a leaf holds `count` (bits 26..30) consecutive items

@@ -2,6 +2,7 @@
 #include <cstdint>
 
 #include "tessera/accel/bvh_traversal.hpp"
+#include "tessera/accel/compressed_wide_bvh.hpp"
 #include "tessera/accel/nearest_hits.hpp"
 #include "tessera/pipeline/concepts.hpp"
 #if !defined(__CUDACC__)
@@ -22,7 +23,8 @@ enum class RayKind : std::uint8_t { kCamera, kSecondary };
 // live in the SIMD structure BvhView::triangles instead of the BVH; each query then asks
 // it first (one call per ray) and walks the BVH for the other shapes; placements of shared
 // mesh geometry (BvhView::instances, two-level) are asked the same way. nvcc never sees
-// that structure (its kernels are x86 code): device code walks the BVH alone. The CPU walks
+// that structure (its kernels are x86 code): device code walks the BVH alone, in its
+// compressed eight-wide form (BvhView::compressed_nodes) when it is set. The CPU walks
 // the other shapes through BvhView::wide_nodes, the BVH's eight-wide form, when it is set
 // (closest and any hit; all-hits queries walk the binary tree). Shapes no
 // box can hold (infinite planes) stay outside the BVH: an intersection program with
@@ -136,14 +138,17 @@ class BvhTracer {
   }
 
  private:
-  // Closest- or any-hit walk of the BVH with the intersection program: the wide form on
-  // the CPU when there is one, the binary tree otherwise.
+  // Closest- or any-hit walk of the BVH with the intersection program: the compressed
+  // eight-wide form of the device layout when there is one, the CPU's wide form when there
+  // is one, the binary tree otherwise.
   template <bool kAnyHit>
   TESSERA_HD bool walk(const Ray& ray, HitRecord& hit) const {
     const auto intersect = [this](std::uint32_t primitive, const Ray& r, float t_max,
                                   HitRecord& h) {
       return intersection_.intersect(primitive, r, t_max, h);
     };
+    if (bvh_.compressed_nodes != nullptr)
+      return traverse_compressed_wide<kAnyHit>(bvh_, ray, hit, intersect);
 #if !defined(__CUDACC__) && TESSERA_SHAPE_WIDE_WALK
     if (bvh_.wide_nodes != nullptr) return traverse_shape_wide<kAnyHit>(bvh_, ray, hit, intersect);
 #endif
