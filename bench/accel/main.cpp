@@ -6,6 +6,9 @@
 //   tessera-bench mesh  --shape knot|scatter|tubes|uneven --triangles N --out FILE.ply
 //                       [--strips S --rings R]  (tubes: tessellation of each tube)
 //   tessera-bench load  --mesh FILE [--repeat R]
+//   tessera-bench device-walk --mesh FILE --rays FILE.rays [--threads N] [--repeat R]
+//   tessera-bench gpu-trace --mesh FILE --rays FILE.rays [--threads N] [--repeat R]
+//                           [--device D]  (built with the GPU backend)
 //   tessera-bench sizes [--sizes N...] [--rays N] [--repeat R]
 //   tessera-bench converge SCENE.yaml [--reference REF.exr] [--reference-spp N]
 //                          [--spp 1,2,4,...] [--csv OUT.csv] [--plot OUT.png]
@@ -21,6 +24,10 @@
 #include <optional>
 #include <thread>
 
+#include "device_walk.hpp"
+#if defined(TESSERA_HAS_CUDA)
+#include "gpu_trace.hpp"
+#endif
 #include "mesh_files.hpp"
 #include "ray_file.hpp"
 #include "ray_generation.hpp"
@@ -260,6 +267,27 @@ int main(int argc, char** argv) {
   load->add_option("--repeat", repeat, "loads of each kind; the fastest counts")
       ->check(CLI::Range(1u, 100u));
 
+  auto* device_walk = app.add_subcommand(
+      "device-walk",
+      "the GPU layout's binary and compressed eight-wide BVH walks, scalar, on this CPU");
+  device_walk->add_option("--mesh", mesh, "mesh file")->required()->check(CLI::ExistingFile);
+  device_walk->add_option("--rays", rays_path, "ray file")->required()->check(CLI::ExistingFile);
+  device_walk->add_option("--threads", threads, "worker threads")->check(CLI::Range(1u, 1024u));
+  device_walk->add_option("--repeat", repeat, "runs over all rays; the fastest counts")
+      ->check(CLI::Range(1u, 1000u));
+
+#if defined(TESSERA_HAS_CUDA)
+  int gpu_device = 0;
+  auto* gpu_trace = app.add_subcommand(
+      "gpu-trace", "closest hits on a CUDA device (compressed and binary walks) against the CPU");
+  gpu_trace->add_option("--mesh", mesh, "mesh file")->required()->check(CLI::ExistingFile);
+  gpu_trace->add_option("--rays", rays_path, "ray file")->required()->check(CLI::ExistingFile);
+  gpu_trace->add_option("--threads", threads, "CPU worker threads")->check(CLI::Range(1u, 1024u));
+  gpu_trace->add_option("--repeat", repeat, "runs of each; the fastest counts")
+      ->check(CLI::Range(1u, 1000u));
+  gpu_trace->add_option("--device", gpu_device, "CUDA device index")->check(CLI::Range(0, 63));
+#endif
+
   // The pipeline-specialisation benchmark (bench/pipeline) shares this front end.
   tessera::bench::SpecialiseOptions specialise_options;
   auto* specialise = app.add_subcommand(
@@ -344,6 +372,10 @@ int main(int argc, char** argv) {
     if (*trace) return run_trace_command(mesh, rays_path, threads, accel, query, repeat, isa, tune);
     if (*mesh_cmd) return run_mesh(shape, triangles, tubes, out);
     if (*load) return run_load(mesh, repeat);
+    if (*device_walk) return run_device_walk(mesh, rays_path, threads, repeat);
+#if defined(TESSERA_HAS_CUDA)
+    if (*gpu_trace) return run_gpu_trace(mesh, rays_path, threads, repeat, gpu_device);
+#endif
     if (*sizes_cmd) {
       run_size_sweep(sizes, sweep_rays, repeat);
       return 0;
