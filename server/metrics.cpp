@@ -32,6 +32,21 @@ void header(std::string& out, const char* name, const char* type, const char* he
   out.append("# TYPE ").append(name).append(" ").append(type).append("\n");
 }
 
+// A label value as the exposition format quotes it: backslash, double quote and newline
+// escaped (device names come from the driver).
+std::string label_value(const std::string& value) {
+  std::string escaped;
+  for (const char c : value) {
+    if (c == '\\' || c == '"') escaped.push_back('\\');
+    if (c == '\n') {
+      escaped.append("\\n");
+      continue;
+    }
+    escaped.push_back(c);
+  }
+  return escaped;
+}
+
 void sample(std::string& out, const std::string& name, const std::string& labels, double value) {
   out.append(name);
   if (!labels.empty()) out.append("{").append(labels).append("}");
@@ -77,6 +92,27 @@ void DaemonMetrics::tile_stored(std::uint64_t samples) {
   samples_.fetch_add(samples, std::memory_order_relaxed);
 }
 
+void DaemonMetrics::name_tile_workers(std::vector<std::string> names) {
+  if (names.size() > kMaxTileWorkers) names.resize(kMaxTileWorkers);
+  worker_names_ = std::move(names);
+}
+
+void DaemonMetrics::tile_rendered_by(std::size_t worker) {
+  if (worker < kMaxTileWorkers) rendered_by_[worker].fetch_add(1, std::memory_order_relaxed);
+}
+
+void DaemonMetrics::tile_fell_back(std::size_t device) {
+  if (device < kMaxTileWorkers) fell_back_[device].fetch_add(1, std::memory_order_relaxed);
+}
+
+std::uint64_t DaemonMetrics::tiles_rendered_by(std::size_t worker) const {
+  return worker < kMaxTileWorkers ? rendered_by_[worker].load(std::memory_order_relaxed) : 0;
+}
+
+std::uint64_t DaemonMetrics::tiles_fallen_back(std::size_t device) const {
+  return device < kMaxTileWorkers ? fell_back_[device].load(std::memory_order_relaxed) : 0;
+}
+
 void DaemonMetrics::scene_prepared(double seconds) {
   prepare_seconds_.observe(seconds);
 }
@@ -117,6 +153,23 @@ std::string DaemonMetrics::exposition(const MetricsSnapshot& s) const {
          "Tiles (with passes: tile passes) rendered and stored.");
   sample(out, "tessera_tiles_rendered_total", "",
          static_cast<double>(tiles_.load(std::memory_order_relaxed)));
+  if (!worker_names_.empty()) {
+    header(out, "tessera_tiles_rendered_by_device_total", "counter",
+           "Tiles (tile passes) rendered, kept or not, by the worker that rendered them: cpu "
+           "(the CPU threads) or a GPU.");
+    for (std::size_t w = 0; w < worker_names_.size(); ++w)
+      sample(out, "tessera_tiles_rendered_by_device_total",
+             "device=\"" + label_value(worker_names_[w]) + "\"",
+             static_cast<double>(tiles_rendered_by(w)));
+    if (worker_names_.size() > 1) {
+      header(out, "tessera_device_fallbacks_total", "counter",
+             "Tiles that failed on a GPU and were rendered on the CPU instead.");
+      for (std::size_t d = 0; d + 1 < worker_names_.size(); ++d)
+        sample(out, "tessera_device_fallbacks_total",
+               "device=\"" + label_value(worker_names_[d + 1]) + "\"",
+               static_cast<double>(tiles_fallen_back(d)));
+    }
+  }
   header(out, "tessera_samples_rendered_total", "counter",
          "Pixel samples of the stored tiles (pixels times the samples each asked for).");
   sample(out, "tessera_samples_rendered_total", "",

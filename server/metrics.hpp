@@ -40,6 +40,9 @@ struct MetricsSnapshot {
   std::uint64_t resident_bytes = 0;
 };
 
+// The CPU threads and up to 64 devices.
+inline constexpr std::size_t kMaxTileWorkers = 65;
+
 class DaemonMetrics {
  public:
   DaemonMetrics();
@@ -50,6 +53,17 @@ class DaemonMetrics {
   void tile_traced(std::uint64_t rays, double seconds);
   // A rendered tile (or pass) was stored, with the samples it asked for.
   void tile_stored(std::uint64_t samples);
+  // The workers that render tiles, named for the exposition: "cpu" (the CPU threads
+  // together) first, then each device as TileDevice::name gives it. At most
+  // kMaxTileWorkers; the scheduler names them when it is built.
+  void name_tile_workers(std::vector<std::string> names);
+  // A tile (or a pass of one) rendered by worker `worker` (0: the CPU threads, 1 + d:
+  // device d), whether or not it was kept; and one that failed on device d and was
+  // rendered on the CPU instead.
+  void tile_rendered_by(std::size_t worker);
+  void tile_fell_back(std::size_t device);
+  std::uint64_t tiles_rendered_by(std::size_t worker) const;
+  std::uint64_t tiles_fallen_back(std::size_t device) const;
   void scene_prepared(double seconds);
   // A job started for the first time, `seconds` after it was submitted.
   void job_started(double queued_seconds);
@@ -64,6 +78,9 @@ class DaemonMetrics {
 
  private:
   std::atomic<std::uint64_t> tiles_{0};
+  std::vector<std::string> worker_names_;  // set before any tile renders
+  std::array<std::atomic<std::uint64_t>, kMaxTileWorkers> rendered_by_{};
+  std::array<std::atomic<std::uint64_t>, kMaxTileWorkers> fell_back_{};
   std::atomic<std::uint64_t> samples_{0};
   std::atomic<std::uint64_t> rays_{0};
   std::atomic<double> trace_seconds_{0.0};

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <optional>
 #include <stdexcept>
 
@@ -39,6 +41,11 @@ struct Scheduler::Entry {
   // Queued as a fresh entry once this one's tasks have returned (requeue): the job's live
   // object, which may differ from `job` (a worker may still be using `job`).
   std::shared_ptr<Job> successor;
+  // Tiles (passes) this entry's workers rendered: [0] the CPU threads, [1 + d] device d;
+  // and those that failed on a device and went to the CPU. Counted before the tile is
+  // stored, so the worker that stores the last one reads them all.
+  std::array<std::atomic<std::uint32_t>, kMaxTileWorkers> rendered_by{};
+  std::atomic<std::uint32_t> fell_back{0};
 };
 
 // The queue's order: priority descending (it may change: UpdateJob), then submission.
@@ -58,6 +65,14 @@ struct Scheduler::Task {
 Scheduler::Scheduler(SchedulerOptions options) : options_(std::move(options)) {
   if (options_.threads == 0) throw std::invalid_argument("scheduler needs at least one thread");
   if (!options_.prepare) options_.prepare = default_prepare;
+  if (options_.devices.size() + 1 > kMaxTileWorkers)
+    throw std::invalid_argument("scheduler: more than " + std::to_string(kMaxTileWorkers - 1) +
+                                " devices");
+  if (options_.metrics) {
+    std::vector<std::string> names{"cpu"};
+    for (const auto& device : options_.devices) names.push_back(device->name());
+    options_.metrics->name_tile_workers(std::move(names));
+  }
 }
 
 Scheduler::~Scheduler() {
@@ -300,8 +315,7 @@ void Scheduler::worker_loop(std::size_t device) {
     if (task.prepare)
       prepare(*task.entry);
     else
-      render(*task.entry, task.tile,
-             device == kCpuWorker ? nullptr : options_.devices[device].get());
+      render(*task.entry, task.tile, device);
     {
       std::lock_guard lock(mutex_);
       if (!task.prepare) task.entry->rendering[task.tile.rect.index] = false;
@@ -498,6 +512,7 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
     stats = scene.accumulate_tile(rect, state, layout.samples_after(work.pass));
     count_trace(stats, trace_start);
   }
+  count_rendered(entry, 0);  // passes are the CPU's
   // A raised flag may have cut the pass short: it is incomplete, so never stored.
   if (job.stop_requested()) return std::nullopt;
   const bool last = work.pass == layout.passes();
@@ -510,23 +525,45 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
   return job.add_tile_pass(work.unit, options_.owner, exr, stats.rays, kept, last);
 }
 
-TileStats Scheduler::render_whole_tile(Entry& entry, const TileWork& work, TileDevice* device,
+void Scheduler::count_rendered(Entry& entry, std::size_t worker) const {
+  entry.rendered_by[worker].fetch_add(1, std::memory_order_relaxed);
+  if (options_.metrics) options_.metrics->tile_rendered_by(worker);
+}
+
+TileStats Scheduler::render_whole_tile(Entry& entry, const TileWork& work, std::size_t device,
                                        TilePasses& passes) {
   const TileRect& rect = work.rect;
-  if (device != nullptr) {
+  if (device != kCpuWorker) {
+    TileDevice& on = *options_.devices[device];
     try {
       passes.beauty.resize(rect.pixel_count() * 4);
       for (auto& plane : passes.aovs) plane.clear();
-      return device->render_tile(entry.prepared, rect, passes.beauty);
+      const TileStats stats = on.render_tile(entry.prepared, rect, passes.beauty);
+      count_rendered(entry, 1 + device);
+      return stats;
     } catch (const std::exception& e) {
       spdlog::warn("job {}: tile {} failed on {}, rendering it on the CPU: {}", entry.job->id(),
-                   rect.index, device->name(), e.what());
+                   rect.index, on.name(), e.what());
+      entry.fell_back.fetch_add(1, std::memory_order_relaxed);
+      if (options_.metrics) options_.metrics->tile_fell_back(device);
     }
   }
-  return entry.prepared->render_tile(rect, passes);
+  const TileStats stats = entry.prepared->render_tile(rect, passes);
+  count_rendered(entry, 0);
+  return stats;
 }
 
-void Scheduler::render(Entry& entry, const TileWork& work, TileDevice* device) {
+std::string Scheduler::tile_split(const Entry& entry) const {
+  std::string split = fmt::format("cpu {}", entry.rendered_by[0].load(std::memory_order_relaxed));
+  for (std::size_t d = 0; d < options_.devices.size(); ++d)
+    split += fmt::format(", {} {}", options_.devices[d]->name(),
+                         entry.rendered_by[1 + d].load(std::memory_order_relaxed));
+  if (const std::uint32_t back = entry.fell_back.load(std::memory_order_relaxed); back != 0)
+    split += fmt::format(" ({} failed on a device and went to the CPU)", back);
+  return split;
+}
+
+void Scheduler::render(Entry& entry, const TileWork& work, std::size_t device) {
   Job& job = *entry.job;
   const TileRect& rect = work.rect;
   // Cancelled or paused after the tile was handed out (a resumed job is queued afresh).
@@ -581,15 +618,18 @@ void Scheduler::render(Entry& entry, const TileWork& work, TileDevice* device) {
     options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
   if (added == AddTileResult::kCompletedJob) {
     const JobInfo info = job.info();
+    const std::string split = tile_split(entry);
     log_event(spdlog::level::info, "job_completed",
               {{"job_id", info.id},
                {"tiles", static_cast<std::uint64_t>(info.progress.tiles_done)},
                {"rays", info.progress.rays_traced},
                {"elapsed_seconds", info.progress.elapsed_seconds},
-               {"rays_per_second", info.progress.rays_per_second}},
-              fmt::format("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s", info.id,
-                          info.progress.tiles_done, info.progress.rays_traced,
-                          info.progress.elapsed_seconds, info.progress.rays_per_second));
+               {"rays_per_second", info.progress.rays_per_second},
+               {"tiles_rendered_by", split}},
+              fmt::format("job {} completed: {} tiles, {} rays in {:.3f} s, {:.3g} rays/s; tiles "
+                          "rendered by {}",
+                          info.id, info.progress.tiles_done, info.progress.rays_traced,
+                          info.progress.elapsed_seconds, info.progress.rays_per_second, split));
   }
 }
 

@@ -158,11 +158,17 @@ class Scheduler {
   // Per device, whether it takes `scene`'s tiles (render.device, one pass without AOVs,
   // TileDevice::accepts). Throws for a job that asks for a GPU when none takes it.
   std::vector<bool> devices_for(const Job& job, const PreparedScene& scene) const;
-  void render(Entry& entry, const TileWork& work, TileDevice* device);
-  // The one-pass render of `work` into `passes`: on `device` when there is one, falling back
-  // to the CPU (logged) when it fails.
-  TileStats render_whole_tile(Entry& entry, const TileWork& work, TileDevice* device,
+  // `device` as for worker_loop.
+  void render(Entry& entry, const TileWork& work, std::size_t device);
+  // The one-pass render of `work` into `passes`: on options_.devices[device] unless it is
+  // kCpuWorker, falling back to the CPU (logged) when that fails; counted (count_rendered).
+  TileStats render_whole_tile(Entry& entry, const TileWork& work, std::size_t device,
                               TilePasses& passes);
+  // A tile (pass) rendered by `worker` (0: the CPU, 1 + d: device d), for the job's
+  // completion log and options_.metrics.
+  void count_rendered(Entry& entry, std::size_t worker) const;
+  // "cpu 30, gpu0 NVIDIA H100 80GB HBM3 18 (2 failed on a device and went to the CPU)".
+  std::string tile_split(const Entry& entry) const;
   // A pass of a tile of a job with passes: continues the tile's stored state and stores the
   // new one with the tile's image after the pass. Nothing when the pass was cut short (the
   // claim is then still held).

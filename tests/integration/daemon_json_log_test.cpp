@@ -86,6 +86,12 @@ TEST_F(DaemonJsonLogTest, EveryLineParsesAndCarriesItsFields) {
   EXPECT_EQ(lines[submitted]["name"], name);  // the exact name, escaped only by JSON
   EXPECT_EQ(lines[submitted]["tiles"], 4);
   EXPECT_GT(lines[completed]["rays"].get<std::uint64_t>(), 0u);
+  // Where the tiles went: the CPU threads first, then each GPU the daemon renders on.
+  const std::string split = lines[completed]["tiles_rendered_by"].get<std::string>();
+  EXPECT_EQ(split.rfind("cpu ", 0), 0u) << split;
+  if (split.find(',') == std::string::npos) {
+    EXPECT_EQ(split, "cpu 4");  // no GPU
+  }
 
   bool submit_rpc = false;
   bool not_found_rpc = false;

@@ -101,6 +101,11 @@ TEST(MetricsEndpoint, CountersMoveDuringAJobAndAddUpAfterIt) {
   EXPECT_EQ(done.at("tessera_job_run_seconds_count{state=\"completed\"}"), 1);
   EXPECT_EQ(done.at("tessera_job_run_seconds_bucket{state=\"completed\",le=\"+Inf\"}"), 1);
   EXPECT_EQ(done.at("tessera_tiles_rendered_total"), 64);
+  double by_device = 0;  // the CPU's, and any GPU's where one renders
+  for (const auto& [key, value] : done)
+    if (key.starts_with("tessera_tiles_rendered_by_device_total{")) by_device += value;
+  EXPECT_EQ(by_device, 64);
+  EXPECT_TRUE(done.contains("tessera_tiles_rendered_by_device_total{device=\"cpu\"}"));
   EXPECT_EQ(done.at("tessera_samples_rendered_total"), double{width} * height * spp);
   EXPECT_EQ(done.at("tessera_rays_traced_total"),
             static_cast<double>(client.get(job.id()).progress().rays_traced()));

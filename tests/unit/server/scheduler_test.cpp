@@ -14,6 +14,7 @@
 
 #include "server/job_id.hpp"
 #include "server/job_passes.hpp"
+#include "server/metrics.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/image/exr.hpp"
 #include "test_scenes.hpp"
@@ -506,11 +507,13 @@ class StandInDevice : public TileDevice {
 // The job's image, tile by tile, from a scheduler with `devices` beside one CPU worker.
 std::vector<std::vector<float>> render_with(const SceneDescription& scene,
                                             std::vector<std::shared_ptr<TileDevice>> devices,
-                                            std::uint32_t* tiles_done = nullptr) {
+                                            std::uint32_t* tiles_done = nullptr,
+                                            DaemonMetrics* metrics = nullptr) {
   auto job = make_job("devices", 0, scene);
   SchedulerOptions options;
   options.threads = 1;
   options.devices = std::move(devices);
+  options.metrics = metrics;
   // Slow enough per tile that the device's worker is up before the CPU worker is through.
   options.on_tile_started = [](const Job&, const TileRect&) { std::this_thread::sleep_for(2ms); };
   Scheduler scheduler(options);
@@ -534,20 +537,34 @@ TEST(SchedulerDevices, ADeviceTakesTilesFromTheSameQueueAndTheImageIsTheCpus) {
   const auto cpu_only = render_with(scene, {});
   auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender);
   std::uint32_t done = 0;
-  const auto mixed = render_with(scene, {device}, &done);
+  DaemonMetrics metrics;
+  const auto mixed = render_with(scene, {device}, &done, &metrics);
   EXPECT_EQ(done, 48u);
   EXPECT_GT(device->attempts.load(), 0);
   EXPECT_LT(device->attempts.load(), 48);  // the CPU worker took tiles too
   EXPECT_EQ(mixed, cpu_only);
+  // The split is counted where it happened: the device's tiles, the CPU's the rest.
+  EXPECT_EQ(metrics.tiles_rendered_by(1), static_cast<std::uint64_t>(device->attempts.load()));
+  EXPECT_EQ(metrics.tiles_rendered_by(0) + metrics.tiles_rendered_by(1), 48u);
+  EXPECT_EQ(metrics.tiles_fallen_back(0), 0u);
+  const std::string exposition = metrics.exposition({});
+  EXPECT_NE(exposition.find("tessera_tiles_rendered_by_device_total{device=\"stand-in device\"} " +
+                            std::to_string(device->attempts.load()) + "\n"),
+            std::string::npos)
+      << exposition;
 }
 
 TEST(SchedulerDevices, ATileThatFailsOnTheDeviceIsRenderedOnTheCpu) {
   const SceneDescription scene = tiny_description(32, 32, 8);
   const auto cpu_only = render_with(scene, {});
   auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kFail);
-  const auto mixed = render_with(scene, {device});
+  DaemonMetrics metrics;
+  const auto mixed = render_with(scene, {device}, nullptr, &metrics);
   EXPECT_GT(device->attempts.load(), 0);
   EXPECT_EQ(mixed, cpu_only);
+  EXPECT_EQ(metrics.tiles_fallen_back(0), static_cast<std::uint64_t>(device->attempts.load()));
+  EXPECT_EQ(metrics.tiles_rendered_by(1), 0u);
+  EXPECT_EQ(metrics.tiles_rendered_by(0), 16u);
 }
 
 TEST(SchedulerDevices, RenderDeviceKeepsAJobOnTheCpuOrOnTheDevices) {
