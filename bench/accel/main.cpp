@@ -359,6 +359,11 @@ int main(int argc, char** argv) {
                    "the most samples a pixel takes under --adaptive (default: 4 x the largest "
                    "--spp)")
       ->check(CLI::Range(1u, 1u << 20));
+  converge
+      ->add_option("--device", converge_options.device,
+                   "where the series render: cpu, or gpu (CUDA device 0; the reference still "
+                   "renders on the CPU)")
+      ->check(CLI::IsMember({"cpu", "gpu"}));
   converge->add_flag("--denoise", converge_options.denoise,
                      "also measure the denoised render at each --spp (denoiser time included)");
   converge->add_option("--export-json", converge_options.export_json,

@@ -22,6 +22,9 @@
 #include "tessera/image/image_error.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
+#if defined(TESSERA_HAS_CUDA)
+#include "tessera/gpu/gpu_renderer.hpp"
+#endif
 
 #ifndef TESSERA_SOURCE_DIR
 #define TESSERA_SOURCE_DIR "."
@@ -51,9 +54,11 @@ void for_each_tile(const std::vector<TileRect>& tiles, unsigned threads, RenderT
   for (auto& thread : pool) thread.join();
 }
 
-// Every tile on `threads` threads: the same image as any other tiling or thread count.
+// Every tile on `threads` threads: the same image as any other tiling or thread count. With
+// `gpu`, the whole image as one tile on CUDA device 0 instead (the scene's upload, like its
+// preparation, is not timed).
 Render render(const SceneDescription& description, std::uint32_t spp, unsigned threads,
-              bool light_tree, double target_error = 0.0) {
+              bool light_tree, double target_error = 0.0, bool gpu = false) {
   SceneDescription scene = description;
   scene.render.samples_per_pixel = spp;
   scene.render.target_error = target_error;
@@ -62,6 +67,18 @@ Render render(const SceneDescription& description, std::uint32_t spp, unsigned t
   const RenderSettings& s = prepared->settings();
   Render out;
   out.image = RgbaImage{s.width, s.height, std::vector<float>(std::size_t{s.width} * s.height * 4)};
+  if (gpu) {
+#if defined(TESSERA_HAS_CUDA)
+    gpu::TileRenderer renderer(0, prepared);
+    const auto start = std::chrono::steady_clock::now();
+    renderer.render_tile(TileRect{0, 0, 0, s.width, s.height}, out.image.pixels);
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.wall = out.seconds;
+    return out;
+#else
+    throw std::runtime_error("this tessera-bench was built without the GPU backend");
+#endif
+  }
   const std::vector<TileRect> tiles = make_tiles(s.width, s.height, s.tile_size);
   const auto start = std::chrono::steady_clock::now();
   for_each_tile<std::vector<float>>(
@@ -378,6 +395,14 @@ int run_converge(const ConvergeOptions& options) {
     throw std::runtime_error("unknown peer '" + options.peer + "' (known: cycles)");
   const unsigned threads =
       options.threads != 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  if (options.device != "cpu" && options.device != "gpu")
+    throw std::runtime_error("unknown device '" + options.device + "' (cpu or gpu)");
+  const bool gpu = options.device == "gpu";
+  if (gpu && options.denoise)
+    throw std::runtime_error("--denoise needs AOVs, which the GPU path does not render");
+#if !defined(TESSERA_HAS_CUDA)
+  if (gpu) throw std::runtime_error("this tessera-bench was built without the GPU backend");
+#endif
 
   RgbaImage reference;
   if (!options.reference.empty()) {
@@ -405,7 +430,7 @@ int run_converge(const ConvergeOptions& options) {
   all.reserve(4);  // `tessera`, `adaptive`, `denoised` and `cycles` are references into it
   Series& tessera = all.emplace_back(Series{"tessera", {}, {}, {0.1f, 0.2f, 0.8f}});
   for (std::uint32_t spp : options.spp) {
-    const Render r = render(scene, spp, threads, options.light_tree);
+    const Render r = render(scene, spp, threads, options.light_tree, 0.0, gpu);
     tessera.samples.push_back({spp, 0.0, r.seconds, r.wall, image_error(r.image, reference)});
   }
   tessera.at_target = time_to_error(tessera.points(), options.target);
@@ -416,7 +441,7 @@ int run_converge(const ConvergeOptions& options) {
                                   ? options.adaptive_max_spp
                                   : 4 * *std::max_element(options.spp.begin(), options.spp.end());
     for (double target : options.adaptive_targets) {
-      const Render r = render(scene, cap, threads, options.light_tree, target);
+      const Render r = render(scene, cap, threads, options.light_tree, target, gpu);
       adaptive.samples.push_back({cap, target, r.seconds, r.wall, image_error(r.image, reference)});
     }
     adaptive.at_target = time_to_error(adaptive.points(), options.target);

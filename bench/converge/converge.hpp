@@ -34,6 +34,9 @@ struct ConvergeOptions {
   // Also measure Tessera denoised (the à-trous filter on albedo, normal and variance AOVs),
   // at each of `spp`, the filter's time included.
   bool denoise = false;
+  // Where the series render: "cpu" (`threads` threads) or "gpu" (CUDA device 0, the whole
+  // image as one tile; builds with the GPU backend only). The reference renders on the CPU.
+  std::string device = "cpu";
 };
 
 // Renders the scene at each spp (wall time of the render alone, scene preparation
