@@ -400,7 +400,10 @@ int run_converge(const ConvergeOptions& options) {
   const bool gpu = options.device == "gpu";
   if (gpu && options.denoise)
     throw std::runtime_error("--denoise needs AOVs, which the GPU path does not render");
-#if !defined(TESSERA_HAS_CUDA)
+#if defined(TESSERA_HAS_CUDA)
+  if (gpu && gpu::list_devices().empty())
+    throw std::runtime_error("--device gpu, but this machine has no CUDA device");
+#else
   if (gpu) throw std::runtime_error("this tessera-bench was built without the GPU backend");
 #endif
 
