@@ -59,7 +59,7 @@ bool Scheduler::queue_order(const std::shared_ptr<Entry>& a, const std::shared_p
 struct Scheduler::Task {
   std::shared_ptr<Entry> entry;
   bool prepare = false;
-  TileWork tile;
+  std::vector<TileWork> tiles;  // one, or for a device with batch_pixels, consecutive ones
 };
 
 Scheduler::Scheduler(SchedulerOptions options) : options_(std::move(options)) {
@@ -294,9 +294,20 @@ bool Scheduler::take_task_locked(Task& task, std::size_t device) {
     chosen->preparing = true;
     task = Task{chosen, true, {}};
   } else {
-    task = Task{chosen, false, chosen->tiles[chosen->next_tile++]};
-    chosen->rendering[task.tile.rect.index] = true;
+    task = Task{chosen, false, {chosen->tiles[chosen->next_tile++]}};
+    chosen->rendering[task.tiles[0].rect.index] = true;
     ++served_;
+    // A device that renders many pixels at once takes the job's next tiles with it.
+    const std::size_t batch = device == kCpuWorker ? 0 : options_.devices[device]->batch_pixels();
+    std::size_t pixels = task.tiles[0].rect.pixel_count();
+    while (chosen->next_tile < chosen->tiles.size()) {
+      const TileWork& next = chosen->tiles[chosen->next_tile];
+      if (chosen->rendering[next.rect.index] || pixels + next.rect.pixel_count() > batch) break;
+      task.tiles.push_back(next);
+      chosen->rendering[next.rect.index] = true;
+      pixels += next.rect.pixel_count();
+      ++chosen->next_tile;
+    }
   }
   last_served_[chosen->job->submitter()] = served_ + 1;
   ++chosen->in_flight;
@@ -315,10 +326,10 @@ void Scheduler::worker_loop(std::size_t device) {
     if (task.prepare)
       prepare(*task.entry);
     else
-      render(*task.entry, task.tile, device);
+      render(*task.entry, task.tiles, device);
     {
       std::lock_guard lock(mutex_);
-      if (!task.prepare) task.entry->rendering[task.tile.rect.index] = false;
+      for (const TileWork& work : task.tiles) task.entry->rendering[work.rect.index] = false;
       --task.entry->in_flight;
       --in_flight_;
       prune_locked();
@@ -530,27 +541,44 @@ void Scheduler::count_rendered(Entry& entry, std::size_t worker) const {
   if (options_.metrics) options_.metrics->tile_rendered_by(worker);
 }
 
-TileStats Scheduler::render_whole_tile(Entry& entry, const TileWork& work, std::size_t device,
-                                       TilePasses& passes) {
-  const TileRect& rect = work.rect;
+void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects,
+                                   std::size_t device, std::span<TilePasses> passes,
+                                   std::span<TileStats> stats) {
   if (device != kCpuWorker) {
     TileDevice& on = *options_.devices[device];
     try {
-      passes.beauty.resize(rect.pixel_count() * 4);
-      for (auto& plane : passes.aovs) plane.clear();
-      const TileStats stats = on.render_tile(entry.prepared, rect, passes.beauty);
-      count_rendered(entry, 1 + device);
-      return stats;
+      std::vector<std::span<float>> planes;
+      for (std::size_t i = 0; i < rects.size(); ++i) {
+        passes[i].beauty.resize(rects[i].pixel_count() * 4);
+        for (auto& plane : passes[i].aovs) plane.clear();
+        planes.emplace_back(passes[i].beauty);
+      }
+      if (rects.size() == 1) {
+        stats[0] = on.render_tile(entry.prepared, rects[0], planes[0]);
+      } else {
+        const std::vector<TileStats> got = on.render_tiles(entry.prepared, rects, planes);
+        if (got.size() != rects.size())
+          throw std::logic_error(std::to_string(got.size()) + " results for " +
+                                 std::to_string(rects.size()) + " tiles");
+        std::copy(got.begin(), got.end(), stats.begin());
+      }
+      for (std::size_t i = 0; i < rects.size(); ++i) count_rendered(entry, 1 + device);
+      return;
     } catch (const std::exception& e) {
-      spdlog::warn("job {}: tile {} failed on {}, rendering it on the CPU: {}", entry.job->id(),
-                   rect.index, on.name(), e.what());
-      entry.fell_back.fetch_add(1, std::memory_order_relaxed);
-      if (options_.metrics) options_.metrics->tile_fell_back(device);
+      spdlog::warn("job {}: {} from tile {} failed on {}, rendering {} on the CPU: {}",
+                   entry.job->id(),
+                   rects.size() == 1 ? "the tile" : fmt::format("{} tiles", rects.size()),
+                   rects[0].index, on.name(), rects.size() == 1 ? "it" : "them", e.what());
+      entry.fell_back.fetch_add(static_cast<std::uint32_t>(rects.size()),
+                                std::memory_order_relaxed);
+      if (options_.metrics)
+        for (std::size_t i = 0; i < rects.size(); ++i) options_.metrics->tile_fell_back(device);
     }
   }
-  const TileStats stats = entry.prepared->render_tile(rect, passes);
-  count_rendered(entry, 0);
-  return stats;
+  for (std::size_t i = 0; i < rects.size(); ++i) {
+    stats[i] = entry.prepared->render_tile(rects[i], passes[i]);
+    count_rendered(entry, 0);
+  }
 }
 
 std::string Scheduler::tile_split(const Entry& entry) const {
@@ -563,47 +591,105 @@ std::string Scheduler::tile_split(const Entry& entry) const {
   return split;
 }
 
-void Scheduler::render(Entry& entry, const TileWork& work, std::size_t device) {
+// One tile of a task: its claim and what became of it.
+struct Scheduler::Attempt {
+  const TileWork* work = nullptr;
+  bool claimed = false;
+  AddTileResult added = AddTileResult::kDropped;
+  std::optional<std::string> failure;
+};
+
+void Scheduler::render(Entry& entry, std::span<const TileWork> works, std::size_t device) {
   Job& job = *entry.job;
-  const TileRect& rect = work.rect;
-  // Cancelled or paused after the tile was handed out (a resumed job is queued afresh).
+  // Cancelled or paused after the tiles were handed out (a resumed job is queued afresh).
   if (job.stop_requested() || !is_runnable(job.state())) return;
   const std::uint64_t run = job.run();
-  AddTileResult added = AddTileResult::kDropped;
-  bool claimed = false;
-  std::optional<std::string> failure;
-  try {
-    if (!job.claim_tile(work.unit, options_.owner)) return;  // stored, or another's
-    claimed = true;
-    if (options_.on_tile_started) options_.on_tile_started(job, rect);
-    if (entry.prepared->settings().pass_count() > 1) {
-      if (const std::optional<AddTileResult> committed = render_pass(entry, work)) {
-        added = *committed;
-        claimed = false;  // committed or released by add_tile_pass
-      }
-    } else {
-      thread_local TilePasses passes;
-      TileStats stats;
-      {
-        const TileCancelScope cancel(&job.stop_flag());
-        const auto trace_start = std::chrono::steady_clock::now();
-        stats = render_whole_tile(entry, work, device, passes);
-        count_trace(stats, trace_start);
-      }
-      // A raised flag may have cut the tile short: it is incomplete, so never stored. The
-      // flag first, then the run (see Job::run).
-      if (!job.stop_flag().load() && job.run() == run) {
-        added = job.add_tile(rect, options_.owner,
-                             tile_exr(passes, rect, entry.prepared->settings().aovs), stats.rays);
-        claimed = false;  // committed or released by add_tile
+  std::vector<Attempt> attempts;
+  attempts.reserve(works.size());
+  for (const TileWork& work : works) {
+    Attempt attempt;
+    attempt.work = &work;
+    try {
+      if (!job.claim_tile(work.unit, options_.owner)) continue;  // stored, or another's
+      attempt.claimed = true;
+      if (options_.on_tile_started) options_.on_tile_started(job, work.rect);
+    } catch (const std::exception& e) {
+      attempt.failure = e.what();
+    } catch (...) {
+      attempt.failure = "unknown error";
+    }
+    attempts.push_back(std::move(attempt));
+  }
+  if (entry.prepared->settings().pass_count() > 1) {
+    for (Attempt& attempt : attempts) {  // the CPU's, one tile per task
+      if (!attempt.claimed || attempt.failure) continue;
+      try {
+        if (const std::optional<AddTileResult> committed = render_pass(entry, *attempt.work)) {
+          attempt.added = *committed;
+          attempt.claimed = false;  // committed or released by add_tile_pass
+        }
+      } catch (const std::exception& e) {
+        attempt.failure = e.what();
+      } catch (...) {
+        attempt.failure = "unknown error";
       }
     }
-  } catch (const std::exception& e) {
-    failure = e.what();
-  } catch (...) {
-    failure = "unknown error";
+  } else {
+    render_and_store(entry, attempts, device, run);
   }
-  if (claimed) {
+  for (const Attempt& attempt : attempts) finish(entry, attempt, run);
+}
+
+void Scheduler::render_and_store(Entry& entry, std::vector<Attempt>& attempts, std::size_t device,
+                                 std::uint64_t run) {
+  Job& job = *entry.job;
+  std::vector<Attempt*> rendering;
+  std::vector<TileRect> rects;
+  for (Attempt& attempt : attempts)
+    if (attempt.claimed && !attempt.failure) {
+      rendering.push_back(&attempt);
+      rects.push_back(attempt.work->rect);
+    }
+  if (rendering.empty()) return;
+  thread_local std::vector<TilePasses> passes;
+  if (passes.size() < rendering.size()) passes.resize(rendering.size());
+  std::vector<TileStats> stats(rendering.size());
+  try {
+    const TileCancelScope cancel(&job.stop_flag());
+    const auto trace_start = std::chrono::steady_clock::now();
+    render_whole_tiles(entry, rects, device, std::span(passes).first(rendering.size()), stats);
+    TileStats total;
+    for (const TileStats& s : stats) total.rays += s.rays;
+    count_trace(total, trace_start);
+  } catch (const std::exception& e) {
+    for (Attempt* attempt : rendering) attempt->failure = e.what();
+    return;
+  } catch (...) {
+    for (Attempt* attempt : rendering) attempt->failure = "unknown error";
+    return;
+  }
+  for (std::size_t i = 0; i < rendering.size(); ++i) {
+    Attempt& attempt = *rendering[i];
+    // A raised flag may have cut the tile short: it is incomplete, so never stored. The
+    // flag first, then the run (see Job::run).
+    if (job.stop_flag().load() || job.run() != run) return;
+    try {
+      attempt.added = job.add_tile(rects[i], options_.owner,
+                                   tile_exr(passes[i], rects[i], entry.prepared->settings().aovs),
+                                   stats[i].rays);
+      attempt.claimed = false;  // committed or released by add_tile
+    } catch (const std::exception& e) {
+      attempt.failure = e.what();
+    } catch (...) {
+      attempt.failure = "unknown error";
+    }
+  }
+}
+
+void Scheduler::finish(Entry& entry, const Attempt& attempt, std::uint64_t run) {
+  Job& job = *entry.job;
+  const TileWork& work = *attempt.work;
+  if (attempt.claimed) {
     try {
       job.release_tile(work.unit, options_.owner);
     } catch (...) {
@@ -611,12 +697,12 @@ void Scheduler::render(Entry& entry, const TileWork& work, std::size_t device) {
     }
   }
   // An attempt that failed because its job stopped meanwhile is not the tile's fault.
-  if (failure && !job.stop_flag().load() && job.run() == run) tile_failed(entry, work, *failure);
-  if (options_.metrics && added != AddTileResult::kDropped)
-    options_.metrics->tile_stored(tile_samples(*entry.prepared, work));
-  if (options_.on_tile_rendered)
-    options_.on_tile_rendered(job, rect, added != AddTileResult::kDropped);
-  if (added == AddTileResult::kCompletedJob) {
+  if (attempt.failure && !job.stop_flag().load() && job.run() == run)
+    tile_failed(entry, work, *attempt.failure);
+  const bool kept = attempt.added != AddTileResult::kDropped;
+  if (options_.metrics && kept) options_.metrics->tile_stored(tile_samples(*entry.prepared, work));
+  if (options_.on_tile_rendered) options_.on_tile_rendered(job, work.rect, kept);
+  if (attempt.added == AddTileResult::kCompletedJob) {
     const JobInfo info = job.info();
     const std::string split = tile_split(entry);
     log_event(spdlog::level::info, "job_completed",

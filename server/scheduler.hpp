@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -158,12 +159,21 @@ class Scheduler {
   // Per device, whether it takes `scene`'s tiles (render.device, one pass without AOVs,
   // TileDevice::accepts). Throws for a job that asks for a GPU when none takes it.
   std::vector<bool> devices_for(const Job& job, const PreparedScene& scene) const;
-  // `device` as for worker_loop.
-  void render(Entry& entry, const TileWork& work, std::size_t device);
-  // The one-pass render of `work` into `passes`: on options_.devices[device] unless it is
-  // kCpuWorker, falling back to the CPU (logged) when that fails; counted (count_rendered).
-  TileStats render_whole_tile(Entry& entry, const TileWork& work, std::size_t device,
-                              TilePasses& passes);
+  struct Attempt;
+  // Claims, renders and stores `works` (one, or a device's batch), `device` as for
+  // worker_loop.
+  void render(Entry& entry, std::span<const TileWork> works, std::size_t device);
+  // The one-pass tiles of `attempts` that were claimed: rendered together, then stored.
+  void render_and_store(Entry& entry, std::vector<Attempt>& attempts, std::size_t device,
+                        std::uint64_t run);
+  // Releases a claim left over, hands a failed tile back (tile_failed), counts a stored one
+  // and logs the job's completion when it was the last.
+  void finish(Entry& entry, const Attempt& attempt, std::uint64_t run);
+  // The one-pass render of `rects` into `passes`: on options_.devices[device] unless it is
+  // kCpuWorker, all at once, falling back to the CPU (logged) when that fails; counted
+  // (count_rendered).
+  void render_whole_tiles(Entry& entry, std::span<const TileRect> rects, std::size_t device,
+                          std::span<TilePasses> passes, std::span<TileStats> stats);
   // A tile (pass) rendered by `worker` (0: the CPU, 1 + d: device d), for the job's
   // completion log and options_.metrics.
   void count_rendered(Entry& entry, std::size_t worker) const;

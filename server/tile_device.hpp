@@ -3,9 +3,11 @@
 // or, in tests, a stand-in. The scheduler gives each device a worker thread of its own that
 // takes tiles from the same queue as the CPU workers, so a faster device simply takes more of
 // them. A per-tile virtual call: nothing here runs per ray.
+#include <cstddef>
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "tessera/render/prepared_scene.hpp"
 
@@ -24,6 +26,22 @@ class TileDevice {
   // tile on the CPU instead.
   virtual TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene,
                                 const TileRect& tile, std::span<float> rgba) = 0;
+  // The pixels it renders well in one call. A GPU needs hundreds of thousands of threads in
+  // flight, where one tile of a job (16 x 16 by default) gives it 256: the scheduler then
+  // hands it consecutive tiles of a job up to this many pixels at once (at least one), for
+  // render_tiles. 0: one tile at a time.
+  virtual std::size_t batch_pixels() const { return 0; }
+  // Renders tiles[i] into rgba[i] as render_tile does, all of one job, and returns each
+  // tile's stats. By default one after the other. Throws on failure (the scheduler renders
+  // the batch on the CPU instead).
+  virtual std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
+                                              std::span<const TileRect> tiles,
+                                              std::span<const std::span<float>> rgba) {
+    std::vector<TileStats> stats;
+    for (std::size_t i = 0; i < tiles.size(); ++i)
+      stats.push_back(render_tile(scene, tiles[i], rgba[i]));
+    return stats;
+  }
 };
 
 }  // namespace tessera::server

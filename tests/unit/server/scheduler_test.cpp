@@ -487,8 +487,21 @@ TEST(Scheduler, RejectsAJobWhoseTileCountDoesNotMatchItsScene) {
 class StandInDevice : public TileDevice {
  public:
   enum class Mode { kRender, kFail, kRefuse };
-  explicit StandInDevice(Mode mode) : mode_(mode) {}
+  explicit StandInDevice(Mode mode, std::size_t batch_pixels = 0)
+      : mode_(mode), batch_pixels_(batch_pixels) {}
   std::string name() const override { return "stand-in device"; }
+  std::size_t batch_pixels() const override { return batch_pixels_; }
+  std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
+                                      std::span<const TileRect> tiles,
+                                      std::span<const std::span<float>> rgba) override {
+    ++batches;
+    batched_tiles += static_cast<int>(tiles.size());
+    int largest = largest_batch.load();
+    while (static_cast<int>(tiles.size()) > largest &&
+           !largest_batch.compare_exchange_weak(largest, static_cast<int>(tiles.size()))) {
+    }
+    return TileDevice::render_tiles(scene, tiles, rgba);
+  }
   bool accepts(const PreparedScene& scene) const override {
     return mode_ != Mode::kRefuse && scene.device_source().unsupported.empty();
   }
@@ -499,9 +512,11 @@ class StandInDevice : public TileDevice {
     return scene->render_tile_device_layout(tile, rgba);
   }
   std::atomic<int> attempts{0};
+  std::atomic<int> batches{0}, batched_tiles{0}, largest_batch{0};  // render_tiles calls
 
  private:
   Mode mode_;
+  std::size_t batch_pixels_;
 };
 
 // The job's image, tile by tile, from a scheduler with `devices` beside one CPU worker.
@@ -563,6 +578,38 @@ TEST(SchedulerDevices, ATileThatFailsOnTheDeviceIsRenderedOnTheCpu) {
   EXPECT_GT(device->attempts.load(), 0);
   EXPECT_EQ(mixed, cpu_only);
   EXPECT_EQ(metrics.tiles_fallen_back(0), static_cast<std::uint64_t>(device->attempts.load()));
+  EXPECT_EQ(metrics.tiles_rendered_by(1), 0u);
+  EXPECT_EQ(metrics.tiles_rendered_by(0), 16u);
+}
+
+TEST(SchedulerDevices, ADeviceThatRendersManyPixelsAtOnceTakesConsecutiveTilesTogether) {
+  const SceneDescription scene = tiny_description(64, 48, 8);  // 48 tiles of 64 pixels
+  const auto cpu_only = render_with(scene, {});
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender, 4 * 64 + 10);
+  DaemonMetrics metrics;
+  std::uint32_t done = 0;
+  const auto mixed = render_with(scene, {device}, &done, &metrics);
+  EXPECT_EQ(done, 48u);
+  EXPECT_EQ(mixed, cpu_only);  // the batch's tiles are the job's tiles, each in its place
+  EXPECT_GT(device->batches.load(), 0) << "several tiles per call";
+  EXPECT_LE(device->largest_batch.load(), 4) << "no more pixels than the device asked for";
+  EXPECT_GT(device->largest_batch.load(), 1);
+  EXPECT_EQ(metrics.tiles_rendered_by(1), static_cast<std::uint64_t>(device->attempts.load()));
+  EXPECT_EQ(metrics.tiles_rendered_by(0) + metrics.tiles_rendered_by(1), 48u);
+}
+
+TEST(SchedulerDevices, ABatchThatFailsOnTheDeviceIsRenderedOnTheCpu) {
+  const SceneDescription scene = tiny_description(32, 32, 8);  // 16 tiles
+  const auto cpu_only = render_with(scene, {});
+  auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kFail, 4 * 64);
+  DaemonMetrics metrics;
+  std::uint32_t done = 0;
+  const auto mixed = render_with(scene, {device}, &done, &metrics);
+  EXPECT_EQ(done, 16u);
+  EXPECT_EQ(mixed, cpu_only);
+  EXPECT_GT(device->batches.load(), 0);
+  EXPECT_EQ(metrics.tiles_fallen_back(0), static_cast<std::uint64_t>(device->batched_tiles.load()))
+      << "every tile of a failed batch goes to the CPU";
   EXPECT_EQ(metrics.tiles_rendered_by(1), 0u);
   EXPECT_EQ(metrics.tiles_rendered_by(0), 16u);
 }
