@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <string>
 
 #include "tessera/gpu/gpu_renderer.hpp"
@@ -28,6 +29,24 @@ class GpuTileDevice : public TileDevice {
 
   TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene, const TileRect& tile,
                         std::span<float> rgba) override {
+    return renderer_for(scene).render_tile(tile, rgba);
+  }
+
+  // About four pixels per thread the multiprocessors keep in flight at the path tracer's
+  // 255 registers (eight warps each): enough to fill the device between launches, few
+  // enough that the CPU threads still share a job's last tiles. Not yet tuned on a GPU.
+  std::size_t batch_pixels() const override {
+    return static_cast<std::size_t>(std::max(1, info_.multiprocessors)) * 1024;
+  }
+
+  std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
+                                      std::span<const TileRect> tiles,
+                                      std::span<const std::span<float>> rgba) override {
+    return renderer_for(scene).render_tiles(tiles, rgba);
+  }
+
+ private:
+  gpu::TileRenderer& renderer_for(const std::shared_ptr<const PreparedScene>& scene) {
     if (scene != scene_) {
       renderer_.reset();
       scene_.reset();
@@ -36,10 +55,9 @@ class GpuTileDevice : public TileDevice {
       spdlog::debug("{}: scene uploaded, {:.1f} MiB", name_,
                     static_cast<double>(renderer_->uploaded_bytes()) / (1 << 20));
     }
-    return renderer_->render_tile(tile, rgba);
+    return *renderer_;
   }
 
- private:
   gpu::DeviceInfo info_;
   std::string name_;
   std::shared_ptr<const PreparedScene> scene_;

@@ -14,10 +14,10 @@ namespace tessera::cuda {
 // The feature sets compiled for the device. Neither holds the shapes
 // PreparedScene::device_source refuses (patches and trimmed faces point into host memory):
 // their intersection code (Bézier clipping, trim loops) made most of an all-features
-// kernel's per-thread stack (29 KB with them). -Xptxas -v for sm_90 (8 December, with the
-// compressed BVH walk): kDeviceCommonShapes 5.5 KB of stack and 255 registers, 260 bytes
-// of spills (5.3 KB and 56 bytes with the binary walk alone); kDeviceAllShapes 9.3 KB and
-// 255 registers, 1.5 KB of spills (9.3 KB before).
+// kernel's per-thread stack (29 KB with them). -Xptxas -v for sm_90 (8 December, the
+// batched kernel with the compressed BVH walk): kDeviceCommonShapes 5,536 bytes of stack
+// and 255 registers, 322 bytes of spills (5,312 and 56 with the binary walk, one tile per
+// launch); kDeviceAllShapes 9,312 bytes and 255 registers, 1.5 KB of spills (9,264 before).
 // Kernels are templates on the shape mask alone (nvcc's launch stubs take no class-type
 // template arguments); every other feature is on.
 inline constexpr unsigned kDeviceCommonShapes = kCommonShapes;
@@ -28,12 +28,16 @@ struct NeverInterrupted {
   __device__ bool operator()() const { return false; }
 };
 
+// One thread per pixel of a batch of tiles: blockIdx.z picks the tile, so a batch of a
+// job's tiles fills the device in one launch where one 16x16 tile gives it 256 threads.
 template <unsigned kShapes>
-__global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, PixelSampling sampling,
-                                        std::uint32_t max_depth, SamplerKind sampler,
-                                        LightStrategy strategy, float clamp,
-                                        bool transparent_background, TileRect tile, FilmPlanes film,
-                                        unsigned long long* ray_count) {
+__global__ void path_tracer_tiles_kernel(SceneView scene, std::uint64_t seed,
+                                         PixelSampling sampling, std::uint32_t max_depth,
+                                         SamplerKind sampler, LightStrategy strategy, float clamp,
+                                         bool transparent_background, const TileRect* tiles,
+                                         const FilmPlanes* films, unsigned long long* ray_counts) {
+  const TileRect tile = tiles[blockIdx.z];
+  const FilmPlanes film = films[blockIdx.z];
   const std::uint32_t local_x = blockIdx.x * blockDim.x + threadIdx.x;
   const std::uint32_t local_y = blockIdx.y * blockDim.y + threadIdx.y;
   if (local_x >= tile.width || local_y >= tile.height) return;
@@ -48,37 +52,40 @@ __global__ void path_tracer_tile_kernel(SceneView scene, std::uint64_t seed, Pix
       PathMiss<kFeatures>{scene, strategy, transparent_background, clamp});
   NeverInterrupted interrupted;
   render_pixel(pipeline, tile.x + local_x, tile.y + local_y, tile, film, sampling, interrupted);
-  atomicAdd(ray_count, static_cast<unsigned long long>(rays));
+  atomicAdd(&ray_counts[blockIdx.z], static_cast<unsigned long long>(rays));
 }
 
-// Renders one tile on the current device with the kernel of kShapes, each pixel as the
-// CPU does (render_pixel: adaptive sampling and refinement included). Every pointer in
-// `scene` and `film` must be device memory; `ray_count` too. `clamp` and
-// `transparent_background` are the render settings'. The film's depth plane must start at
-// +inf and the others at 0, as PreparedScene::render_tile sets them. Returns the launch
-// status. Instantiated once per feature set, each in its own .cu file.
+// Renders `count` tiles of one job on the current device with the kernel of kShapes, each
+// pixel as the CPU does (render_pixel: adaptive sampling and refinement included): tile i
+// is tiles[i] into films[i], its rays added to ray_counts[i]. Every pointer must be device
+// memory, the arrays included; `largest_width` and `largest_height` bound the tiles. The
+// films' depth planes must start at +inf and the others at 0, as PreparedScene::render_tile
+// sets them. `clamp` and `transparent_background` are the render settings'. Returns the
+// launch status. Instantiated once per feature set, each in its own .cu file.
 template <unsigned kShapes>
-cudaError_t launch_path_tracer_tile(const SceneView& scene, std::uint64_t seed,
-                                    const PixelSampling& sampling, std::uint32_t max_depth,
-                                    SamplerKind sampler, LightStrategy strategy, float clamp,
-                                    bool transparent_background, const TileRect& tile,
-                                    const FilmPlanes& film, unsigned long long* ray_count,
-                                    cudaStream_t stream) {
+cudaError_t launch_path_tracer_tiles(const SceneView& scene, std::uint64_t seed,
+                                     const PixelSampling& sampling, std::uint32_t max_depth,
+                                     SamplerKind sampler, LightStrategy strategy, float clamp,
+                                     bool transparent_background, const TileRect* tiles,
+                                     const FilmPlanes* films, std::uint32_t count,
+                                     std::uint32_t largest_width, std::uint32_t largest_height,
+                                     unsigned long long* ray_counts, cudaStream_t stream) {
   const dim3 block(8, 8);
-  const dim3 grid((tile.width + block.x - 1) / block.x, (tile.height + block.y - 1) / block.y);
-  path_tracer_tile_kernel<kShapes>
+  const dim3 grid((largest_width + block.x - 1) / block.x, (largest_height + block.y - 1) / block.y,
+                  count);
+  path_tracer_tiles_kernel<kShapes>
       <<<grid, block, 0, stream>>>(scene, seed, sampling, max_depth, sampler, strategy, clamp,
-                                   transparent_background, tile, film, ray_count);
+                                   transparent_background, tiles, films, ray_counts);
   return cudaGetLastError();
 }
 
 // Instantiated in kernel_common_shapes.cu and kernel_all_shapes.cu alone, so the files that
 // launch them do not compile the kernels again.
-#define TESSERA_DEVICE_LAUNCH(shapes)                                                      \
-  cudaError_t launch_path_tracer_tile<shapes>(                                             \
-      const SceneView&, std::uint64_t, const PixelSampling&, std::uint32_t, SamplerKind,   \
-      LightStrategy, float, bool, const TileRect&, const FilmPlanes&, unsigned long long*, \
-      cudaStream_t)
+#define TESSERA_DEVICE_LAUNCH(shapes)                                                    \
+  cudaError_t launch_path_tracer_tiles<shapes>(                                          \
+      const SceneView&, std::uint64_t, const PixelSampling&, std::uint32_t, SamplerKind, \
+      LightStrategy, float, bool, const TileRect*, const FilmPlanes*, std::uint32_t,     \
+      std::uint32_t, std::uint32_t, unsigned long long*, cudaStream_t)
 extern template TESSERA_DEVICE_LAUNCH(kDeviceCommonShapes);
 extern template TESSERA_DEVICE_LAUNCH(kDeviceAllShapes);
 

@@ -3,6 +3,8 @@
 // (path_tracer_kernel.cuh).
 #include <cuda_runtime.h>
 
+#include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -66,9 +68,13 @@ struct TileRenderer::State {
   std::shared_ptr<const PreparedScene> scene;
   SceneView view;  // device pointers
   std::vector<DeviceAllocation> buffers;
-  DeviceAllocation film;  // beauty plane of the largest tile rendered so far
+  // Grown to the largest batch so far: the tiles' beauty planes one after another, the
+  // tile rectangles and film pointers the kernel reads, and a ray count per tile.
+  DeviceAllocation film;
   std::size_t film_bytes = 0;
-  DeviceAllocation ray_count;
+  DeviceAllocation batch;
+  std::size_t batch_tiles = 0;
+  std::vector<float> staging;  // the batch's beauty planes on the host
   cudaStream_t stream = nullptr;
   std::size_t uploaded = 0;
 };
@@ -90,7 +96,6 @@ TileRenderer::TileRenderer(int device, std::shared_ptr<const PreparedScene> scen
     s.uploaded += b.bytes;
     s.buffers.push_back(std::move(copy));
   }
-  s.ray_count = DeviceAllocation(sizeof(unsigned long long));
 }
 
 TileRenderer::~TileRenderer() {
@@ -102,37 +107,88 @@ std::size_t TileRenderer::uploaded_bytes() const {
 }
 
 TileStats TileRenderer::render_tile(const TileRect& tile, std::span<float> rgba) {
+  const std::span<float> planes[] = {rgba};
+  return render_tiles(std::span(&tile, 1), planes)[0];
+}
+
+std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tiles,
+                                                  std::span<const std::span<float>> rgba) {
   State& s = *state_;
-  const std::size_t bytes = tile.pixel_count() * 4 * sizeof(float);
-  if (rgba.size() * sizeof(float) != bytes)
-    throw std::invalid_argument("TileRenderer::render_tile: the buffer does not hold the tile");
+  if (tiles.size() != rgba.size())
+    throw std::invalid_argument("TileRenderer::render_tiles: a buffer per tile");
+  if (tiles.empty()) return {};
+  if (tiles.size() > 65535)
+    throw std::invalid_argument("TileRenderer::render_tiles: more than 65535 tiles in a batch");
+  std::size_t floats = 0;
+  std::uint32_t largest_width = 0, largest_height = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    if (rgba[i].size() != tiles[i].pixel_count() * 4)
+      throw std::invalid_argument("TileRenderer::render_tiles: a buffer does not hold its tile");
+    floats += rgba[i].size();
+    largest_width = std::max(largest_width, tiles[i].width);
+    largest_height = std::max(largest_height, tiles[i].height);
+  }
   check(cudaSetDevice(s.device), "cudaSetDevice");
+  const std::size_t bytes = floats * sizeof(float);
   if (bytes > s.film_bytes) {
     s.film = DeviceAllocation(bytes);
     s.film_bytes = bytes;
   }
+  // The batch's arrays in one allocation: rectangles, then film planes, then ray counts.
+  const std::size_t films_at = (tiles.size() * sizeof(TileRect) + 15) / 16 * 16;
+  const std::size_t counts_at = (films_at + tiles.size() * sizeof(FilmPlanes) + 7) / 8 * 8;
+  const std::size_t batch_bytes = counts_at + tiles.size() * sizeof(unsigned long long);
+  if (tiles.size() > s.batch_tiles) {
+    s.batch = DeviceAllocation(batch_bytes);
+    s.batch_tiles = tiles.size();
+  }
+  auto* film_base = static_cast<float*>(s.film.pointer);
+  std::vector<unsigned char> arrays(counts_at);
+  std::memcpy(arrays.data(), tiles.data(), films_at);
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    FilmPlanes film;
+    film.beauty = film_base + offset;
+    offset += rgba[i].size();
+    std::memcpy(arrays.data() + films_at + i * sizeof(FilmPlanes), &film, sizeof(FilmPlanes));
+  }
+  auto* batch = static_cast<unsigned char*>(s.batch.pointer);
   check(cudaMemsetAsync(s.film.pointer, 0, bytes, s.stream), "cudaMemsetAsync (film)");
-  check(cudaMemsetAsync(s.ray_count.pointer, 0, sizeof(unsigned long long), s.stream),
-        "cudaMemsetAsync (ray count)");
+  check(cudaMemsetAsync(batch + counts_at, 0, tiles.size() * sizeof(unsigned long long), s.stream),
+        "cudaMemsetAsync (ray counts)");
+  check(cudaMemcpyAsync(batch, arrays.data(), arrays.size(), cudaMemcpyHostToDevice, s.stream),
+        "cudaMemcpyAsync (tiles)");
   const RenderSettings& r = s.scene->settings();
-  FilmPlanes film;
-  film.beauty = static_cast<float*>(s.film.pointer);
-  const PixelSampling sampling = pixel_sampling(r, film);
+  FilmPlanes first;
+  first.beauty = film_base;
+  const PixelSampling sampling = pixel_sampling(r, first);
   const auto launch = (s.scene->required_features().shapes & ~kCommonShapes) == 0
-                          ? &cuda::launch_path_tracer_tile<cuda::kDeviceCommonShapes>
-                          : &cuda::launch_path_tracer_tile<cuda::kDeviceAllShapes>;
+                          ? &cuda::launch_path_tracer_tiles<cuda::kDeviceCommonShapes>
+                          : &cuda::launch_path_tracer_tiles<cuda::kDeviceAllShapes>;
+  auto* counts = reinterpret_cast<unsigned long long*>(batch + counts_at);
   check(launch(s.view, r.seed, sampling, r.max_depth, r.sampler, r.light_strategy,
-               static_cast<float>(r.clamp), r.transparent_background, tile, film,
-               static_cast<unsigned long long*>(s.ray_count.pointer), s.stream),
+               static_cast<float>(r.clamp), r.transparent_background,
+               reinterpret_cast<const TileRect*>(batch),
+               reinterpret_cast<const FilmPlanes*>(batch + films_at),
+               static_cast<std::uint32_t>(tiles.size()), largest_width, largest_height, counts,
+               s.stream),
         "kernel launch");
-  unsigned long long rays = 0;
-  check(cudaMemcpyAsync(rgba.data(), s.film.pointer, bytes, cudaMemcpyDeviceToHost, s.stream),
+  s.staging.resize(floats);
+  std::vector<unsigned long long> rays(tiles.size());
+  check(cudaMemcpyAsync(s.staging.data(), s.film.pointer, bytes, cudaMemcpyDeviceToHost, s.stream),
         "cudaMemcpyAsync (film)");
-  check(cudaMemcpyAsync(&rays, s.ray_count.pointer, sizeof(rays), cudaMemcpyDeviceToHost, s.stream),
-        "cudaMemcpyAsync (ray count)");
+  check(cudaMemcpyAsync(rays.data(), counts, rays.size() * sizeof(unsigned long long),
+                        cudaMemcpyDeviceToHost, s.stream),
+        "cudaMemcpyAsync (ray counts)");
   check(cudaStreamSynchronize(s.stream), "tile render");
-  TileStats stats;
-  stats.rays = rays;
+  std::vector<TileStats> stats(tiles.size());
+  offset = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    std::copy_n(s.staging.begin() + static_cast<std::ptrdiff_t>(offset), rgba[i].size(),
+                rgba[i].begin());
+    offset += rgba[i].size();
+    stats[i].rays = rays[i];
+  }
   return stats;
 }
 

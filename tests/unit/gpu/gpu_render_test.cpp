@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -121,6 +122,29 @@ TEST(Gpu, TilesMatchTheCpuRenderOfTheDeviceLayout) {
     }
     EXPECT_NEAR(gpu_sum, cpu_sum, 0.01 * cpu_sum);
     EXPECT_LE(far, values / 20);
+  }
+}
+
+// A batch is one launch over several tiles (blockIdx.z): each tile must land in its own
+// buffer with its own ray count, and equal the same tile rendered alone on the device.
+TEST(Gpu, ABatchOfTilesIsEachTileRenderedAlone) {
+  if (gpu::list_devices().empty()) GTEST_SKIP() << "no CUDA device on this machine";
+  const auto scene = example("cornell.yaml");
+  gpu::TileRenderer renderer(0, scene);
+  const RenderSettings& r = scene->settings();
+  const std::vector<TileRect> tiles = make_tiles(r.width, r.height, r.tile_size);
+  ASSERT_GT(tiles.size(), 2u);
+  std::vector<std::vector<float>> batched;
+  std::vector<std::span<float>> planes;
+  for (const TileRect& tile : tiles) batched.emplace_back(tile.pixel_count() * 4, -1.0f);
+  for (auto& plane : batched) planes.emplace_back(plane);
+  const std::vector<TileStats> stats = renderer.render_tiles(tiles, planes);
+  ASSERT_EQ(stats.size(), tiles.size());
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    std::vector<float> alone(tiles[t].pixel_count() * 4);
+    const TileStats single = renderer.render_tile(tiles[t], alone);
+    EXPECT_EQ(batched[t], alone) << "tile " << t;  // the same samples, the same kernel
+    EXPECT_EQ(stats[t].rays, single.rays) << "tile " << t;
   }
 }
 

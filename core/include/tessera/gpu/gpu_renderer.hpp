@@ -40,6 +40,10 @@ class TileRenderer {
   // PreparedScene::render_tile does on the CPU. Throws std::runtime_error on a CUDA error; the
   // caller then renders the tile on the CPU.
   TileStats render_tile(const TileRect& tile, std::span<float> rgba);
+  // Renders tiles[i] into rgba[i] (each tile.width * tile.height * 4 floats) in one kernel
+  // launch, as render_tile does each; returns each tile's stats.
+  std::vector<TileStats> render_tiles(std::span<const TileRect> tiles,
+                                      std::span<const std::span<float>> rgba);
 
   std::size_t uploaded_bytes() const;
 
