@@ -8,6 +8,7 @@
 #include "ray_file.hpp"
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/accel/compressed_wide_bvh.hpp"
+#include "tessera/accel/triangle_bvh.hpp"
 #include "tessera/geometry/triangle.hpp"
 #include "trace_runner.hpp"
 
@@ -17,14 +18,7 @@ int run_device_walk(const std::string& mesh_path, const std::string& rays_path, 
                     unsigned repeat) {
   const std::vector<Triangle> triangles = to_triangles(load_mesh_with_assimp(mesh_path));
   const std::vector<Ray> rays = read_ray_file(rays_path);
-  std::vector<Aabb> boxes;
-  std::vector<std::uint32_t> ids;
-  for (std::uint32_t i = 0; i < triangles.size(); ++i) {
-    if (is_degenerate(triangles[i])) continue;
-    boxes.push_back(bounds(triangles[i]));
-    ids.push_back(i);
-  }
-  const Bvh binary = build_bvh(boxes, ids);  // the device layout's options
+  const Bvh binary = build_triangle_bvh(triangles);  // the device layout's options
   const CompressedWideBvh compressed = compress_bvh(binary);
   if (compressed.nodes.empty()) {
     std::fprintf(stderr, "tessera-bench: this tree cannot be compressed\n");

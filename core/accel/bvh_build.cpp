@@ -16,6 +16,7 @@
 
 #include "tessera/accel/bvh.hpp"
 #include "tessera/accel/huge_page_allocator.hpp"
+#include "tessera/accel/triangle_bvh.hpp"
 
 namespace tessera {
 namespace {
@@ -350,6 +351,17 @@ Bvh build_bvh(std::span<const Aabb> bounds, std::span<const std::uint32_t> refer
   for (std::size_t i = 0; i < bounds.size(); ++i)
     prims[i] = PrimRef{bounds[i].lower, references[i], bounds[i].upper, 0};
   return Builder(prims, checked).build();
+}
+
+Bvh build_triangle_bvh(std::span<const Triangle> triangles, const BvhBuildOptions& options) {
+  std::vector<Aabb> boxes;
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t i = 0; i < triangles.size(); ++i) {
+    if (is_degenerate(triangles[i])) continue;
+    boxes.push_back(bounds(triangles[i]));
+    ids.push_back(i);
+  }
+  return build_bvh(boxes, ids, options);
 }
 
 }  // namespace tessera

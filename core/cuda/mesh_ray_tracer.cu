@@ -8,6 +8,7 @@
 
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/accel/compressed_wide_bvh.hpp"
+#include "tessera/accel/triangle_bvh.hpp"
 #include "tessera/gpu/mesh_ray_tracer.hpp"
 
 namespace tessera::gpu {
@@ -61,14 +62,7 @@ struct MeshRayTracer::State {
 
 MeshRayTracer::MeshRayTracer(int device, std::span<const Triangle> triangles)
     : state_(std::make_unique<State>()) {
-  std::vector<Aabb> boxes;
-  std::vector<std::uint32_t> ids;
-  for (std::uint32_t i = 0; i < triangles.size(); ++i) {
-    if (is_degenerate(triangles[i])) continue;
-    boxes.push_back(bounds(triangles[i]));
-    ids.push_back(i);
-  }
-  const Bvh binary = build_bvh(boxes, ids);
+  const Bvh binary = build_triangle_bvh(triangles);
   const CompressedWideBvh compressed = compress_bvh(binary);
   State& s = *state_;
   s.device = device;

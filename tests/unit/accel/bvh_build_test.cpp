@@ -10,6 +10,7 @@
 
 #include "accel_test_scenes.hpp"
 #include "tessera/accel/bvh.hpp"
+#include "tessera/accel/triangle_bvh.hpp"
 #include "tessera/accel/wide_bvh.hpp"
 
 namespace tessera {
@@ -143,6 +144,19 @@ TEST(WideBvh, CollapseKeepsEveryLeafOnceAndIsNoDeeper) {
     }
   }
   for (int count : seen) ASSERT_EQ(count, 1);
+}
+
+TEST(TriangleBvh, EveryTriangleButTheDegenerateOnesByItsIndex) {
+  std::vector<Triangle> tris = accel_test::triangle_soup(50, 8);
+  tris[7] = Triangle{vec3(0), vec3(1, 1, 1), vec3(2, 2, 2), 0};  // collinear: no area
+  tris[30].p2 = tris[30].p1;                                     // two corners the same
+  const Bvh bvh = build_triangle_bvh(tris);
+  std::vector<std::uint32_t> refs(bvh.primitives);
+  std::sort(refs.begin(), refs.end());
+  std::vector<std::uint32_t> expected;
+  for (std::uint32_t i = 0; i < 50; ++i)
+    if (i != 7 && i != 30) expected.push_back(i);
+  EXPECT_EQ(refs, expected);
 }
 
 }  // namespace
