@@ -565,10 +565,14 @@ void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects
       for (std::size_t i = 0; i < rects.size(); ++i) count_rendered(entry, 1 + device);
       return;
     } catch (const std::exception& e) {
-      spdlog::warn("job {}: {} from tile {} failed on {}, rendering {} on the CPU: {}",
-                   entry.job->id(),
-                   rects.size() == 1 ? "the tile" : fmt::format("{} tiles", rects.size()),
-                   rects[0].index, on.name(), rects.size() == 1 ? "it" : "them", e.what());
+      if (rects.size() == 1)
+        spdlog::warn("job {}: tile {} failed on {}, rendering it on the CPU: {}", entry.job->id(),
+                     rects[0].index, on.name(), e.what());
+      else
+        spdlog::warn(
+            "job {}: a batch of {} tiles from tile {} failed on {}, rendering them on "
+            "the CPU: {}",
+            entry.job->id(), rects.size(), rects[0].index, on.name(), e.what());
       entry.fell_back.fetch_add(static_cast<std::uint32_t>(rects.size()),
                                 std::memory_order_relaxed);
       if (options_.metrics)
