@@ -97,12 +97,12 @@ void DaemonMetrics::name_tile_workers(std::vector<std::string> names) {
   worker_names_ = std::move(names);
 }
 
-void DaemonMetrics::tile_rendered_by(std::size_t worker) {
-  if (worker < kMaxTileWorkers) rendered_by_[worker].fetch_add(1, std::memory_order_relaxed);
+void DaemonMetrics::tile_rendered_by(std::size_t worker, std::uint64_t tiles) {
+  if (worker < kMaxTileWorkers) rendered_by_[worker].fetch_add(tiles, std::memory_order_relaxed);
 }
 
-void DaemonMetrics::tile_fell_back(std::size_t device) {
-  if (device < kMaxTileWorkers) fell_back_[device].fetch_add(1, std::memory_order_relaxed);
+void DaemonMetrics::tile_fell_back(std::size_t device, std::uint64_t tiles) {
+  if (device < kMaxTileWorkers) fell_back_[device].fetch_add(tiles, std::memory_order_relaxed);
 }
 
 std::uint64_t DaemonMetrics::tiles_rendered_by(std::size_t worker) const {

@@ -60,8 +60,8 @@ class DaemonMetrics {
   // A tile (or a pass of one) rendered by worker `worker` (0: the CPU threads, 1 + d:
   // device d), whether or not it was kept; and one that failed on device d and was
   // rendered on the CPU instead.
-  void tile_rendered_by(std::size_t worker);
-  void tile_fell_back(std::size_t device);
+  void tile_rendered_by(std::size_t worker, std::uint64_t tiles = 1);
+  void tile_fell_back(std::size_t device, std::uint64_t tiles = 1);
   std::uint64_t tiles_rendered_by(std::size_t worker) const;
   std::uint64_t tiles_fallen_back(std::size_t device) const;
   void scene_prepared(double seconds);

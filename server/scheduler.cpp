@@ -536,9 +536,9 @@ std::optional<AddTileResult> Scheduler::render_pass(Entry& entry, const TileWork
   return job.add_tile_pass(work.unit, options_.owner, exr, stats.rays, kept, last);
 }
 
-void Scheduler::count_rendered(Entry& entry, std::size_t worker) const {
-  entry.rendered_by[worker].fetch_add(1, std::memory_order_relaxed);
-  if (options_.metrics) options_.metrics->tile_rendered_by(worker);
+void Scheduler::count_rendered(Entry& entry, std::size_t worker, std::size_t tiles) const {
+  entry.rendered_by[worker].fetch_add(static_cast<std::uint32_t>(tiles), std::memory_order_relaxed);
+  if (options_.metrics) options_.metrics->tile_rendered_by(worker, tiles);
 }
 
 void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects,
@@ -553,16 +553,12 @@ void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects
         for (auto& plane : passes[i].aovs) plane.clear();
         planes.emplace_back(passes[i].beauty);
       }
-      if (rects.size() == 1) {
-        stats[0] = on.render_tile(entry.prepared, rects[0], planes[0]);
-      } else {
-        const std::vector<TileStats> got = on.render_tiles(entry.prepared, rects, planes);
-        if (got.size() != rects.size())
-          throw std::logic_error(std::to_string(got.size()) + " results for " +
-                                 std::to_string(rects.size()) + " tiles");
-        std::copy(got.begin(), got.end(), stats.begin());
-      }
-      for (std::size_t i = 0; i < rects.size(); ++i) count_rendered(entry, 1 + device);
+      const std::vector<TileStats> got = on.render_tiles(entry.prepared, rects, planes);
+      if (got.size() != rects.size())
+        throw std::logic_error(std::to_string(got.size()) + " results for " +
+                               std::to_string(rects.size()) + " tiles");
+      std::copy(got.begin(), got.end(), stats.begin());
+      count_rendered(entry, 1 + device, rects.size());
       return;
     } catch (const std::exception& e) {
       if (rects.size() == 1)
@@ -575,14 +571,12 @@ void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects
             entry.job->id(), rects.size(), rects[0].index, on.name(), e.what());
       entry.fell_back.fetch_add(static_cast<std::uint32_t>(rects.size()),
                                 std::memory_order_relaxed);
-      if (options_.metrics)
-        for (std::size_t i = 0; i < rects.size(); ++i) options_.metrics->tile_fell_back(device);
+      if (options_.metrics) options_.metrics->tile_fell_back(device, rects.size());
     }
   }
-  for (std::size_t i = 0; i < rects.size(); ++i) {
+  for (std::size_t i = 0; i < rects.size(); ++i)
     stats[i] = entry.prepared->render_tile(rects[i], passes[i]);
-    count_rendered(entry, 0);
-  }
+  count_rendered(entry, 0, rects.size());
 }
 
 std::string Scheduler::tile_split(const Entry& entry) const {

@@ -176,7 +176,7 @@ class Scheduler {
                           std::span<TilePasses> passes, std::span<TileStats> stats);
   // A tile (pass) rendered by `worker` (0: the CPU, 1 + d: device d), for the job's
   // completion log and options_.metrics.
-  void count_rendered(Entry& entry, std::size_t worker) const;
+  void count_rendered(Entry& entry, std::size_t worker, std::size_t tiles = 1) const;
   // "cpu 30, gpu0 NVIDIA H100 80GB HBM3 18 (2 failed on a device and went to the CPU)".
   std::string tile_split(const Entry& entry) const;
   // A pass of a tile of a job with passes: continues the tile's stored state and stores the

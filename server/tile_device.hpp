@@ -32,7 +32,8 @@ class TileDevice {
   // render_tiles. 0: one tile at a time.
   virtual std::size_t batch_pixels() const { return 0; }
   // Renders tiles[i] into rgba[i] as render_tile does, all of one job, and returns each
-  // tile's stats. By default one after the other. Throws on failure (the scheduler renders
+  // tile's stats: how the scheduler calls every device, a single tile being a batch of one.
+  // By default one after the other. Throws on failure (the scheduler renders
   // the batch on the CPU instead).
   virtual std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
                                               std::span<const TileRect> tiles,
