@@ -3,13 +3,16 @@
 // no GPU), and the rest run everywhere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "../render/device_test_scenes.hpp"
 #include "tessera/gpu/gpu_renderer.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
@@ -95,16 +98,21 @@ std::shared_ptr<const PreparedScene> shared_mesh_scene() {
 // The device draws the samples the CPU draws, through the same layout: images agree up to
 // float differences (nvcc contracts multiply-adds), which can send a path another way, so
 // the bound is on the image mean (1%) and on how many pixels differ by more than 1e-3
-// relative (5%).
+// relative (5%). Every scene the CPU's device-layout test renders (device_test_scenes.hpp),
+// and a mesh placed three times; one `cpu-gpu` line per scene gives the differences
+// (bench/gpu/device_checks.sh collects them).
 TEST(Gpu, TilesMatchTheCpuRenderOfTheDeviceLayout) {
   if (gpu::list_devices().empty()) GTEST_SKIP() << "no CUDA device on this machine";
-  for (const char* name : {"cornell.yaml", "shapes.yaml", "textures.yaml", "shared meshes"}) {
-    SCOPED_TRACE(name);
-    const auto scene = std::string(name) == "shared meshes" ? shared_mesh_scene() : example(name);
+  std::vector<device_tests::DeviceTestScene> scenes = device_tests::device_test_scenes();
+  scenes.push_back({"shared meshes", {}});
+  for (const device_tests::DeviceTestScene& test : scenes) {
+    SCOPED_TRACE(test.name);
+    const auto scene =
+        test.name == "shared meshes" ? shared_mesh_scene() : PreparedScene::build(test.scene);
     gpu::TileRenderer renderer(0, scene);
     EXPECT_GT(renderer.uploaded_bytes(), 0u);
     const RenderSettings& r = scene->settings();
-    double cpu_sum = 0.0, gpu_sum = 0.0;
+    double cpu_sum = 0.0, gpu_sum = 0.0, largest = 0.0;
     std::size_t far = 0, values = 0;
     for (const TileRect& tile : make_tiles(r.width, r.height, r.tile_size)) {
       std::vector<float> cpu(tile.pixel_count() * 4), device(tile.pixel_count() * 4);
@@ -116,10 +124,17 @@ TEST(Gpu, TilesMatchTheCpuRenderOfTheDeviceLayout) {
         ASSERT_TRUE(std::isfinite(device[i]));
         cpu_sum += cpu[i];
         gpu_sum += device[i];
-        far += std::fabs(cpu[i] - device[i]) > 1e-3f * (1.0f + std::fabs(cpu[i])) ? 1 : 0;
+        const double apart = std::fabs(cpu[i] - device[i]);
+        largest = std::max(largest, apart);
+        far += apart > 1e-3 * (1.0 + std::fabs(cpu[i])) ? 1 : 0;
         ++values;
       }
     }
+    std::printf(
+        "cpu-gpu %s: mean %.6g / %.6g (%+.2e relative), %zu of %zu values apart by "
+        "more than 1e-3 relative, largest difference %.3g\n",
+        test.name.c_str(), cpu_sum / static_cast<double>(values),
+        gpu_sum / static_cast<double>(values), (gpu_sum - cpu_sum) / cpu_sum, far, values, largest);
     EXPECT_NEAR(gpu_sum, cpu_sum, 0.01 * cpu_sum);
     EXPECT_LE(far, values / 20);
   }

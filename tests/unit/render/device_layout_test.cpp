@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "device_test_scenes.hpp"
 #include "scene_materials.hpp"
 #include "tessera/render/baked_placements.hpp"
 #include "tessera/render/prepared_scene.hpp"
@@ -66,11 +67,7 @@ Comparison compare_layouts(const PreparedScene& scene) {
 }
 
 void shrink(RenderSettings& r) {
-  r.width = 40;
-  r.height = 30;
-  r.samples_per_pixel = 4;
-  r.max_depth = 5;
-  r.tile_size = 16;
+  device_tests::shrink_for_device_tests(r);
 }
 
 // Every primitive reference the CPU traces appears in the device BVH exactly once.
@@ -107,54 +104,11 @@ void expect_same_image(const PreparedScene& scene, const std::string& name) {
   EXPECT_GT(c.mean_cpu, 0.0);
 }
 
-TEST(DeviceLayout, ExampleScenesRenderAsOnTheCpu) {
-  for (const char* name : {"cornell.yaml", "shapes.yaml", "textures.yaml"}) {
-    LoadedScene loaded = load_scene_file(kExamples / name);
-    shrink(loaded.scene.render);
-    expect_same_image(*PreparedScene::build(loaded.scene), name);
-  }
-}
-
-// The converge suite's scenes that need no generated files: between them every light kind
-// (area, point, spot, sun, sky), every shape the device walks but patches and trimmed faces,
-// and the conductors, mirrors, glass (smooth, rough, absorbing) and image textures. The
-// RayON scenes below add more where ../shared is present; CI runs without it.
-TEST(DeviceLayout, ConvergeScenesRenderAsOnTheCpu) {
-  const std::filesystem::path dir =
-      std::filesystem::path(TESSERA_SOURCE_DIR) / "bench" / "converge" / "scenes";
-  for (const char* name :
-       {"daylight_room.yaml", "glossy_glass.yaml", "heldout_corridor.yaml",
-        "heldout_instances.yaml", "heldout_lampshade.yaml", "heldout_night_street.yaml",
-        "heldout_stage.yaml", "lights_and_sky.yaml", "many_lights.yaml", "rough_materials.yaml",
-        "textured.yaml", "two_lights.yaml"}) {
-    LoadedScene loaded = load_scene_file(dir / name);
-    shrink(loaded.scene.render);
-    expect_same_image(*PreparedScene::build(loaded.scene), name);
-  }
-}
-
-// The materials no file above uses: a thin film, a clear coat and the unlit kinds.
-TEST(DeviceLayout, FilmCoatAndUnlitMaterialsRenderAsOnTheCpu) {
-  const LoadedScene loaded = load_scene_yaml(R"(
-camera: { position: [0, 1, 4], look_at: [0, 0.5, 0], fov: 40 }
-materials:
-  - { name: floor, type: lambertian, albedo: [0.7, 0.7, 0.7] }
-  - { name: lamp, type: light, emission: [6, 6, 6] }
-  - { name: bubble, type: thin_film, film_thickness: 420, film_ior: 1.33 }
-  - { name: coat, type: clear_coat, albedo: [0.6, 0.1, 0.1], roughness: 0.2 }
-  - { name: flat, type: constant, albedo: [0.2, 0.8, 0.2] }
-  - { name: normals, type: show_normals }
-geometry:
-  - { type: rectangle, material: floor, corner: [-3, 0, -3], u: [6, 0, 0], v: [0, 0, 6] }
-  - { type: rectangle, material: lamp, corner: [-1, 3, -1], u: [2, 0, 0], v: [0, 0, 2] }
-  - { type: sphere, material: bubble, center: [-0.9, 0.6, 0], radius: 0.5 }
-  - { type: sphere, material: coat, center: [0.4, 0.5, -0.3], radius: 0.5 }
-  - { type: sphere, material: flat, center: [1.3, 0.3, 0.6], radius: 0.3 }
-  - { type: sphere, material: normals, center: [0.2, 0.25, 0.9], radius: 0.25 }
-render: { width: 40, height: 30, spp: 4, max_depth: 5, tile_size: 16 }
-)",
-                                             "materials.yaml", kExamples);
-  expect_same_image(*PreparedScene::build(loaded.scene), "film, coat and unlit materials");
+// At 40 x 30 and 4 spp each: see device_test_scenes.hpp for what they cover. The RayON
+// scenes below add more where ../shared is present; CI runs without it.
+TEST(DeviceLayout, EveryDeviceTestSceneRendersAsOnTheCpu) {
+  for (const device_tests::DeviceTestScene& test : device_tests::device_test_scenes())
+    expect_same_image(*PreparedScene::build(test.scene), test.name);
 }
 
 TEST(DeviceLayout, PatchesAreReportedUnsupported) {
