@@ -68,7 +68,8 @@ CommandLine parse_command_line(int argc, const char* const argv[], const Environ
                               ->type_name("DIR")
                               ->default_str(data);
   app.add_option("--config", config_file,
-                 "YAML file with listen, threads, data, log_level, log_format, metrics_listen, "
+                 "YAML file with listen, threads, gpus, gpu_batch_pixels, data, log_level, "
+                 "log_format, metrics_listen, "
                  "shutdown_grace, job_ttl, max_jobs, max_jobs_per_submitter and the budgets "
                  "(max_receive_message_bytes, max_width, max_height, max_pixels, "
                  "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout) and "

@@ -86,10 +86,13 @@ std::uint64_t read_limit(const std::string& file, const YAML::Node& node, const 
 // The renderer's own bounds, which a configuration may lower but not raise.
 constexpr std::uint32_t kLargestDimension = 65536;
 constexpr std::uint32_t kLargestSamplesPerPixel = 65536;  // Sobol sample indices: 16 bits
+// A launch's films live in device memory: 64 Mi pixels of RGBA, depth and AOVs is a few GiB.
+constexpr long long kLargestGpuBatchPixels = 1ll << 26;
 constexpr std::size_t kLargestPrimitives = (std::size_t{1} << 27) - 1;  // reference index bits
 
 constexpr const char* kKeys =
-    "listen, threads, data, log_level, log_format, metrics_listen, shutdown_grace, job_ttl, "
+    "listen, threads, gpus, gpu_batch_pixels, data, log_level, log_format, metrics_listen, "
+    "shutdown_grace, job_ttl, "
     "max_jobs, max_jobs_per_submitter, max_receive_message_bytes, max_width, max_height, "
     "max_pixels, "
     "max_samples_per_pixel, max_primitives, memory_budget, prepare_timeout, stream_write_timeout, "
@@ -329,6 +332,14 @@ bool apply_setting(DaemonConfig& config, const std::string& display_name, const 
         throw ConfigError(located(display_name, value, key) + ": must be all or none, got '" +
                           gpus + "'");
       config.gpus = gpus == "all";
+    } else if (key == "gpu_batch_pixels") {
+      long long pixels = 0;
+      if (!value.IsScalar() || !YAML::convert<long long>::decode(value, pixels) || pixels < 0 ||
+          pixels > kLargestGpuBatchPixels)
+        throw ConfigError(located(display_name, value, key) +
+                          ": must be a whole number from 0 (the device's own size) to " +
+                          std::to_string(kLargestGpuBatchPixels) + ", got " + scalar_text(value));
+      config.gpu_batch_pixels = static_cast<std::size_t>(pixels);
     } else if (key == "data") {
       const std::string data = read_string(display_name, value, key);
       if (data.empty())

@@ -36,6 +36,10 @@ struct DaemonConfig {
   // threads alone (`gpus: none`). Without the CUDA backend (no nvcc at build time) there
   // are none to use either way.
   bool gpus = true;
+  // Pixels per GPU kernel launch: the scheduler hands a GPU consecutive tiles of a job up to
+  // this many pixels at once (key `gpu_batch_pixels`). 0: the device's own size
+  // (multiprocessors x 1024).
+  std::size_t gpu_batch_pixels = 0;
   // Created at start if missing; holds the job store (jobs.sqlite3 and its WAL files).
   // Empty: the jobs live in memory only (in-process daemons in tests); tesserad defaults
   // to ./var.

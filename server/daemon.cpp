@@ -241,7 +241,7 @@ int Daemon::start() {
   options.tile_retries = static_cast<std::uint32_t>(d.config.tile_retries);
   options.metrics = &d.metrics;
 #if defined(TESSERA_HAS_CUDA)
-  if (d.config.gpus) options.devices = gpu_tile_devices();
+  if (d.config.gpus) options.devices = gpu_tile_devices(d.config.gpu_batch_pixels);
 #endif
   std::vector<std::string> gpu_names;
   for (const auto& device : options.devices) gpu_names.push_back(device->name());

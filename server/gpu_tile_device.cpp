@@ -16,8 +16,12 @@ namespace {
 // mostly come in a run, and a re-upload costs only copies.
 class GpuTileDevice : public TileDevice {
  public:
-  explicit GpuTileDevice(const gpu::DeviceInfo& info)
-      : info_(info), name_("gpu" + std::to_string(info.index) + " " + info.name) {}
+  GpuTileDevice(const gpu::DeviceInfo& info, std::size_t batch_pixels)
+      : info_(info),
+        name_("gpu" + std::to_string(info.index) + " " + info.name),
+        batch_pixels_(batch_pixels != 0
+                          ? batch_pixels
+                          : static_cast<std::size_t>(std::max(1, info.multiprocessors)) * 1024) {}
 
   std::string name() const override { return name_; }
 
@@ -32,12 +36,11 @@ class GpuTileDevice : public TileDevice {
     return renderer_for(scene).render_tile(tile, rgba);
   }
 
-  // About four pixels per thread the multiprocessors keep in flight at the path tracer's
-  // 255 registers (eight warps each): enough to fill the device between launches, few
-  // enough that the CPU threads still share a job's last tiles. Not yet tuned on a GPU.
-  std::size_t batch_pixels() const override {
-    return static_cast<std::size_t>(std::max(1, info_.multiprocessors)) * 1024;
-  }
+  // By default about four pixels per thread the multiprocessors keep in flight at the path
+  // tracer's 255 registers (eight warps each): enough to fill the device between launches,
+  // few enough that the CPU threads still share a job's last tiles. Not yet tuned on a GPU
+  // (the daemon's gpu_batch_pixels overrides it).
+  std::size_t batch_pixels() const override { return batch_pixels_; }
 
   std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
                                       std::span<const TileRect> tiles,
@@ -60,19 +63,20 @@ class GpuTileDevice : public TileDevice {
 
   gpu::DeviceInfo info_;
   std::string name_;
+  std::size_t batch_pixels_;
   std::shared_ptr<const PreparedScene> scene_;
   std::unique_ptr<gpu::TileRenderer> renderer_;
 };
 
 }  // namespace
 
-std::vector<std::shared_ptr<TileDevice>> gpu_tile_devices() {
+std::vector<std::shared_ptr<TileDevice>> gpu_tile_devices(std::size_t batch_pixels) {
   std::vector<std::shared_ptr<TileDevice>> devices;
   for (const gpu::DeviceInfo& info : gpu::list_devices()) {
     spdlog::info("GPU {}: {}, {:.1f} GiB, compute capability {}.{}, {} multiprocessors", info.index,
                  info.name, static_cast<double>(info.memory_bytes) / (1 << 30), info.compute_major,
                  info.compute_minor, info.multiprocessors);
-    devices.push_back(std::make_shared<GpuTileDevice>(info));
+    devices.push_back(std::make_shared<GpuTileDevice>(info, batch_pixels));
   }
   return devices;
 }

@@ -144,6 +144,14 @@ TEST_F(ConfigFile, GpusDefaultToAllAndCanBeTurnedOff) {
   EXPECT_TRUE(cl.warnings.empty());
 }
 
+TEST_F(ConfigFile, GpuBatchPixelsDefaultToTheDevicesOwnSize) {
+  EXPECT_EQ(parse_tesserad({}).config.gpu_batch_pixels, 0u);
+  const CommandLine cl = parse_tesserad({"--config", write("gpu_batch_pixels: 262144\n")});
+  ASSERT_FALSE(cl.exit_code) << cl.message;
+  EXPECT_EQ(cl.config.gpu_batch_pixels, 262144u);
+  EXPECT_TRUE(cl.warnings.empty());
+}
+
 TEST_F(ConfigFile, TileRetriesAndWatchSettingsAreRead) {
   const CommandLine defaults = parse_tesserad({});
   ASSERT_FALSE(defaults.exit_code) << defaults.message;
@@ -208,6 +216,11 @@ TEST_F(ConfigFile, BadValuesNameTheKey) {
       {"stream_write_timeout: 0s\n", ":1: stream_write_timeout: must be at least 1ms, got '0s'"},
       {"stream_write_timeout: never\n", "stream_write_timeout: must be a duration"},
       {"gpus: some\n", ":1: gpus: must be all or none, got 'some'"},
+      {"gpu_batch_pixels: -1\n", ":1: gpu_batch_pixels: must be a whole number from 0"},
+      {"gpu_batch_pixels: 67108865\n",
+       "gpu_batch_pixels: must be a whole number from 0 (the "
+       "device's own size) to 67108864, got '67108865'"},
+      {"gpu_batch_pixels: many\n", "gpu_batch_pixels: must be a whole number"},
   };
   for (const auto& [text, expected] : cases) {
     const CommandLine cl = parse_tesserad({"--config", write(text)});
