@@ -76,6 +76,16 @@ std::vector<std::shared_ptr<TileDevice>> gpu_tile_devices(std::size_t batch_pixe
     spdlog::info("GPU {}: {}, {:.1f} GiB, compute capability {}.{}, {} multiprocessors", info.index,
                  info.name, static_cast<double>(info.memory_bytes) / (1 << 30), info.compute_major,
                  info.compute_minor, info.multiprocessors);
+    try {
+      for (const gpu::KernelInfo& kernel : gpu::path_tracer_kernels(info.index))
+        spdlog::info(
+            "GPU {}: {} kernel: {} registers and {} bytes of local memory per thread, {} "
+            "blocks of {} threads per multiprocessor ({:.1f}% occupancy)",
+            info.index, kernel.name, kernel.registers, kernel.local_bytes,
+            kernel.blocks_per_multiprocessor, kernel.threads_per_block, 100.0 * kernel.occupancy);
+    } catch (const std::exception& e) {
+      spdlog::warn("GPU {}: cannot read its kernels' resources: {}", info.index, e.what());
+    }
     devices.push_back(std::make_shared<GpuTileDevice>(info, batch_pixels));
   }
   return devices;

@@ -65,7 +65,7 @@ say "device: $(nvidia-smi --query-gpu=name --format=csv,noheader | head -1), cpu
 step "unit_gpu"
 timeout 240 "$bin/unit_gpu" --gtest_color=no 2>&1 | tee "$work/unit_gpu.log" >>"$log"
 say "unit_gpu: $(grep -E '^\[  (PASSED|FAILED|SKIPPED) +\] [0-9]+ tests?' "$work/unit_gpu.log" | tr '\n' ' ')"
-grep '^cpu-gpu ' "$work/unit_gpu.log" | tee -a "$summary"
+grep -E '^(cpu-gpu|kernel) ' "$work/unit_gpu.log" | tee -a "$summary"
 
 mesh="$work/data/suzanne-sub5.ply"
 if [ -f "$mesh" ]; then

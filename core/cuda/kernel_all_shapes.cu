@@ -4,5 +4,6 @@
 namespace tessera::cuda {
 
 template TESSERA_DEVICE_LAUNCH(kDeviceAllShapes);
+template TESSERA_DEVICE_RESOURCES(kDeviceAllShapes);
 
 }  // namespace tessera::cuda

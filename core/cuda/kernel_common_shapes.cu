@@ -4,5 +4,6 @@
 namespace tessera::cuda {
 
 template TESSERA_DEVICE_LAUNCH(kDeviceCommonShapes);
+template TESSERA_DEVICE_RESOURCES(kDeviceCommonShapes);
 
 }  // namespace tessera::cuda

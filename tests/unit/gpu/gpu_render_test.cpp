@@ -43,6 +43,26 @@ TEST(Gpu, ListingDevicesNeverThrows) {
   }
 }
 
+// What the driver says each kernel costs a multiprocessor; one `kernel` line each for
+// bench/gpu/device_checks.sh. At least one block must fit, or no launch could run.
+TEST(Gpu, KernelsReportTheirRegistersAndOccupancy) {
+  if (gpu::list_devices().empty()) GTEST_SKIP() << "no CUDA device on this machine";
+  const std::vector<gpu::KernelInfo> kernels = gpu::path_tracer_kernels(0);
+  ASSERT_EQ(kernels.size(), 2u);
+  for (const gpu::KernelInfo& k : kernels) {
+    std::printf(
+        "kernel %s: %d registers, %zu bytes of local memory per thread, %d blocks of %d "
+        "per multiprocessor, occupancy %.3f\n",
+        k.name.c_str(), k.registers, k.local_bytes, k.blocks_per_multiprocessor,
+        k.threads_per_block, k.occupancy);
+    EXPECT_GT(k.registers, 0);
+    EXPECT_LE(k.registers, 255);
+    EXPECT_GE(k.blocks_per_multiprocessor, 1);
+    EXPECT_GT(k.occupancy, 0.0);
+    EXPECT_LE(k.occupancy, 1.0);
+  }
+}
+
 // Refused before any CUDA call, so this runs without a device too.
 TEST(Gpu, ScenesTheDeviceCannotRenderAreRefusedWithTheReason) {
   try {

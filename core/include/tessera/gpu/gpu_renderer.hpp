@@ -24,6 +24,20 @@ struct DeviceInfo {
 // The CUDA devices this process can use; empty when there are none or no driver.
 std::vector<DeviceInfo> list_devices();
 
+// One of the path tracer's kernels as the driver loaded it on a device.
+struct KernelInfo {
+  std::string name;             // its feature set: "common shapes" or "all shapes"
+  int registers = 0;            // per thread
+  std::size_t local_bytes = 0;  // per thread: the stack and spills, in local memory
+  int threads_per_block = 0;
+  int blocks_per_multiprocessor = 0;  // resident at once
+  double occupancy = 0.0;             // resident threads / the multiprocessor's most
+};
+
+// The path tracer's kernels on `device`, for the daemon's log and the GPU checks. Throws
+// std::runtime_error naming the CUDA error.
+std::vector<KernelInfo> path_tracer_kernels(int device);
+
 // One job's scene uploaded to one device (PreparedScene::device_source), rendering tiles of
 // its beauty pass with the same samples the CPU draws. Not thread-safe: one per worker.
 class TileRenderer {

@@ -56,7 +56,10 @@ struct PathPayload {
 template <bool kAovs>
 struct PathRayGeneration {
   using Payload = PathPayload<kAovs>;
-  Camera camera;
+  // The scene's (620 bytes), the caller's, which outlives the program object. A copy would put
+  // these bytes on every GPU thread's stack (local memory): by reference the kernel reads its
+  // __grid_constant__ parameter through the constant cache.
+  const Camera& camera;
   std::uint64_t seed;
   TileRect tile;
   float sample_weight;  // 1 / samples per pixel
@@ -400,7 +403,10 @@ TESSERA_HD float emitter_hit_weight(const SceneView& scene, LightStrategy strate
 
 template <PipelineFeatures kFeatures>
 struct PathHit {
-  SceneView scene;
+  // The scene (1,192 bytes): the caller's, which outlives the program object. A copy would put
+  // these bytes on every GPU thread's stack (local memory): by reference the kernel reads its
+  // __grid_constant__ parameter through the constant cache.
+  const SceneView& scene;
   std::uint32_t max_depth;
   LightStrategy strategy = LightStrategy::kMis;
   float clamp = 0.0f;  // RenderSettings::clamp, see clamp_indirect
@@ -584,7 +590,10 @@ struct PathHit {
 // an emitter hit is (PathHit::emission_weight).
 template <PipelineFeatures kFeatures>
 struct PathMiss {
-  SceneView scene;
+  // The scene (1,192 bytes): the caller's, which outlives the program object. A copy would put
+  // these bytes on every GPU thread's stack (local memory): by reference the kernel reads its
+  // __grid_constant__ parameter through the constant cache.
+  const SceneView& scene;
   LightStrategy strategy = LightStrategy::kMis;
   // Camera rays that miss add nothing (the environment still lights the scene).
   bool transparent_background = false;

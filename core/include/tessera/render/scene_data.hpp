@@ -380,7 +380,10 @@ template <unsigned kShapes>
 struct SceneIntersection {
   static constexpr unsigned kShapeMask = kShapes;
   static constexpr bool kHasUnbounded = (kShapes & kShapePlane) != 0;
-  SceneShapes shapes;
+  // The scene's shape arrays (272 bytes), the caller's, which outlives the tracer. A copy
+  // would put them on every GPU thread's stack (local memory); by reference the kernel reads
+  // its __grid_constant__ parameter through the constant cache.
+  const SceneShapes& shapes;
 
   TESSERA_HD bool intersect(std::uint32_t primitive, const Ray& ray, float t_max,
                             HitRecord& hit) const {
