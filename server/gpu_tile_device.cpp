@@ -32,8 +32,8 @@ class GpuTileDevice : public TileDevice {
   }
 
   TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene, const TileRect& tile,
-                        std::span<float> rgba) override {
-    return renderer_for(scene).render_tile(tile, rgba);
+                        TilePasses& passes) override {
+    return renderer_for(scene).render_tile(tile, passes);
   }
 
   // By default about four pixels per thread the multiprocessors keep in flight at the path
@@ -44,8 +44,8 @@ class GpuTileDevice : public TileDevice {
 
   std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
                                       std::span<const TileRect> tiles,
-                                      std::span<const std::span<float>> rgba) override {
-    return renderer_for(scene).render_tiles(tiles, rgba);
+                                      std::span<TilePasses> passes) override {
+    return renderer_for(scene).render_tiles(tiles, passes);
   }
 
  private:

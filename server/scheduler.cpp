@@ -349,8 +349,8 @@ std::vector<bool> Scheduler::devices_for(const Job& job, const PreparedScene& sc
   std::string why_not;
   if (options_.devices.empty()) {
     why_not = "this daemon renders on no GPU";
-  } else if (r.pass_count() > 1 || r.aovs != 0) {
-    why_not = "GPUs render one-pass jobs without AOVs";
+  } else if (r.pass_count() > 1) {
+    why_not = "GPUs render one-pass jobs";
   } else {
     for (std::size_t d = 0; d < options_.devices.size(); ++d) {
       try {
@@ -547,13 +547,7 @@ void Scheduler::render_whole_tiles(Entry& entry, std::span<const TileRect> rects
   if (device != kCpuWorker) {
     TileDevice& on = *options_.devices[device];
     try {
-      std::vector<std::span<float>> planes;
-      for (std::size_t i = 0; i < rects.size(); ++i) {
-        passes[i].beauty.resize(rects[i].pixel_count() * 4);
-        for (auto& plane : passes[i].aovs) plane.clear();
-        planes.emplace_back(passes[i].beauty);
-      }
-      const std::vector<TileStats> got = on.render_tiles(entry.prepared, rects, planes);
+      const std::vector<TileStats> got = on.render_tiles(entry.prepared, rects, passes);
       if (got.size() != rects.size())
         throw std::logic_error(std::to_string(got.size()) + " results for " +
                                std::to_string(rects.size()) + " tiles");

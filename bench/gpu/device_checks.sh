@@ -109,19 +109,22 @@ run_daemon() {
   local daemon=$!
   for _ in $(seq 1 50); do "$bin/tessera" health --server 127.0.0.1:$port >/dev/null 2>&1 && break; sleep 0.2; done
   "$bin/tessera" version --server 127.0.0.1:$port 2>&1 | tee -a "$log"
-  for device in "$@"; do
+  for spec in "$@"; do
+    # DEVICE or DEVICE:denoise (the job then asks for the denoiser's AOVs)
+    local device=${spec%%:*} extra=()
+    [ "$spec" != "$device" ] && extra=(--denoise)
     sed "s/^render:/render:\n  device: $device/" "$scene" >"$work/cornell-$device.yaml"
     local start rc completed before
     before=$(grep -c '"event":"job_completed"' "$daemon_log")
     start=$(date +%s.%N)
     timeout 150 "$bin/tessera" render "$work/cornell-$device.yaml" -o "$work/mixed-$device.exr" \
-      --server 127.0.0.1:$port "${size[@]}" >>"$log" 2>&1
+      --server 127.0.0.1:$port "${size[@]}" "${extra[@]}" >>"$log" 2>&1
     rc=$?
     completed="no job_completed line: $(tail -n 1 "$log")"
     if [ "$(grep -c '"event":"job_completed"' "$daemon_log")" -gt "$before" ]; then
       completed="$(grep -o '"event":"job_completed".*' "$daemon_log" | tail -1 | grep -o '"tiles_rendered_by":"[^"]*"')"
     fi
-    say "cornell ${size[*]}, device $device, gpu_batch_pixels $batch: rc $rc, $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}') s wall, $completed"
+    say "cornell ${size[*]} ${extra[*]}, device $device, gpu_batch_pixels $batch: rc $rc, $(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f", b - a}') s wall, $completed"
   done
   python3 - "$metrics_port" >"$work/metrics-$batch.txt" 2>&1 <<'PY'
 import sys, urllib.request
@@ -132,7 +135,7 @@ PY
   wait $daemon 2>/dev/null
   cat "$daemon_log" >>"$out/tesserad.log"
 }
-run_daemon 0 any gpu cpu
+run_daemon 0 any gpu cpu gpu:denoise
 run_daemon 32768 any
 run_daemon 524288 any
 

@@ -4,6 +4,7 @@
 #include <cuda_runtime.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -68,13 +69,13 @@ struct TileRenderer::State {
   std::shared_ptr<const PreparedScene> scene;
   SceneView view;  // device pointers
   std::vector<DeviceAllocation> buffers;
-  // Grown to the largest batch so far: the tiles' beauty planes one after another, the
+  // Grown to the largest batch so far: the tiles' planes one after another, the
   // tile rectangles and film pointers the kernel reads, and a ray count per tile.
   DeviceAllocation film;
   std::size_t film_bytes = 0;
   DeviceAllocation batch;
   std::size_t batch_tiles = 0;
-  std::vector<float> staging;  // the batch's beauty planes on the host
+  std::vector<float> staging;  // the batch's planes on the host, as laid out in `film`
   cudaStream_t stream = nullptr;
   std::size_t uploaded = 0;
 };
@@ -106,25 +107,23 @@ std::size_t TileRenderer::uploaded_bytes() const {
   return state_->uploaded;
 }
 
-TileStats TileRenderer::render_tile(const TileRect& tile, std::span<float> rgba) {
-  const std::span<float> planes[] = {rgba};
-  return render_tiles(std::span(&tile, 1), planes)[0];
-}
-
-std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tiles,
-                                                  std::span<const std::span<float>> rgba) {
+// Renders tiles[i] into destinations[i] in one launch. Every plane present is tile-sized
+// (pixel_count * 4 floats) and starts as render_tile starts it: depth at +inf, the rest at 0.
+std::vector<TileStats> TileRenderer::render_batch(std::span<const TileRect> tiles,
+                                                  std::span<const TileDestination> destinations) {
   State& s = *state_;
-  if (tiles.size() != rgba.size())
-    throw std::invalid_argument("TileRenderer::render_tiles: a buffer per tile");
   if (tiles.empty()) return {};
   if (tiles.size() > 65535)
     throw std::invalid_argument("TileRenderer::render_tiles: more than 65535 tiles in a batch");
   std::size_t floats = 0;
   std::uint32_t largest_width = 0, largest_height = 0;
+  bool starts_at_zero = true;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    if (rgba[i].size() != tiles[i].pixel_count() * 4)
-      throw std::invalid_argument("TileRenderer::render_tiles: a buffer does not hold its tile");
-    floats += rgba[i].size();
+    for (std::size_t p = 0; p < destinations[i].size(); ++p)
+      if (destinations[i][p] != nullptr) {
+        floats += tiles[i].pixel_count() * 4;
+        starts_at_zero = starts_at_zero && (p == 0 || aov_start(p - 1) == 0.0f);
+      }
     largest_width = std::max(largest_width, tiles[i].width);
     largest_height = std::max(largest_height, tiles[i].height);
   }
@@ -142,26 +141,40 @@ std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tile
     s.batch = DeviceAllocation(batch_bytes);
     s.batch_tiles = tiles.size();
   }
+  // The planes lie one after another, tile by tile; the staging buffer mirrors the film, so
+  // it carries the planes' start values up (when a plane does not start at 0) and the
+  // rendered planes down.
   auto* film_base = static_cast<float*>(s.film.pointer);
+  s.staging.resize(floats);
   std::vector<unsigned char> arrays(counts_at);
-  std::memcpy(arrays.data(), tiles.data(), films_at);
+  std::memcpy(arrays.data(), tiles.data(), tiles.size() * sizeof(TileRect));
   std::size_t offset = 0;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     FilmPlanes film;
-    film.beauty = film_base + offset;
-    offset += rgba[i].size();
+    const std::size_t plane_floats = tiles[i].pixel_count() * 4;
+    for (std::size_t p = 0; p < destinations[i].size(); ++p) {
+      if (destinations[i][p] == nullptr) continue;
+      (p == 0 ? film.beauty : aov_plane(film, p - 1)) = film_base + offset;
+      if (!starts_at_zero)
+        std::fill_n(s.staging.begin() + static_cast<std::ptrdiff_t>(offset), plane_floats,
+                    p == 0 ? 0.0f : aov_start(p - 1));
+      offset += plane_floats;
+    }
     std::memcpy(arrays.data() + films_at + i * sizeof(FilmPlanes), &film, sizeof(FilmPlanes));
   }
   auto* batch = static_cast<unsigned char*>(s.batch.pointer);
-  check(cudaMemsetAsync(s.film.pointer, 0, bytes, s.stream), "cudaMemsetAsync (film)");
+  if (starts_at_zero)
+    check(cudaMemsetAsync(s.film.pointer, 0, bytes, s.stream), "cudaMemsetAsync (film)");
+  else
+    check(
+        cudaMemcpyAsync(s.film.pointer, s.staging.data(), bytes, cudaMemcpyHostToDevice, s.stream),
+        "cudaMemcpyAsync (film start)");
   check(cudaMemsetAsync(batch + counts_at, 0, tiles.size() * sizeof(unsigned long long), s.stream),
         "cudaMemsetAsync (ray counts)");
   check(cudaMemcpyAsync(batch, arrays.data(), arrays.size(), cudaMemcpyHostToDevice, s.stream),
         "cudaMemcpyAsync (tiles)");
   const RenderSettings& r = s.scene->settings();
-  FilmPlanes first;
-  first.beauty = film_base;
-  const PixelSampling sampling = pixel_sampling(r, first);
+  const PixelSampling sampling = pixel_sampling(r, FilmPlanes{});
   const auto launch = (s.scene->required_features().shapes & ~kCommonShapes) == 0
                           ? &cuda::launch_path_tracer_tiles<cuda::kDeviceCommonShapes>
                           : &cuda::launch_path_tracer_tiles<cuda::kDeviceAllShapes>;
@@ -173,7 +186,6 @@ std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tile
                static_cast<std::uint32_t>(tiles.size()), largest_width, largest_height, counts,
                s.stream),
         "kernel launch");
-  s.staging.resize(floats);
   std::vector<unsigned long long> rays(tiles.size());
   check(cudaMemcpyAsync(s.staging.data(), s.film.pointer, bytes, cudaMemcpyDeviceToHost, s.stream),
         "cudaMemcpyAsync (film)");
@@ -184,12 +196,61 @@ std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tile
   std::vector<TileStats> stats(tiles.size());
   offset = 0;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    std::copy_n(s.staging.begin() + static_cast<std::ptrdiff_t>(offset), rgba[i].size(),
-                rgba[i].begin());
-    offset += rgba[i].size();
+    const std::size_t plane_floats = tiles[i].pixel_count() * 4;
+    for (float* to : destinations[i]) {
+      if (to == nullptr) continue;
+      std::copy_n(s.staging.begin() + static_cast<std::ptrdiff_t>(offset), plane_floats, to);
+      offset += plane_floats;
+    }
     stats[i].rays = rays[i];
   }
   return stats;
+}
+
+TileStats TileRenderer::render_tile(const TileRect& tile, std::span<float> rgba) {
+  const std::span<float> planes[] = {rgba};
+  return render_tiles(std::span(&tile, 1), planes)[0];
+}
+
+std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tiles,
+                                                  std::span<const std::span<float>> rgba) {
+  if (tiles.size() != rgba.size())
+    throw std::invalid_argument("TileRenderer::render_tiles: a buffer per tile");
+  std::vector<TileDestination> destinations(tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    if (rgba[i].size() != tiles[i].pixel_count() * 4)
+      throw std::invalid_argument("TileRenderer::render_tiles: a buffer does not hold its tile");
+    destinations[i].fill(nullptr);
+    destinations[i][0] = rgba[i].data();
+  }
+  return render_batch(tiles, destinations);
+}
+
+TileStats TileRenderer::render_tile(const TileRect& tile, TilePasses& passes) {
+  return render_tiles(std::span(&tile, 1), std::span(&passes, 1))[0];
+}
+
+std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tiles,
+                                                  std::span<TilePasses> passes) {
+  if (tiles.size() != passes.size())
+    throw std::invalid_argument("TileRenderer::render_tiles: passes per tile");
+  const std::uint32_t aovs = state_->scene->settings().aovs;
+  std::vector<TileDestination> destinations(tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const std::size_t floats = tiles[i].pixel_count() * 4;
+    destinations[i].fill(nullptr);
+    passes[i].beauty.resize(floats);
+    destinations[i][0] = passes[i].beauty.data();
+    for (std::size_t a = 0; a < kAovCount; ++a) {
+      if ((aovs & (1u << a)) == 0) {
+        passes[i].aovs[a].clear();
+        continue;
+      }
+      passes[i].aovs[a].resize(floats);
+      destinations[i][1 + a] = passes[i].aovs[a].data();
+    }
+  }
+  return render_batch(tiles, destinations);
 }
 
 }  // namespace tessera::gpu

@@ -216,4 +216,12 @@ TileStats PreparedScene::render_tile_device_layout(const TileRect& tile,
   return all_features_variant(IntegratorKind::kPath).render(source.view, settings_, tile, film);
 }
 
+TileStats PreparedScene::render_tile_device_layout(const TileRect& tile, TilePasses& passes) const {
+  const DeviceSceneSource& source = device_source();
+  if (!source.unsupported.empty())
+    throw std::invalid_argument("render_tile_device_layout: " + source.unsupported);
+  const FilmPlanes film = film_for(tile, passes, 0);
+  return all_features_variant(IntegratorKind::kPath).render(source.view, settings_, tile, film);
+}
+
 }  // namespace tessera

@@ -275,13 +275,19 @@ TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, s
                                 " is not below the end " + std::to_string(end));
   if (first > 0 && settings_.adaptive())
     throw std::invalid_argument("refine_tile: adaptive sampling renders in one pass");
+  const FilmPlanes film = film_for(tile, passes, first);
+  RenderSettings settings = settings_;
+  settings.samples_per_pixel = end;
+  // The beauty's alpha is the coverage the integrators add up; the AOV planes' fourth
+  // component carries nothing.
+  return variant_->render(view(), settings, tile, film);
+}
+
+FilmPlanes PreparedScene::film_for(const TileRect& tile, TilePasses& passes,
+                                   std::uint32_t first) const {
   const std::size_t floats = tile.pixel_count() * 4;
   FilmPlanes film;
   film.first_sample = first;
-  float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
-                      &film.primitive_id, &film.variance, &film.sample_count};
-  static_assert(std::size(planes) == kAovCount);
-  // Depth keeps the nearest sample, so it starts infinitely far; the rest are sums.
   const auto prepare = [&](std::vector<float>& plane, float start) {
     if (first == 0) {
       plane.assign(floats, start);
@@ -296,13 +302,9 @@ TileStats PreparedScene::refine_tile(const TileRect& tile, TilePasses& passes, s
       passes.aovs[i].clear();
       continue;
     }
-    *planes[i] = prepare(passes.aovs[i], planes[i] == &film.depth ? kInfinity : 0.0f);
+    aov_plane(film, i) = prepare(passes.aovs[i], aov_start(i));
   }
-  RenderSettings settings = settings_;
-  settings.samples_per_pixel = end;
-  // The beauty's alpha is the coverage the integrators add up; the AOV planes' fourth
-  // component carries nothing.
-  return variant_->render(view(), settings, tile, film);
+  return film;
 }
 
 TileStats PreparedScene::accumulate_tile(const TileRect& tile, TileAccumulation& state,

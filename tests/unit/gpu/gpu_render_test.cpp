@@ -14,6 +14,7 @@
 
 #include "../render/device_test_scenes.hpp"
 #include "tessera/gpu/gpu_renderer.hpp"
+#include "tessera/render/film.hpp"
 #include "tessera/render/prepared_scene.hpp"
 #include "tessera/scene/yaml_loader.hpp"
 
@@ -156,6 +157,57 @@ TEST(Gpu, TilesMatchTheCpuRenderOfTheDeviceLayout) {
         test.name.c_str(), cpu_sum / static_cast<double>(values),
         gpu_sum / static_cast<double>(values), (gpu_sum - cpu_sum) / cpu_sum, far, values, largest);
     EXPECT_NEAR(gpu_sum, cpu_sum, 0.01 * cpu_sum);
+    EXPECT_LE(far, values / 20);
+  }
+}
+
+// Every AOV plane of a job, rendered in one batch, against the CPU's render of the device
+// layout: the same bounds as the beauty's per plane, ids compared as integers and depth's
+// +inf (no hit) as itself. One `cpu-gpu aov` line per plane.
+TEST(Gpu, AovPlanesMatchTheCpuRenderOfTheDeviceLayout) {
+  if (gpu::list_devices().empty()) GTEST_SKIP() << "no CUDA device on this machine";
+  LoadedScene loaded = load_scene_file(kExamples / "cornell.yaml");
+  device_tests::shrink_for_device_tests(loaded.scene.render);
+  loaded.scene.render.aovs = kAllAovs;
+  const auto scene = PreparedScene::build(loaded.scene);
+  gpu::TileRenderer renderer(0, scene);
+  const RenderSettings& r = scene->settings();
+  const std::vector<TileRect> tiles = make_tiles(r.width, r.height, r.tile_size);
+  std::vector<TilePasses> device(tiles.size());
+  const std::vector<TileStats> stats = renderer.render_tiles(tiles, device);
+  ASSERT_EQ(stats.size(), tiles.size());
+  for (std::size_t a = 0; a <= kAovCount; ++a) {
+    const std::string name = a == 0 ? "beauty" : std::string(aov_names()[a - 1]);
+    SCOPED_TRACE(name);
+    const bool ids = a > 0 && (1u << (a - 1)) == kAovPrimitiveId;
+    std::size_t far = 0, values = 0;
+    double cpu_sum = 0.0, gpu_sum = 0.0;
+    for (std::size_t t = 0; t < tiles.size(); ++t) {
+      TilePasses cpu;
+      scene->render_tile_device_layout(tiles[t], cpu);
+      const std::vector<float>& want = a == 0 ? cpu.beauty : cpu.aovs[a - 1];
+      const std::vector<float>& got = a == 0 ? device[t].beauty : device[t].aovs[a - 1];
+      ASSERT_EQ(got.size(), want.size()) << "tile " << t;
+      ASSERT_EQ(got.size(), tiles[t].pixel_count() * 4) << "tile " << t;
+      for (std::size_t i = 0; i < want.size(); ++i) {
+        if (i % 4 == 3) continue;
+        ++values;
+        if (ids) {
+          far += float_as_id(want[i]) == float_as_id(got[i]) ? 0 : 1;
+          continue;
+        }
+        if (!std::isfinite(want[i]) || !std::isfinite(got[i])) {
+          far += want[i] == got[i] ? 0 : 1;
+          continue;
+        }
+        cpu_sum += want[i];
+        gpu_sum += got[i];
+        far += std::fabs(want[i] - got[i]) > 1e-3 * (1.0 + std::fabs(want[i])) ? 1 : 0;
+      }
+    }
+    std::printf("cpu-gpu aov %s: sum %.6g / %.6g, %zu of %zu values apart\n", name.c_str(), cpu_sum,
+                gpu_sum, far, values);
+    EXPECT_NEAR(gpu_sum, cpu_sum, 0.01 * std::fabs(cpu_sum) + 1e-6);
     EXPECT_LE(far, values / 20);
   }
 }

@@ -17,6 +17,7 @@
 #include "server/metrics.hpp"
 #include "server/sqlite_job_store.hpp"
 #include "tessera/image/exr.hpp"
+#include "tessera/render/output_channels.hpp"
 #include "test_scenes.hpp"
 
 namespace tessera::server {
@@ -493,23 +494,23 @@ class StandInDevice : public TileDevice {
   std::size_t batch_pixels() const override { return batch_pixels_; }
   std::vector<TileStats> render_tiles(const std::shared_ptr<const PreparedScene>& scene,
                                       std::span<const TileRect> tiles,
-                                      std::span<const std::span<float>> rgba) override {
+                                      std::span<TilePasses> passes) override {
     ++batches;
     batched_tiles += static_cast<int>(tiles.size());
     int largest = largest_batch.load();
     while (static_cast<int>(tiles.size()) > largest &&
            !largest_batch.compare_exchange_weak(largest, static_cast<int>(tiles.size()))) {
     }
-    return TileDevice::render_tiles(scene, tiles, rgba);
+    return TileDevice::render_tiles(scene, tiles, passes);
   }
   bool accepts(const PreparedScene& scene) const override {
     return mode_ != Mode::kRefuse && scene.device_source().unsupported.empty();
   }
   TileStats render_tile(const std::shared_ptr<const PreparedScene>& scene, const TileRect& tile,
-                        std::span<float> rgba) override {
+                        TilePasses& passes) override {
     ++attempts;
     if (mode_ == Mode::kFail) throw std::runtime_error("the device fell off the bus");
-    return scene->render_tile_device_layout(tile, rgba);
+    return scene->render_tile_device_layout(tile, passes);
   }
   std::atomic<int> attempts{0};
   std::atomic<int> batches{0}, batched_tiles{0}, largest_batch{0};  // render_tiles calls
@@ -519,11 +520,13 @@ class StandInDevice : public TileDevice {
   std::size_t batch_pixels_;
 };
 
-// The job's image, tile by tile, from a scheduler with `devices` beside one CPU worker.
+// The job's image, tile by tile, from a scheduler with `devices` beside one CPU worker: RGBA,
+// or with `every_channel` each tile's EXR channels, AOVs included.
 std::vector<std::vector<float>> render_with(const SceneDescription& scene,
                                             std::vector<std::shared_ptr<TileDevice>> devices,
                                             std::uint32_t* tiles_done = nullptr,
-                                            DaemonMetrics* metrics = nullptr) {
+                                            DaemonMetrics* metrics = nullptr,
+                                            bool every_channel = false) {
   auto job = make_job("devices", 0, scene);
   SchedulerOptions options;
   options.threads = 1;
@@ -542,7 +545,9 @@ std::vector<std::vector<float>> render_with(const SceneDescription& scene,
   std::vector<std::vector<float>> images(tiles.size());
   for (const StoredTile& tile : tiles) {
     EXPECT_LT(tile.index, images.size());
-    if (tile.index < images.size()) images[tile.index] = decode_exr(tile.exr).pixels;
+    if (tile.index < images.size())
+      images[tile.index] =
+          every_channel ? decode_exr_channels(tile.exr).pixels : decode_exr(tile.exr).pixels;
   }
   return images;
 }
@@ -655,16 +660,34 @@ TEST(SchedulerDevices, JobsADeviceCannotRenderStayOnTheCpu) {
   render_with(tiny_description(32, 32, 8), {refusing});
   EXPECT_EQ(refusing->attempts.load(), 0);
 
-  // Passes and AOVs are the CPU's: the device path renders one-pass beauty tiles.
+  // Progressive passes are the CPU's: the device path renders one-pass tiles.
   auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender);
-  SceneDescription with_aovs = tiny_description(32, 32, 8);
-  with_aovs.render.aovs = kAovAlbedo;
-  render_with(with_aovs, {device});
   SceneDescription with_passes = tiny_description(32, 32, 8);
   with_passes.render.samples_per_pixel = 4;
   with_passes.render.passes = 2;
   render_with(with_passes, {device});
   EXPECT_EQ(device->attempts.load(), 0);
+}
+
+// A job with AOVs renders on the device too: every plane the job asks for comes back from
+// it (in batches as well), and the tiles equal the CPU's, AOV channels included.
+TEST(SchedulerDevices, AnAovJobRendersOnTheDeviceWithEveryPlane) {
+  SceneDescription scene = tiny_description(64, 48, 8);  // 48 tiles
+  scene.render.aovs = kAllAovs;
+  const auto cpu_only = render_with(scene, {}, nullptr, nullptr, true);
+  for (const std::size_t batch : {std::size_t{0}, std::size_t{4 * 64}}) {
+    SCOPED_TRACE(batch);
+    auto device = std::make_shared<StandInDevice>(StandInDevice::Mode::kRender, batch);
+    std::uint32_t done = 0;
+    const auto mixed = render_with(scene, {device}, &done, nullptr, true);
+    EXPECT_EQ(done, 48u);
+    EXPECT_GT(device->attempts.load(), 0);
+    ASSERT_EQ(mixed.size(), cpu_only.size());
+    for (std::size_t t = 0; t < mixed.size(); ++t) {
+      ASSERT_EQ(mixed[t].size(), 64u * output_channels(kAllAovs).size()) << "tile " << t;
+      EXPECT_EQ(mixed[t], cpu_only[t]) << "tile " << t;
+    }
+  }
 }
 
 }  // namespace

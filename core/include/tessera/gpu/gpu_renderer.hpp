@@ -2,6 +2,7 @@
 // The GPU backend's host interface, free of CUDA types so that code built without nvcc can
 // include it. Implemented in core/cuda/ (the tessera_cuda library, built when nvcc is found:
 // TESSERA_CUDA=AUTO|ON); TESSERA_HAS_CUDA is defined for its users.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -39,7 +40,8 @@ struct KernelInfo {
 std::vector<KernelInfo> path_tracer_kernels(int device);
 
 // One job's scene uploaded to one device (PreparedScene::device_source), rendering tiles of
-// its beauty pass with the same samples the CPU draws. Not thread-safe: one per worker.
+// its beauty pass and AOVs with the same samples the CPU draws. Not thread-safe: one per
+// worker.
 class TileRenderer {
  public:
   // Uploads the scene to `device`. Throws std::runtime_error naming the CUDA error, or
@@ -58,10 +60,22 @@ class TileRenderer {
   // launch, as render_tile does each; returns each tile's stats.
   std::vector<TileStats> render_tiles(std::span<const TileRect> tiles,
                                       std::span<const std::span<float>> rgba);
+  // Renders `tile` into `passes` as PreparedScene::render_tile(tile, passes) does: the beauty
+  // and every AOV plane the job asks for, sized to the tile, the others emptied.
+  TileStats render_tile(const TileRect& tile, TilePasses& passes);
+  // The same for tiles[i] into passes[i], in one kernel launch.
+  std::vector<TileStats> render_tiles(std::span<const TileRect> tiles,
+                                      std::span<TilePasses> passes);
 
   std::size_t uploaded_bytes() const;
 
  private:
+  // Where one tile's planes go on the host: [0] the beauty, [1 + i] AOV i (aov_plane's
+  // order); null for a plane the job does not ask for.
+  using TileDestination = std::array<float*, 1 + kAovCount>;
+  std::vector<TileStats> render_batch(std::span<const TileRect> tiles,
+                                      std::span<const TileDestination> destinations);
+
   struct State;
   std::unique_ptr<State> state_;
 };

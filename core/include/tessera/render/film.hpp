@@ -1,6 +1,8 @@
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 
 #include "tessera/geometry/ray.hpp"
 #include "tessera/math/vec.hpp"
@@ -49,6 +51,21 @@ struct FilmPlanes {
     if (depth < plane[at]) plane[at] = plane[at + 1] = plane[at + 2] = depth;
   }
 };
+
+// The plane of AOV `index`, in aov_names() order (albedo, normal, depth, primitive id,
+// variance, sample count), so code that lays out a job's planes walks the AOV bits.
+inline float*& aov_plane(FilmPlanes& film, std::size_t index) {
+  float** planes[] = {&film.albedo,       &film.normal,   &film.depth,
+                      &film.primitive_id, &film.variance, &film.sample_count};
+  static_assert(std::size(planes) == kAovCount);
+  return *planes[index];
+}
+
+// What AOV `index`'s plane starts at: depth keeps the nearest sample, so it starts
+// infinitely far; the others are sums.
+inline float aov_start(std::size_t index) {
+  return (1u << index) == kAovDepth ? kInfinity : 0.0f;
+}
 
 // A 32-bit integer carried in a float's bits (and back), for ID planes.
 TESSERA_HD inline float id_as_float(std::uint32_t id) {
