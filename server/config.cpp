@@ -86,7 +86,7 @@ std::uint64_t read_limit(const std::string& file, const YAML::Node& node, const 
 // The renderer's own bounds, which a configuration may lower but not raise.
 constexpr std::uint32_t kLargestDimension = 65536;
 constexpr std::uint32_t kLargestSamplesPerPixel = 65536;  // Sobol sample indices: 16 bits
-// A launch's films live in device memory: 64 Mi pixels of RGBA, depth and AOVs is a few GiB.
+// A launch's films live in device memory: 64 Mi pixels are 1 GiB of RGBA, 7 GiB with every AOV.
 constexpr long long kLargestGpuBatchPixels = 1ll << 26;
 constexpr std::size_t kLargestPrimitives = (std::size_t{1} << 27) - 1;  // reference index bits
 

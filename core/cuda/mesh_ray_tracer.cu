@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cuda_check.cuh"
 #include "tessera/accel/bvh_traversal.hpp"
 #include "tessera/accel/compressed_wide_bvh.hpp"
 #include "tessera/accel/triangle_bvh.hpp"
@@ -14,11 +15,6 @@
 namespace tessera::gpu {
 
 namespace {
-
-void check(cudaError_t status, const char* what) {
-  if (status != cudaSuccess)
-    throw std::runtime_error(std::string("CUDA ") + what + ": " + cudaGetErrorString(status));
-}
 
 template <typename T>
 T* upload(const T* host, std::size_t count, std::vector<void*>& owned) {

@@ -10,17 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "cuda_check.cuh"
 #include "path_tracer_kernel.cuh"
 #include "tessera/gpu/gpu_renderer.hpp"
 
 namespace tessera::gpu {
 
 namespace {
-
-void check(cudaError_t status, const char* what) {
-  if (status != cudaSuccess)
-    throw std::runtime_error(std::string("CUDA ") + what + ": " + cudaGetErrorString(status));
-}
 
 // Device memory freed with its owner.
 struct DeviceAllocation {
