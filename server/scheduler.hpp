@@ -156,7 +156,7 @@ class Scheduler {
   bool take_task_locked(Task& task, std::size_t device);
   void prune_locked();
   void prepare(Entry& entry);
-  // Per device, whether it takes `scene`'s tiles (render.device, one pass without AOVs,
+  // Per device, whether it takes `scene`'s tiles (render.device, one pass,
   // TileDevice::accepts). Throws for a job that asks for a GPU when none takes it.
   std::vector<bool> devices_for(const Job& job, const PreparedScene& scene) const;
   struct Attempt;

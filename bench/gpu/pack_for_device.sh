@@ -19,7 +19,9 @@ pack="$root/.devicepack"
 stage="$(mktemp -d)"
 trap 'rm -rf "$stage"' EXIT
 
-if ! grep -q '^TESSERA_CUDA:STRING=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+# A GPU build: TESSERA_CUDA not OFF, and CMake found nvcc (ON requires it, AUTO looks).
+if grep -q '^TESSERA_CUDA:STRING=OFF' "$build/CMakeCache.txt" 2>/dev/null ||
+  ! grep -q '^CMAKE_CUDA_COMPILER:[A-Z]*=.' "$build/CMakeCache.txt" 2>/dev/null; then
   echo "pack_for_device: $build is not a GPU build; configure it with" \
     "cmake -S $root -B $build -DCMAKE_BUILD_TYPE=Release -DTESSERA_CUDA=ON" >&2
   exit 2

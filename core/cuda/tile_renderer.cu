@@ -230,21 +230,11 @@ std::vector<TileStats> TileRenderer::render_tiles(std::span<const TileRect> tile
                                                   std::span<TilePasses> passes) {
   if (tiles.size() != passes.size())
     throw std::invalid_argument("TileRenderer::render_tiles: passes per tile");
-  const std::uint32_t aovs = state_->scene->settings().aovs;
   std::vector<TileDestination> destinations(tiles.size());
   for (std::size_t i = 0; i < tiles.size(); ++i) {
-    const std::size_t floats = tiles[i].pixel_count() * 4;
-    destinations[i].fill(nullptr);
-    passes[i].beauty.resize(floats);
-    destinations[i][0] = passes[i].beauty.data();
-    for (std::size_t a = 0; a < kAovCount; ++a) {
-      if ((aovs & (1u << a)) == 0) {
-        passes[i].aovs[a].clear();
-        continue;
-      }
-      passes[i].aovs[a].resize(floats);
-      destinations[i][1 + a] = passes[i].aovs[a].data();
-    }
+    FilmPlanes host = state_->scene->film_for(tiles[i], passes[i], 0);
+    destinations[i][0] = host.beauty;
+    for (std::size_t a = 0; a < kAovCount; ++a) destinations[i][1 + a] = aov_plane(host, a);
   }
   return render_batch(tiles, destinations);
 }

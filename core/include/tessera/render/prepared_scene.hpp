@@ -86,6 +86,11 @@ class PreparedScene {
   TileStats render_tile_device_layout(const TileRect& tile, std::span<float> rgba) const;
   // The same with the job's AOV planes, as render_tile(tile, passes) lays them out.
   TileStats render_tile_device_layout(const TileRect& tile, TilePasses& passes) const;
+  // The film of `passes` for samples from `first`: with `first` 0 every plane the job asks
+  // for is sized to the tile and started (depth at +inf, the rest at 0) and the others
+  // emptied; after that the planes must already hold the tile. The one place a tile's
+  // planes are laid out, for the CPU's renders and a device's copies alike.
+  FilmPlanes film_for(const TileRect& tile, TilePasses& passes, std::uint32_t first) const;
 
   // The specialisation this scene renders with, and what the scene needed.
   const RenderVariant& variant() const { return *variant_; }
@@ -112,11 +117,6 @@ class PreparedScene {
 
  private:
   PreparedScene() = default;
-
-  // The film of `passes` for samples from `first`: with `first` 0 every plane the job asks
-  // for is sized to the tile and started (depth at +inf, the rest at 0) and the others
-  // emptied; after that the planes must already hold the tile.
-  FilmPlanes film_for(const TileRect& tile, TilePasses& passes, std::uint32_t first) const;
 
   // One flat array per stored primitive type (planes: visible ones only, outside the BVH).
   PrimitiveArrays arrays_;
